@@ -1,0 +1,55 @@
+"""The command line shared by the figure scripts in ``paper_figures/``."""
+
+import argparse
+from pathlib import Path
+
+from glamas.paths import REPO
+
+DEFAULT_OUT = REPO / "paper_figures" / "output"
+
+
+def _positive_int(text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a whole number, got {text!r}") from None
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"must be at least 1, got {value}")
+    return value
+
+
+def _seed(text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a whole number, got {text!r}") from None
+    if value < 0:
+        raise argparse.ArgumentTypeError(f"must be 0 or more, got {value}")
+    return value
+
+
+def figure_parser(description: str, *, runs: int, iterations: int | None, seed: int = 0):
+    """An argument parser with --runs, --iterations, --seed, --workers and --out.
+
+    ``iterations`` None leaves --iterations out (for figures without an iteration count).
+    """
+    parser = argparse.ArgumentParser(description=description)
+    parser.add_argument("--runs", type=_positive_int, default=runs,
+                        help=f"independent runs to average (default {runs})")
+    if iterations is not None:
+        parser.add_argument("--iterations", type=_positive_int, default=iterations,
+                            help=f"learning iterations per run (default {iterations})")
+    parser.add_argument("--seed", type=_seed, default=seed, help=f"master seed (default {seed})")
+    parser.add_argument("--workers", type=_positive_int, default=None,
+                        help="threads for the runs (default: all cores); results do not depend on it")
+    parser.add_argument("--out", type=Path, default=DEFAULT_OUT,
+                        help=f"directory for the PNG and PDF (default {DEFAULT_OUT.relative_to(REPO)})")
+    return parser
+
+
+def parse(parser: argparse.ArgumentParser, argv=None) -> argparse.Namespace:
+    """Parse ``argv``; reject an --out that exists and is not a directory."""
+    args = parser.parse_args(argv)
+    if args.out.exists() and not args.out.is_dir():
+        parser.error(f"--out {args.out} exists and is not a directory; give a directory path")
+    return args

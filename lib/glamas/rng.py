@@ -1,0 +1,65 @@
+"""Per-run random streams for the compiled kernels.
+
+Every run owns a xoshiro256** state (four uint64 words) seeded from its own
+``numpy.random.SeedSequence`` child. A kernel only ever touches its own run's
+state, so results do not depend on how many threads execute the runs.
+"""
+
+import numpy as np
+from numba import njit
+
+_U64 = np.uint64
+_TO_UNIT = 1.0 / 9007199254740992.0  # 2**-53: turns 53 random bits into [0, 1)
+
+
+def run_states(seed: int, n_runs: int) -> np.ndarray:
+    """One generator state per run, shape (n_runs, 4), from ``SeedSequence(seed).spawn``."""
+    if not isinstance(seed, (int, np.integer)) or seed < 0:
+        raise ValueError(f"seed must be a non-negative integer, got {seed!r}")
+    if not isinstance(n_runs, (int, np.integer)) or n_runs < 1:
+        raise ValueError(f"n_runs must be a positive integer, got {n_runs!r}")
+    children = np.random.SeedSequence(int(seed)).spawn(int(n_runs))
+    return np.stack([child.generate_state(4, np.uint64) for child in children])
+
+
+@njit(cache=True)
+def _rotl(x, k):
+    return (x << _U64(k)) | (x >> _U64(64 - k))
+
+
+@njit(cache=True)
+def next_u64(state):
+    """xoshiro256** (Blackman and Vigna): advance ``state`` in place, return 64 bits."""
+    result = _rotl(state[1] * _U64(5), 7) * _U64(9)
+    t = state[1] << _U64(17)
+    state[2] ^= state[0]
+    state[3] ^= state[1]
+    state[1] ^= state[2]
+    state[0] ^= state[3]
+    state[2] ^= t
+    state[3] = _rotl(state[3], 45)
+    return result
+
+
+@njit(cache=True)
+def uniform(state):
+    """A float in [0, 1)."""
+    return float(next_u64(state) >> _U64(11)) * _TO_UNIT
+
+
+@njit(cache=True)
+def integer(state, n):
+    """An integer in [0, n), n >= 1."""
+    return min(int(uniform(state) * n), n - 1)
+
+
+@njit(cache=True)
+def categorical(state, probs):
+    """An index drawn with the given probabilities (which sum to one)."""
+    r = uniform(state)
+    acc = 0.0
+    for i in range(probs.shape[0] - 1):
+        acc += probs[i]
+        if r < acc:
+            return i
+    return probs.shape[0] - 1
