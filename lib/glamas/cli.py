@@ -3,7 +3,8 @@
 import argparse
 from pathlib import Path
 
-from glamas.paths import REPO
+from glamas import plotting, results
+from glamas.paths import REPO, RESULTS
 
 DEFAULT_OUT = REPO / "paper_figures" / "output"
 
@@ -44,12 +45,25 @@ def figure_parser(description: str, *, runs: int, iterations: int | None, seed: 
                         help="threads for the runs (default: all cores); results do not depend on it")
     parser.add_argument("--out", type=Path, default=DEFAULT_OUT,
                         help=f"directory for the PNG and PDF (default {DEFAULT_OUT.relative_to(REPO)})")
+    parser.add_argument("--results", type=Path, default=RESULTS,
+                        help=f"directory for the result file (default {RESULTS.relative_to(REPO)})")
+    parser.add_argument("--force", action="store_true",
+                        help="replace a result file that another configuration made")
     return parser
 
 
 def parse(parser: argparse.ArgumentParser, argv=None) -> argparse.Namespace:
     """Parse ``argv``; reject an --out that exists and is not a directory."""
     args = parser.parse_args(argv)
-    if args.out.exists() and not args.out.is_dir():
-        parser.error(f"--out {args.out} exists and is not a directory; give a directory path")
+    for option in ("out", "results"):
+        path = getattr(args, option)
+        if path.exists() and not path.is_dir():
+            parser.error(f"--{option} {path} exists and is not a directory; give a directory path")
     return args
+
+
+def write_outputs(args: argparse.Namespace, name: str, fig, config, arrays: dict) -> list[Path]:
+    """Save the figure (PNG, PDF) to --out and the result arrays with their config to --results."""
+    written = plotting.save_figure(fig, args.out, name)
+    written.append(results.save(args.results / f"{name}.npz", config, arrays, overwrite=args.force))
+    return written
