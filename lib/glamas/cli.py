@@ -1,6 +1,7 @@
 """The command line shared by the figure scripts in ``paper_figures/``."""
 
 import argparse
+import dataclasses
 from pathlib import Path
 
 from glamas import plotting, results
@@ -49,6 +50,8 @@ def figure_parser(description: str, *, runs: int, iterations: int | None, seed: 
                         help=f"directory for the result file (default {RESULTS.relative_to(REPO)})")
     parser.add_argument("--force", action="store_true",
                         help="replace a result file that another configuration made")
+    parser.add_argument("--rerun", action="store_true",
+                        help="run the experiment even if --results holds a result of this configuration")
     return parser
 
 
@@ -62,8 +65,29 @@ def parse(parser: argparse.ArgumentParser, argv=None) -> argparse.Namespace:
     return args
 
 
+def load_or_run(args: argparse.Namespace, name: str, config, run, result_type):
+    """The result of ``config``: read from --results when a file of this configuration is there
+    (unless --rerun), otherwise ``run(config, seed=, workers=, progress=)`` and saved.
+
+    Figures drawn from one experiment share its result file instead of running it again.
+    """
+    path = args.results / f"{name}.npz"
+    if path.exists() and not args.rerun and not args.force:
+        try:
+            return result_type(**results.load(path, config, seed=args.seed))
+        except results.ResultFileError as error:
+            raise SystemExit(f"error: {error}\n(or pass --force to replace it)") from None
+    if not args.force:
+        results.check_writable(path, config, seed=args.seed)
+    result = run(config, seed=args.seed, workers=args.workers, progress=name)
+    results.save(path, config, {f.name: getattr(result, f.name) for f in dataclasses.fields(result)},
+                 seed=args.seed, overwrite=True)
+    return result
+
+
 def write_outputs(args: argparse.Namespace, name: str, fig, config, arrays: dict) -> list[Path]:
     """Save the figure (PNG, PDF) to --out and the result arrays with their config to --results."""
     written = plotting.save_figure(fig, args.out, name)
-    written.append(results.save(args.results / f"{name}.npz", config, arrays, overwrite=args.force))
+    written.append(results.save(args.results / f"{name}.npz", config, arrays, seed=args.seed,
+                                overwrite=args.force))
     return written

@@ -21,14 +21,15 @@ class ResultFileError(Exception):
     """A result file is missing, unreadable, or was made by another configuration."""
 
 
-def config_json(config) -> str:
-    """The canonical JSON text of a dataclass config (with its type name and the file format)."""
-    body = {"type": type(config).__name__, "format": FORMAT, "fields": dataclasses.asdict(config)}
+def config_json(config, seed: int | None = None) -> str:
+    """The canonical JSON text of a dataclass config and seed (with its type name and the file format)."""
+    fields = dict(dataclasses.asdict(config), seed=seed)
+    body = {"type": type(config).__name__, "format": FORMAT, "fields": fields}
     return json.dumps(body, sort_keys=True)
 
 
-def save(path, config, arrays: dict, *, overwrite: bool = False) -> Path:
-    """Write ``arrays`` with ``config`` to ``path`` atomically.
+def save(path, config, arrays: dict, *, seed: int | None = None, overwrite: bool = False) -> Path:
+    """Write ``arrays`` with ``config`` (and the master ``seed``) to ``path`` atomically.
 
     An existing file made by a different configuration is kept and an error raised, unless
     ``overwrite`` is set.
@@ -36,17 +37,9 @@ def save(path, config, arrays: dict, *, overwrite: bool = False) -> Path:
     path = Path(path)
     if _CONFIG_KEY in arrays:
         raise ValueError(f"{_CONFIG_KEY!r} is reserved for the configuration")
-    text = config_json(config)
-    if path.exists() and not overwrite:
-        try:
-            existing = _read_config(path)
-        except ResultFileError:
-            existing = None
-        if existing != text:
-            raise ResultFileError(
-                f"{path} holds results of a different configuration (or is unreadable); "
-                "it was not overwritten. Remove it, choose another output path, or pass overwrite."
-            )
+    if not overwrite:
+        check_writable(path, config, seed=seed)
+    text = config_json(config, seed)
     path.parent.mkdir(parents=True, exist_ok=True)
     fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=path.name, suffix=".tmp")
     try:
@@ -59,6 +52,25 @@ def save(path, config, arrays: dict, *, overwrite: bool = False) -> Path:
     return path
 
 
+def check_writable(path, config, *, seed: int | None = None) -> None:
+    """Raise unless ``path`` is absent or already holds results of ``config``.
+
+    Call it before a long computation so that a refusal comes before the work, not after it.
+    """
+    path = Path(path)
+    if not path.exists():
+        return
+    try:
+        existing = _read_config(path)
+    except ResultFileError:
+        existing = None
+    if existing != config_json(config, seed):
+        raise ResultFileError(
+            f"{path} holds results of a different configuration (or is unreadable); it was not "
+            "overwritten. Remove it, choose another results directory, or force the overwrite."
+        )
+
+
 def _read_config(path: Path) -> str:
     try:
         with np.load(path, allow_pickle=False) as archive:
@@ -68,13 +80,13 @@ def _read_config(path: Path) -> str:
                               "delete it and run the experiment again") from error
 
 
-def load(path, config) -> dict:
-    """The arrays stored in ``path``, after checking they were made by ``config``."""
+def load(path, config, *, seed: int | None = None) -> dict:
+    """The arrays stored in ``path``, after checking they were made by ``config`` and ``seed``."""
     path = Path(path)
     if not path.exists():
         raise ResultFileError(f"no result file at {path}; run the experiment to create it")
     stored = _read_config(path)
-    expected = config_json(config)
+    expected = config_json(config, seed)
     if stored != expected:
         raise ResultFileError(
             f"{path} is stale: it was made by another configuration "

@@ -1,0 +1,42 @@
+# Two commands on a fresh machine with Python 3.11: `make figures` and `make test`.
+# Each creates the virtual environment in .venv on first use.
+
+PYTHON ?= python3
+VENV := .venv
+PY := $(VENV)/bin/python
+READY := $(VENV)/.installed
+FIGURES := $(sort $(wildcard paper_figures/fig*.py))
+NOTEBOOKS := $(sort $(wildcard notebooks/*.ipynb))
+
+.PHONY: figures test unit notebooks-check notebooks benchmark clean-env
+
+$(READY): requirements.txt pyproject.toml
+	@$(PYTHON) -c 'import sys; sys.exit(sys.version_info < (3, 11) and "glamas needs Python >= 3.11: set PYTHON=python3.11")'
+	$(PYTHON) -m venv $(VENV)
+	$(PY) -m pip install --quiet --upgrade pip
+	$(PY) -m pip install --quiet -r requirements.txt
+	touch $@
+
+## figures: regenerate every paper figure (PNG and PDF) in paper_figures/output
+figures: $(READY)
+	@for script in $(FIGURES); do echo "== $$script"; $(PY) $$script || exit 1; done
+
+## test: unit tests, then every notebook under nbval
+test: unit notebooks-check
+
+unit: $(READY)
+	$(PY) -m pytest -p no:cacheprovider tests
+
+notebooks-check: $(READY)
+	$(PY) -m pytest -p no:cacheprovider --nbval $(NOTEBOOKS) --nbval-sanitize-with notebooks/sanitize.cfg
+
+## notebooks: re-execute every notebook in place at paper scale (commit the outputs)
+notebooks: $(READY)
+	@for nb in $(NOTEBOOKS); do echo "== $$nb"; $(PY) -m jupyter nbconvert --to notebook --execute --inplace $$nb || exit 1; done
+
+## benchmark: compiled kernels against plain-Python references, and the time of `make figures`
+benchmark: $(READY)
+	@for script in $(sort $(wildcard benchmarks/bench_*.py)); do echo "== $$script"; $(PY) $$script || exit 1; done
+
+clean-env:
+	rm -rf $(VENV)
