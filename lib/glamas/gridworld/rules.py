@@ -1,0 +1,152 @@
+"""The rules of the chapter's gridworld (Section 5.3), compiled for the simulation kernels.
+
+Agents move N, E, S or W. Entering a goal cell pays +100 and the goal is absorbing: an agent in
+it no longer acts. A move into a wall, a blocked cell or the border is a bump: -1 and the agent
+stays. Two acting agents collide when they target the same non-goal cell (a bumped agent's target
+is its own cell) or swap cells; each pays -10 per collision it is in and bounces back.
+
+The chapter says only that collided agents are "bounced back to their original position";
+``bounce`` chooses the cell they bounce to: the cell they moved from (``BOUNCE_PREVIOUS``, the
+default; the chapter uses the same words for wall bumps, where the agent just stays) or their
+start cell (``BOUNCE_START``).
+
+N agents (the chapter has two): a bounced agent can land on a cell another agent has just
+entered (A follows B, B collides with C and bounces back onto A). Such agents collide as well:
+each pair sharing a non-goal cell is one more collision (-10 each) and both bounce. This repeats
+until no two acting agents share a non-goal cell. Bounce cells are distinct, so every round
+bounces at least one agent that had not yet bounced, no pair collides twice in a step, and the
+loop ends within N rounds. k agents aiming at the same cell make k(k-1)/2 collisions.
+
+Precondition of :func:`step`: the acting agents are on distinct non-goal cells (true from the
+start cells on, since the rules preserve it).
+"""
+
+from numba import njit
+
+N, E, S, W = 0, 1, 2, 3
+N_ACTIONS = 4
+ACTION_NAMES = ("N", "E", "S", "W")
+
+GOAL_REWARD = 100.0
+COLLISION_PENALTY = -10.0
+BUMP_PENALTY = -1.0
+
+BOUNCE_PREVIOUS = 0
+BOUNCE_START = 1
+BOUNCE_MODES = {"previous": BOUNCE_PREVIOUS, "start": BOUNCE_START}
+
+
+@njit(cache=True)
+def _collide(i, j, rewards, collided):
+    rewards[i] += COLLISION_PENALTY
+    rewards[j] += COLLISION_PENALTY
+    collided[i] = True
+    collided[j] = True
+
+
+@njit(cache=True)
+def step(next_cell, is_goal, starts, bounce, cells, done, actions,
+         new_cells, rewards, bumped, collided, reached):
+    """One joint move of all agents; fills the output arrays, returns the number of collisions.
+
+    ``cells``, ``done`` and ``actions`` are the agents' current cells, whether each is already in
+    the goal (then its action is ignored) and their actions. Writes each agent's ``new_cells``,
+    ``rewards`` (goal +100, bump -1, -10 per collision, summed), and whether it ``bumped``,
+    ``collided`` or ``reached`` the goal in this step. Returns the number of colliding pairs.
+    """
+    n = cells.shape[0]
+    for i in range(n):
+        rewards[i] = 0.0
+        bumped[i] = False
+        collided[i] = False
+        reached[i] = False
+        if done[i]:
+            new_cells[i] = cells[i]
+        else:
+            new_cells[i] = next_cell[cells[i], actions[i]]
+            if new_cells[i] == cells[i]:
+                bumped[i] = True
+                rewards[i] += BUMP_PENALTY
+
+    # First round: the moves themselves (same non-goal target, or a swap).
+    n_collisions = 0
+    for i in range(n):
+        if done[i]:
+            continue
+        for j in range(i + 1, n):
+            if done[j]:
+                continue
+            same_target = new_cells[i] == new_cells[j] and not is_goal[new_cells[i]]
+            swap = new_cells[i] == cells[j] and new_cells[j] == cells[i]
+            if same_target or swap:
+                _collide(i, j, rewards, collided)
+                n_collisions += 1
+
+    # Later rounds: bounced agents may land where another agent now is.
+    for _ in range(n):
+        if n_collisions == 0:
+            break
+        for i in range(n):
+            if collided[i]:
+                new_cells[i] = cells[i] if bounce == BOUNCE_PREVIOUS else starts[i]
+        found = 0
+        for i in range(n):
+            if done[i]:
+                continue
+            for j in range(i + 1, n):
+                if done[j] or new_cells[i] != new_cells[j] or is_goal[new_cells[i]]:
+                    continue
+                if collided[i] and collided[j]:
+                    continue  # both already at their (distinct) bounce cells: only a broken precondition gets here
+                _collide(i, j, rewards, collided)
+                found += 1
+        n_collisions += found
+        if found == 0:
+            break
+
+    for i in range(n):
+        if not done[i] and is_goal[new_cells[i]]:
+            reached[i] = True
+            rewards[i] += GOAL_REWARD
+    return n_collisions
+
+
+@njit(cache=True)
+def would_collide(next_cell, is_goal, cells, done, actions, i, j):
+    """Whether agents i and j would collide playing ``actions`` (same non-goal target or swap).
+
+    Used by 2observe (Alg. 4) to check the agents' preferred actions; other agents are ignored.
+    """
+    if done[i] or done[j]:
+        return False
+    target_i = next_cell[cells[i], actions[i]]
+    target_j = next_cell[cells[j], actions[j]]
+    if target_i == target_j and not is_goal[target_i]:
+        return True
+    return target_i == cells[j] and target_j == cells[i]
+
+
+@njit(cache=True)
+def shared_reward(rewards, reached, all_done_after):
+    """The MMDP learner's single reward for one step (Section 5.3).
+
+    The agents' penalties summed (their rewards without the individual goal rewards), plus +100
+    when this step puts the last agent in the goal: the chapter pays the MMDP learner +100 when
+    both agents are in.
+    """
+    total = 0.0
+    any_reached = False
+    for i in range(rewards.shape[0]):
+        total += rewards[i]
+        if reached[i]:
+            total -= GOAL_REWARD
+            any_reached = True
+    if all_done_after and any_reached:
+        total += GOAL_REWARD
+    return total
+
+
+@njit(cache=True)
+def manhattan(n_cols, a, b):
+    """Manhattan distance between cells a and b (cell = row * n_cols + col)."""
+    return abs(a // n_cols - b // n_cols) + abs(a % n_cols - b % n_cols)

@@ -1,0 +1,197 @@
+"""The gridworld rules (chapter Section 5.3), case by case."""
+
+import numpy as np
+import pytest
+
+from glamas.gridworld import rules, load_map, tunnel_to_goal
+from glamas.gridworld.rules import E, N, S, W
+
+# A 1x4 corridor with the goal at the right end, and a 3x3 open room.
+CORRIDOR = """\
++-+-+-+-+
+|1 . 2 G|
++-+-+-+-+
+"""
+ROOM = """\
++-+-+-+
+|1 . 2|
++ + + +
+|. 3 .|
++ + + +
+|. . G|
++-+-+-+
+"""
+
+
+def play(gridmap, cells, actions, done=None, bounce=rules.BOUNCE_PREVIOUS):
+    """One rules.step from the given cells; returns the outputs as a dict."""
+    n = len(cells)
+    cells = np.array(cells, dtype=np.int64)
+    done = np.zeros(n, dtype=bool) if done is None else np.array(done, dtype=bool)
+    out = {"new_cells": np.empty(n, np.int64), "rewards": np.empty(n), "bumped": np.empty(n, bool),
+           "collided": np.empty(n, bool), "reached": np.empty(n, bool)}
+    out["n_collisions"] = rules.step(gridmap.next_cell, gridmap.is_goal, gridmap.starts, bounce, cells, done,
+                                     np.array(actions, dtype=np.int64), out["new_cells"], out["rewards"],
+                                     out["bumped"], out["collided"], out["reached"])
+    return out
+
+
+@pytest.fixture(scope="module")
+def tunnel():
+    return tunnel_to_goal()
+
+
+@pytest.fixture(scope="module")
+def room():
+    return load_map(ROOM)
+
+
+def test_free_moves_cost_nothing(tunnel):
+    out = play(tunnel, [tunnel.cell(0, 0), tunnel.cell(4, 0)], [E, N])
+    assert out["new_cells"].tolist() == [tunnel.cell(0, 1), tunnel.cell(3, 0)]
+    assert out["rewards"].tolist() == [0.0, 0.0]
+    assert out["n_collisions"] == 0 and not out["bumped"].any()
+
+
+def test_wall_bump_costs_one_and_stays(tunnel):
+    # (1, 0) south is the wall in front of the goal row; (3, 0) north likewise.
+    out = play(tunnel, [tunnel.cell(1, 0), tunnel.cell(3, 0)], [S, N])
+    assert out["new_cells"].tolist() == [tunnel.cell(1, 0), tunnel.cell(3, 0)]
+    assert out["rewards"].tolist() == [rules.BUMP_PENALTY] * 2 == [-1.0, -1.0]
+    assert out["bumped"].all() and out["n_collisions"] == 0
+
+
+def test_border_bump(tunnel):
+    out = play(tunnel, [tunnel.cell(0, 0), tunnel.cell(4, 0)], [N, W])
+    assert out["new_cells"].tolist() == [tunnel.cell(0, 0), tunnel.cell(4, 0)]
+    assert out["rewards"].tolist() == [-1.0, -1.0]
+
+
+def test_same_target_collides_and_bounces_back(tunnel):
+    # Both step into the tunnel entrance (2, 4) from above and below.
+    a, b = tunnel.cell(1, 4), tunnel.cell(3, 4)
+    out = play(tunnel, [a, b], [S, N])
+    assert out["n_collisions"] == 1
+    assert out["new_cells"].tolist() == [a, b]
+    assert out["rewards"].tolist() == [rules.COLLISION_PENALTY] * 2 == [-10.0, -10.0]
+    assert out["collided"].all() and not out["bumped"].any()
+
+
+def test_swap_collides(tunnel):
+    a, b = tunnel.cell(2, 3), tunnel.cell(2, 4)
+    out = play(tunnel, [a, b], [E, W])
+    assert out["n_collisions"] == 1
+    assert out["new_cells"].tolist() == [a, b]
+    assert out["rewards"].tolist() == [-10.0, -10.0]
+
+
+def test_moving_into_a_bumped_agent_collides(tunnel):
+    # Agent 2 at (2, 4) bumps east into the border; agent 1 moves onto its cell.
+    a, b = tunnel.cell(1, 4), tunnel.cell(2, 4)
+    out = play(tunnel, [a, b], [S, E])
+    assert out["n_collisions"] == 1
+    assert out["new_cells"].tolist() == [a, b]
+    assert out["rewards"].tolist() == [-10.0, -11.0]
+    assert out["bumped"].tolist() == [False, True]
+
+
+def test_following_an_agent_that_moves_on_is_free(tunnel):
+    a, b = tunnel.cell(2, 3), tunnel.cell(2, 2)
+    out = play(tunnel, [a, b], [W, W])
+    assert out["n_collisions"] == 0
+    assert out["new_cells"].tolist() == [b, tunnel.cell(2, 1)]
+
+
+def test_goal_pays_and_is_absorbing(tunnel):
+    goal = tunnel.cell(2, 0)
+    out = play(tunnel, [tunnel.cell(2, 1), goal], [W, E], done=[False, True])
+    assert out["new_cells"].tolist() == [goal, goal]
+    assert out["rewards"].tolist() == [rules.GOAL_REWARD, 0.0] == [100.0, 0.0]
+    assert out["reached"].tolist() == [True, False]
+    assert out["n_collisions"] == 0
+
+
+def test_done_agent_never_collides_or_moves(tunnel):
+    goal = tunnel.cell(2, 0)
+    out = play(tunnel, [goal, tunnel.cell(0, 0)], [E, E], done=[True, False])
+    assert out["new_cells"].tolist() == [goal, tunnel.cell(0, 1)]
+    assert out["rewards"].tolist() == [0.0, 0.0]
+    assert not out["collided"].any() and not out["bumped"].any()
+
+
+def test_both_enter_the_goal_together():
+    gridmap = load_map("+-+-+-+\n|1 G 2|\n+-+-+-+\n")
+    out = play(gridmap, gridmap.starts, [E, W])
+    assert out["new_cells"].tolist() == [1, 1]
+    assert out["rewards"].tolist() == [100.0, 100.0]
+    assert out["reached"].all() and out["n_collisions"] == 0
+
+
+def test_bounce_to_start(tunnel):
+    a, b = tunnel.cell(1, 4), tunnel.cell(3, 4)
+    out = play(tunnel, [a, b], [S, N], bounce=rules.BOUNCE_START)
+    assert out["new_cells"].tolist() == tunnel.starts.tolist()
+    assert out["rewards"].tolist() == [-10.0, -10.0]
+
+
+def test_three_agents_on_one_target_make_three_collisions(room):
+    # Agents at (0, 1), (1, 0) and (1, 2) all step into (1, 1).
+    cells = [room.cell(0, 1), room.cell(1, 0), room.cell(1, 2)]
+    out = play(room, cells, [S, E, W])
+    assert out["n_collisions"] == 3
+    assert out["new_cells"].tolist() == cells
+    assert out["rewards"].tolist() == [-20.0, -20.0, -20.0]
+
+
+def test_chain_collision_a_bounced_agent_hits_its_follower():
+    # 1 follows 2 east; 2 and 3 collide in the last free cell; 2 bounces back onto 1.
+    gridmap = load_map("+-+-+-+-+-+\n|1 2 . 3 G|\n+-+-+-+-+-+\n")
+    out = play(gridmap, gridmap.starts, [E, E, W])
+    assert out["n_collisions"] == 2
+    assert out["new_cells"].tolist() == [0, 1, 3]
+    assert out["rewards"].tolist() == [-10.0, -20.0, -10.0]
+    assert out["collided"].all()
+
+
+def test_chain_with_bounce_to_start_ends_on_the_starts(room):
+    # Agents 1 and 2 collide in the centre; agent 3 meanwhile steps onto agent 2's start, so
+    # agent 2 bounces home onto agent 3, which then bounces to its own start.
+    cells = [room.cell(1, 0), room.cell(0, 1), room.cell(1, 2)]
+    out = play(room, cells, [E, S, N], bounce=rules.BOUNCE_START)
+    assert out["new_cells"].tolist() == room.starts.tolist()
+    assert out["n_collisions"] == 2
+    assert out["rewards"].tolist() == [-10.0, -20.0, -10.0]
+
+
+def test_would_collide(tunnel):
+    a, b = tunnel.cell(1, 4), tunnel.cell(3, 4)
+    cells, done = np.array([a, b]), np.zeros(2, bool)
+    check = lambda actions, d=done: rules.would_collide(tunnel.next_cell, tunnel.is_goal, cells, d,
+                                                        np.array(actions), 0, 1)
+    assert check([S, N])
+    assert not check([S, S])
+    assert not check([S, N], np.array([False, True]))
+    swap = np.array([tunnel.cell(2, 3), tunnel.cell(2, 4)])
+    assert rules.would_collide(tunnel.next_cell, tunnel.is_goal, swap, done, np.array([E, W]), 0, 1)
+
+
+def test_shared_reward_pays_the_goal_once_when_the_last_agent_arrives():
+    rewards = np.array([100.0, -10.0])
+    reached = np.array([True, False])
+    assert rules.shared_reward(rewards, reached, False) == -10.0
+    assert rules.shared_reward(np.array([0.0, 99.0]), np.array([False, True]), True) == 99.0
+    assert rules.shared_reward(np.array([100.0, 100.0]), np.array([True, True]), True) == 100.0
+    assert rules.shared_reward(np.array([0.0, 0.0]), np.array([False, False]), True) == 0.0
+
+
+def test_manhattan(tunnel):
+    assert rules.manhattan(tunnel.n_cols, tunnel.cell(0, 0), tunnel.cell(4, 0)) == 4
+    assert rules.manhattan(tunnel.n_cols, tunnel.cell(1, 3), tunnel.cell(3, 1)) == 4
+    assert rules.manhattan(tunnel.n_cols, 7, 7) == 0
+
+
+def test_corridor_same_target_between_the_starts():
+    gridmap = load_map(CORRIDOR)
+    out = play(gridmap, gridmap.starts, [E, W])
+    assert out["n_collisions"] == 1
+    assert out["new_cells"].tolist() == gridmap.starts.tolist()
