@@ -1,0 +1,174 @@
+"""Seeding, parallel runs, result files, claims, figure CLI and byte-reproducible figures."""
+
+import dataclasses
+
+import numpy as np
+import pytest
+from numba import njit, prange
+
+from glamas import claims, cli, plotting, results, rng, runs
+
+
+@njit(parallel=True, cache=True)
+def _draws_batch(n_draws, states, out):
+    for r in prange(states.shape[0]):
+        for t in range(n_draws):
+            out[r, t] = rng.uniform(states[r])
+
+
+def _draws(seed, n_runs, workers, chunk=8):
+    out = np.zeros((n_runs, 50))
+    runs.run_batches(_draws_batch, (50,), (out,), seed, workers=workers, chunk=chunk)
+    return out
+
+
+def test_same_seed_same_results_for_one_and_two_workers_and_any_chunking():
+    one = _draws(7, 10, workers=1)
+    assert np.array_equal(one, _draws(7, 10, workers=2))
+    assert np.array_equal(one, _draws(7, 10, workers=2, chunk=3))
+    assert not np.array_equal(one, _draws(8, 10, workers=1))
+    assert not np.array_equal(one[0], one[1])  # runs get different streams
+
+
+def test_generator_output_is_uniform_and_integers_in_range():
+    state = rng.run_states(0, 1)[0]
+    draws = np.array([rng.uniform(state) for _ in range(20000)])
+    assert 0.0 <= draws.min() and draws.max() < 1.0
+    assert abs(draws.mean() - 0.5) < 0.01
+    counts = np.bincount([rng.integer(state, 4) for _ in range(20000)], minlength=4)
+    assert counts.min() > 4500 and len(counts) == 4
+    probs = np.array([0.2, 0.0, 0.8])
+    picks = np.bincount([rng.categorical(state, probs) for _ in range(20000)], minlength=3)
+    assert picks[1] == 0 and abs(picks[0] / 20000 - 0.2) < 0.015
+
+
+@pytest.mark.parametrize("seed, n_runs, message", [(-1, 3, "seed must be a non-negative"),
+                                                   (1.5, 3, "seed must be a non-negative"),
+                                                   (0, 0, "n_runs must be a positive")])
+def test_bad_seeds_and_run_counts_are_rejected(seed, n_runs, message):
+    with pytest.raises(ValueError, match=message):
+        rng.run_states(seed, n_runs)
+
+
+def test_bad_worker_counts_are_rejected():
+    with pytest.raises(ValueError, match="workers must be an integer from 1 to"):
+        runs.set_workers(0)
+    with pytest.raises(ValueError, match="workers must be an integer from 1 to"):
+        runs.set_workers(10_000)
+
+
+@dataclasses.dataclass(frozen=True)
+class _Config:
+    runs: int = 3
+    rate: float = 0.5
+
+
+def test_result_files_round_trip_and_refuse_other_configurations(tmp_path):
+    path = tmp_path / "r.npz"
+    results.save(path, _Config(), {"curve": np.arange(4.0)}, seed=1)
+    assert np.array_equal(results.load(path, _Config(), seed=1)["curve"], np.arange(4.0))
+    with pytest.raises(results.ResultFileError, match="stale.*runs: file 3, now 4"):
+        results.load(path, _Config(runs=4), seed=1)
+    with pytest.raises(results.ResultFileError, match="stale.*seed: file 1, now 2"):
+        results.load(path, _Config(), seed=2)
+    with pytest.raises(results.ResultFileError, match="different configuration.*not overwritten"):
+        results.save(path, _Config(runs=4), {"curve": np.zeros(2)}, seed=1)
+    assert np.array_equal(results.load(path, _Config(), seed=1)["curve"], np.arange(4.0))
+    results.save(path, _Config(runs=4), {"curve": np.zeros(2)}, seed=1, overwrite=True)
+    assert results.load(path, _Config(runs=4), seed=1)["curve"].tolist() == [0.0, 0.0]
+    assert [p.name for p in tmp_path.iterdir()] == ["r.npz"]  # no temporary file left behind
+
+
+def test_missing_and_corrupted_result_files_give_clear_errors(tmp_path):
+    with pytest.raises(results.ResultFileError, match="no result file at .*run the experiment"):
+        results.load(tmp_path / "absent.npz", _Config())
+    broken = tmp_path / "broken.npz"
+    broken.write_bytes(b"not a zip archive")
+    with pytest.raises(results.ResultFileError, match="not a readable glamas result file.*delete it"):
+        results.load(broken, _Config())
+    with pytest.raises(results.ResultFileError, match="not overwritten"):
+        results.save(broken, _Config(), {"x": np.zeros(1)})
+    assert broken.read_bytes() == b"not a zip archive"
+
+
+def test_result_files_holding_objects_are_not_unpickled(tmp_path):
+    path = tmp_path / "pickled.npz"
+    np.savez(path, __config__=np.array(results.config_json(_Config())), evil=np.array([{}], dtype=object))
+    with pytest.raises(ValueError, match="allow_pickle"):
+        results.load(path, _Config())
+
+
+def test_claim_verdicts_follow_the_measurements(monkeypatch):
+    claim = claims.Claim(id="c", where="Fig. 0", chapter="x is large", metric="x", op=">", threshold=1.0)
+    rows = claims.verdicts([claim], {"x": 2.0})
+    assert rows[0]["holds"] and "[reproduced] c" in claims.table(rows)
+    rows = claims.verdicts([claim], {"x": 0.5})
+    assert not rows[0]["holds"] and "[NOT reproduced] c" in claims.table(rows)
+    with pytest.raises(KeyError, match=r"lack \['x'\]"):
+        claims.verdicts([claim], {"y": 1.0})
+    with pytest.raises(KeyError, match="no claims for experiment 'nonexistent'"):
+        claims.load("nonexistent")
+
+
+def _parse(argv):
+    return cli.parse(cli.figure_parser("test", runs=5, iterations=100), argv)
+
+
+@pytest.mark.parametrize("argv, message", [
+    (["--runs", "0"], "--runs: must be at least 1, got 0"),
+    (["--iterations", "ten"], "--iterations: expected a whole number, got 'ten'"),
+    (["--seed", "-3"], "--seed: must be 0 or more, got -3"),
+    (["--workers", "x"], "--workers: expected a whole number"),
+    (["--bogus"], "unrecognized arguments: --bogus"),
+])
+def test_bad_command_line_arguments_are_rejected(argv, message, capsys):
+    with pytest.raises(SystemExit):
+        _parse(argv)
+    assert message in capsys.readouterr().err
+
+
+def test_out_must_be_a_directory(tmp_path, capsys):
+    afile = tmp_path / "file.png"
+    afile.write_text("")
+    with pytest.raises(SystemExit):
+        _parse(["--out", str(afile)])
+    assert "is not a directory" in capsys.readouterr().err
+
+
+@dataclasses.dataclass(frozen=True)
+class _Result:
+    curve: np.ndarray
+
+
+def test_load_or_run_reuses_a_result_of_the_same_configuration(tmp_path):
+    calls = []
+
+    def run(config, seed, workers, progress):
+        calls.append(seed)
+        return _Result(curve=np.full(3, float(seed)))
+
+    args = _parse(["--results", str(tmp_path), "--seed", "4"])
+    first = cli.load_or_run(args, "exp", _Config(), run, _Result)
+    again = cli.load_or_run(args, "exp", _Config(), run, _Result)
+    assert calls == [4] and np.array_equal(first.curve, again.curve)
+    with pytest.raises(results.ResultFileError, match="different configuration"):
+        cli.load_or_run(_parse(["--results", str(tmp_path), "--seed", "5", "--rerun"]), "exp", _Config(), run, _Result)
+    assert calls == [4]  # refused before running
+
+
+def test_figures_are_byte_reproducible(tmp_path):
+    def draw(directory):
+        fig, ax = plotting.new_figure()
+        plotting.plot_mean_band(ax, np.arange(5), np.arange(15.0).reshape(3, 5) ** 0.5, "curve")
+        ax.legend()
+        return plotting.save_figure(fig, directory, "figure")
+
+    first, second = draw(tmp_path / "a"), draw(tmp_path / "b")
+    for a, b in zip(first, second):
+        assert a.read_bytes() == b.read_bytes(), a.name
+
+
+def test_mean_and_band():
+    mean, half = plotting.mean_and_band(np.array([[0.0, 1.0], [2.0, 1.0]]))
+    assert mean.tolist() == [1.0, 1.0]
+    assert half == pytest.approx([1.96 * np.sqrt(2) / np.sqrt(2), 0.0])
