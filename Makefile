@@ -28,7 +28,7 @@ unit: $(READY)
 	$(PY) -m pytest -p no:cacheprovider tests
 
 notebooks-check: $(READY)
-	$(PY) -m pytest -p no:cacheprovider --nbval $(NOTEBOOKS) --nbval-sanitize-with notebooks/sanitize.cfg
+	$(PY) -m pytest -p no:cacheprovider --nbval --nbval-current-env --nbval-sanitize-with notebooks/sanitize.cfg $(NOTEBOOKS)
 
 ## notebooks: re-execute every notebook in place at paper scale (commit the outputs)
 notebooks: $(READY)
