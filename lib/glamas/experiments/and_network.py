@@ -1,0 +1,385 @@
+"""Experiment 2 of Section 4.2: each agent is an AND network of two GLAs, the rewarded regions
+are split by a parabola (Fig. 7), and raising region II's reward traps runs in 'R everywhere'.
+
+Both agents see the joint context [x1, x2, 1]. Each agent's two 2-action units act on it; the
+agent plays L only when both units output 1 (``glamas.gla.and_network``). Inside the parabola
+(region I) (L, L) pays 0.9, outside it (region II) (R, R) pays 0.5, anything else 0.1.
+"""
+
+from dataclasses import dataclass, replace
+
+import numpy as np
+from numba import njit, prange
+
+from glamas import gla, lineworld, rng
+from glamas.plotting import plot_mean_band
+from glamas.runs import run_batches
+
+CONTEXT_LENGTH = 3  # the joint context [x1, x2, 1]
+NETWORK = gla.and_network(CONTEXT_LENGTH)
+
+
+@dataclass(frozen=True)
+class ANDNetworkConfig:
+    """Experiment 2 (Section 4.2, Fig. 7); defaults are the chapter's values where it has them."""
+
+    iterations: int = 100_000
+    """Learning iterations per run (chapter silent; P(L) in region I levels off within ~20,000)."""
+    runs: int = 100
+    """Independent runs (Fig. 7b: average over 100 runs)."""
+    learning_rate: float = 0.005
+    """lambda of eq. 13 (Fig. 7 caption)."""
+    temperature: float = 0.5
+    """T of eq. 15 (Fig. 7 caption)."""
+    K: float = 1.0
+    """K_i of eq. 13 (Fig. 7 caption)."""
+    L: float = 1.0
+    """L_i of eq. 14 (Fig. 7 caption)."""
+    bounding: str = "clip"
+    """h of eq. 14: 'clip' (the original algorithm) or 'printed' (zero inside the box)."""
+    reward_inside: float = 0.9
+    """Feedback for (L, L) in region I, inside the parabola (Sec. 4.2)."""
+    reward_outside: float = 0.5
+    """Feedback for (R, R) in region II, outside the parabola (Sec. 4.2; the stuck sweep raises it)."""
+    reward_other: float = 0.1
+    """Feedback for every other joint action (Sec. 4.2)."""
+    parabola_curvature: float = 1.0
+    """Region I is x2 >= curvature * x1**2 + offset (chapter silent): convex, so that the AND of
+    two half-planes can approximate it; x2 >= x1**2 - 0.5 covers 58 % of the square. The
+    notebook shows why flatter or steeper choices make the experiment degenerate."""
+    parabola_offset: float = -0.5
+    """See parabola_curvature: the parabola's lowest point is (0, offset)."""
+    init_scale: float = 0.5
+    """Initial unit parameters are uniform in [-init_scale, init_scale] (chapter silent; it says
+    the outcome depends on the initialisation, so runs start from different random points;
+    0 would start every unit at P(1) = 1/2, each agent at P(L) = 1/4)."""
+    record_points: int = 100
+    """Points of the Fig. 7b curve (the chapter's plot has 100)."""
+    probe_points: int = 100
+    """Uniform points in region I over which P(L) is averaged for Fig. 7b (chapter: 100),
+    drawn afresh for every run."""
+    eval_grid: int = 200
+    """Final P(L) per region is averaged over the midpoints of an eval_grid x eval_grid grid."""
+    stuck_threshold: float = 0.5
+    """A run is stuck in 'R everywhere' when both agents' final mean P(L) in region I is below
+    this (neither has a usable approximation of the parabola)."""
+
+    def __post_init__(self):
+        for name in ("iterations", "runs", "record_points", "probe_points", "eval_grid"):
+            value = getattr(self, name)
+            if not isinstance(value, (int, np.integer)) or isinstance(value, bool) or value < 1:
+                raise ValueError(f"{name} must be a whole number >= 1, got {value!r}")
+        if self.record_points > self.iterations:
+            raise ValueError(f"record_points ({self.record_points}) cannot exceed iterations "
+                             f"({self.iterations}); lower record_points or raise iterations")
+        for name in ("reward_inside", "reward_outside", "reward_other", "stuck_threshold"):
+            value = getattr(self, name)
+            if not isinstance(value, (int, float)) or not 0 <= value <= 1:
+                raise ValueError(f"{name} must be in [0, 1] (GLA feedback is in [0, 1]), got {value!r}")
+        for name in ("parabola_curvature", "parabola_offset"):
+            if not isinstance(getattr(self, name), (int, float)) or not np.isfinite(getattr(self, name)):
+                raise ValueError(f"{name} must be a finite number, got {getattr(self, name)!r}")
+        if self.parabola_curvature < 0:
+            raise ValueError(f"parabola_curvature must be >= 0 so that region I is convex, "
+                             f"got {self.parabola_curvature!r}")
+        if self.parabola_offset >= 1:
+            raise ValueError(f"parabola_offset must be < 1 so that region I meets the square, "
+                             f"got {self.parabola_offset!r}")
+        if not isinstance(self.init_scale, (int, float)) or not 0 <= self.init_scale <= self.L:
+            raise ValueError(f"init_scale must be a number in [0, L={self.L}], got {self.init_scale!r}")
+        self.gla_params()  # validates learning_rate, temperature, K, L and bounding
+
+    def gla_params(self) -> gla.GLAParams:
+        return gla.GLAParams(self.learning_rate, self.temperature, self.K, self.L, self.bounding)
+
+
+@dataclass(frozen=True)
+class ANDNetworkResult:
+    """What the runs of :func:`run` produced."""
+
+    config: ANDNetworkConfig
+    """The configuration that produced the arrays."""
+    iteration: np.ndarray
+    """(record_points,) iteration at which each point of the curve was taken."""
+    prob_left: np.ndarray
+    """(runs, record_points, 2 agents) P(L) averaged over the run's probe points in region I."""
+    params: np.ndarray
+    """(runs, 2 agents, 2 units, 2 unit actions, inputs) final unit parameters."""
+
+    def arrays(self) -> dict:
+        return {"iteration": self.iteration, "prob_left": self.prob_left, "params": self.params}
+
+
+@njit(cache=True)
+def left_probability(agent_params, context, temperature, L, mode, inputs, probs):
+    """P(agent plays L) = product over its two units of P(unit outputs 1) (eq. 15): the units
+    of the AND network are not wired to each other, so they act independently."""
+    p = 1.0
+    for k in range(agent_params.shape[0]):
+        for i in range(context.shape[0]):
+            inputs[k, i] = context[i]
+        for j in range(context.shape[0], inputs.shape[1]):
+            inputs[k, j] = 0.0
+        gla.boltzmann(agent_params[k], inputs[k], temperature, L, mode, probs[k])
+        p *= probs[k, 1]
+    return p
+
+
+@njit(cache=True)
+def _probe_mean(params, probes, temperature, L, mode, inputs, probs, context, out):
+    """out[agent] = P(L) of the agent averaged over the probe points."""
+    for agent in range(2):
+        total = 0.0
+        for i in range(probes.shape[0]):
+            context[0], context[1], context[2] = probes[i, 0], probes[i, 1], 1.0
+            total += left_probability(params[agent], context, temperature, L, mode,
+                                      inputs[agent], probs[agent])
+        out[agent] = total / probes.shape[0]
+
+
+@njit(cache=True)
+def learn(iterations, learning_rate, temperature, K, L, mode, init_scale, curvature, offset,
+          reward_inside, reward_outside, reward_other, unit_actions, wiring, output_table, radix,
+          state, probes, params, prob_left):
+    """One run of experiment 2: both AND-network agents act (eq. 12, 15) and learn (eq. 13).
+
+    ``probes`` (n, 2) is filled with uniform points of region I, ``params`` with the initial
+    and then the learned unit parameters, ``prob_left`` with Fig. 7b's curve.
+    """
+    for agent in range(2):
+        for k in range(params.shape[1]):
+            for a in range(params.shape[2]):
+                for i in range(params.shape[3]):
+                    params[agent, k, a, i] = init_scale * (2.0 * rng.uniform(state) - 1.0)
+    for i in range(probes.shape[0]):  # rejection sampling: uniform in region I
+        x1, x2 = lineworld.restart(state)
+        while not lineworld.inside_parabola(x1, x2, curvature, offset):
+            x1, x2 = lineworld.restart(state)
+        probes[i, 0], probes[i, 1] = x1, x2
+    n_units, n_inputs = params.shape[1], params.shape[3]
+    inputs = np.zeros((2, n_units, n_inputs))
+    probs = np.zeros((2, n_units, params.shape[2]))
+    chosen = np.zeros((2, n_units), dtype=np.int64)
+    context = np.empty(CONTEXT_LENGTH)
+    n_points = prob_left.shape[0]
+    point = 0
+    next_record = 0  # the curve starts at the initial policy, iteration 0
+    for t in range(iterations + 1):
+        if t == next_record:
+            _probe_mean(params, probes, temperature, L, mode, inputs, probs, context,
+                        prob_left[point])
+            point += 1
+            next_record = point * iterations // (n_points - 1) if n_points > 1 else iterations + 1
+        if t == iterations:
+            break
+        x1, x2 = lineworld.restart(state)
+        context[0], context[1], context[2] = x1, x2, 1.0
+        action_a = gla.network_act(params[0], context, unit_actions, wiring, output_table, radix,
+                                   temperature, L, mode, inputs[0], probs[0], chosen[0], state)
+        action_b = gla.network_act(params[1], context, unit_actions, wiring, output_table, radix,
+                                   temperature, L, mode, inputs[1], probs[1], chosen[1], state)
+        inside = lineworld.inside_parabola(x1, x2, curvature, offset)
+        beta = lineworld.parabola_reward(inside, action_a, action_b, reward_inside,
+                                         reward_outside, reward_other)
+        for agent in range(2):
+            gla.network_update(params[agent], unit_actions, beta, learning_rate, temperature, K,
+                               L, mode, inputs[agent], probs[agent], chosen[agent])
+
+
+@njit(parallel=True, cache=True)
+def _learn_batch(iterations, learning_rate, temperature, K, L, mode, init_scale, curvature,
+                 offset, reward_inside, reward_outside, reward_other, unit_actions, wiring,
+                 output_table, radix, states, probes, params, prob_left):
+    for r in prange(states.shape[0]):
+        learn(iterations, learning_rate, temperature, K, L, mode, init_scale, curvature, offset,
+              reward_inside, reward_outside, reward_other, unit_actions, wiring, output_table,
+              radix, states[r], probes[r], params[r], prob_left[r])
+
+
+def run(config: ANDNetworkConfig, seed: int = 0, workers: int | None = None,
+        progress: str | None = None) -> ANDNetworkResult:
+    """All runs of experiment 2 for ``config``; identical for any number of workers."""
+    c, p = config, config.gla_params()
+    unit_actions, wiring, output_table, radix = NETWORK.arrays()
+    shape = (c.runs, 2, NETWORK.n_units, int(unit_actions.max()), NETWORK.n_inputs)
+    params = np.zeros(shape)
+    probes = np.zeros((c.runs, c.probe_points, 2))
+    prob_left = np.zeros((c.runs, c.record_points, 2))
+    inputs = (c.iterations, p.learning_rate, p.temperature, p.K, p.L, p.bounding_code,
+              float(c.init_scale), float(c.parabola_curvature), float(c.parabola_offset),
+              float(c.reward_inside), float(c.reward_outside), float(c.reward_other),
+              unit_actions, wiring, output_table, radix)
+    run_batches(_learn_batch, inputs, (probes, params, prob_left), seed, workers=workers,
+                progress=progress)
+    n = c.record_points
+    iteration = np.arange(n) * c.iterations // (n - 1) if n > 1 else np.array([0])
+    return ANDNetworkResult(config, iteration, prob_left, params)
+
+
+@njit(cache=True)
+def _left_map(params, x1, x2, temperature, L, mode, out):
+    """out[agent, i] = P(agent plays L) at (x1[i], x2[i])."""
+    inputs = np.zeros((params.shape[1], params.shape[3]))
+    probs = np.zeros((params.shape[1], params.shape[2]))
+    context = np.empty(CONTEXT_LENGTH)
+    for agent in range(2):
+        for i in range(x1.shape[0]):
+            context[0], context[1], context[2] = x1[i], x2[i], 1.0
+            out[agent, i] = left_probability(params[agent], context, temperature, L, mode,
+                                             inputs, probs)
+
+
+def left_map(result: ANDNetworkResult, run_index: int, x1: np.ndarray, x2: np.ndarray) -> np.ndarray:
+    """(2 agents, points) each agent's final P(L) of the given run at the given positions."""
+    c = result.config
+    out = np.empty((2, x1.shape[0]))
+    _left_map(result.params[run_index], x1, x2, c.temperature, c.L, c.gla_params().bounding_code, out)
+    return out
+
+
+def final_left_by_region(result: ANDNetworkResult) -> tuple[np.ndarray, np.ndarray]:
+    """(runs, 2 agents) final mean P(L) inside region I and outside it (region II), averaged
+    over the evaluation grid's points in each region."""
+    c = result.config
+    x1, x2 = lineworld.state_grid(c.eval_grid)
+    inside = x2 >= c.parabola_curvature * x1 ** 2 + c.parabola_offset
+    runs = result.params.shape[0]
+    in_I, in_II = np.empty((runs, 2)), np.empty((runs, 2))
+    for r in range(runs):
+        p_left = left_map(result, r, x1, x2)
+        in_I[r], in_II[r] = p_left[:, inside].mean(axis=1), p_left[:, ~inside].mean(axis=1)
+    return in_I, in_II
+
+
+def measure(result: ANDNetworkResult) -> dict:
+    """Fig. 7's metrics: final P(L) in region I (Fig. 7b's last point and on the evaluation
+    grid), P(R) in region II, and the fraction of stuck runs."""
+    in_I, in_II = final_left_by_region(result)
+    curve_end = result.prob_left[:, -1, :].mean(axis=0)
+    return {
+        "final_prob_left_I_a": curve_end[0],
+        "final_prob_left_I_b": curve_end[1],
+        "final_prob_left_I_min": curve_end.min(),
+        "grid_prob_left_I_a": in_I[:, 0].mean(),
+        "grid_prob_left_I_b": in_I[:, 1].mean(),
+        "grid_prob_right_II_a": 1.0 - in_II[:, 0].mean(),
+        "grid_prob_right_II_b": 1.0 - in_II[:, 1].mean(),
+        "grid_prob_right_II_min": 1.0 - in_II.mean(axis=0).max(),
+        "stuck_fraction": (in_I < result.config.stuck_threshold).all(axis=1).mean(),
+    }
+
+
+@dataclass(frozen=True)
+class SweepResult:
+    """Stuck fractions as region II's reward rises."""
+
+    config: ANDNetworkConfig
+    """The base configuration; only reward_outside varies."""
+    reward_outside: np.ndarray
+    """(values,) region II rewards tried."""
+    stuck: np.ndarray
+    """(values, runs) True where the run ended stuck in 'R everywhere'."""
+    prob_left_I: np.ndarray
+    """(values, runs, 2 agents) final mean P(L) in region I on the evaluation grid."""
+
+    def arrays(self) -> dict:
+        return {"reward_outside": self.reward_outside, "stuck": self.stuck,
+                "prob_left_I": self.prob_left_I}
+
+
+DEFAULT_SWEEP = (0.5, 0.6, 0.7, 0.8, 0.9, 1.0)
+"""Region II rewards of the stuck sweep: from the chapter's 0.5 up to the largest feedback, 1."""
+
+
+def sweep(config: ANDNetworkConfig, rewards_outside=DEFAULT_SWEEP, seed: int = 0,
+          workers: int | None = None, progress: str | None = None) -> SweepResult:
+    """Run experiment 2 for each region II reward (same seed for each, so the runs share their
+    initialisation and positions until their actions differ) and record which runs got stuck."""
+    values = np.array(rewards_outside, dtype=np.float64)
+    if values.ndim != 1 or values.size < 2:
+        raise ValueError(f"rewards_outside needs at least two values, got {rewards_outside!r}")
+    stuck_runs, left_I = [], []
+    for value in values:
+        result = run(replace(config, reward_outside=float(value)), seed, workers,
+                     None if progress is None else f"{progress} (region II reward {value:g})")
+        in_I, _ = final_left_by_region(result)
+        left_I.append(in_I)
+        stuck_runs.append((in_I < config.stuck_threshold).all(axis=1))
+    return SweepResult(config, values, np.array(stuck_runs), np.array(left_I))
+
+
+def measure_sweep(result: SweepResult) -> dict:
+    """Stuck fraction at each reward, at the chapter's 0.5, at the highest value, and the rise."""
+    fractions = result.stuck.mean(axis=1)
+    measured = {f"stuck_fraction_{value:g}": f for value, f in zip(result.reward_outside, fractions)}
+    measured["stuck_fraction_lowest"] = fractions[0]
+    measured["stuck_fraction_highest"] = fractions[-1]
+    measured["stuck_fraction_rise"] = fractions[-1] - fractions[0]
+    return measured
+
+
+# ---- plots (each draws on a given Axes) ----
+
+def plot_parabola(ax, config: ANDNetworkConfig):
+    """Region I (inside the parabola) shaded, with its border."""
+    x = np.linspace(-1.0, 1.0, 401)
+    border = config.parabola_curvature * x ** 2 + config.parabola_offset
+    ax.fill_between(x, np.clip(border, -1, 1), 1.0, color="tab:blue", alpha=0.2, linewidth=0)
+    ax.plot(x, np.where(border <= 1, border, np.nan), color="k", lw=1.5)
+    ax.text(0.0, 0.4, "I: (L, L) 0.9", ha="center")
+    ax.text(0.75, -0.8, f"II: (R, R) {config.reward_outside:g}", ha="center")
+    ax.set_xlim(-1, 1)
+    ax.set_ylim(-1, 1)
+    ax.set_aspect("equal")
+    ax.set_xlabel("x1 (position of agent A)")
+    ax.set_ylabel("x2 (position of agent B)")
+
+
+def plot_boundaries(ax, result: ANDNetworkResult, run_index: int, grid: int = 200):
+    """Fig. 7a: over the parabola, each agent's learned boundary P(L) = 1/2 for one run."""
+    plot_parabola(ax, result.config)
+    centres = -1.0 + (np.arange(grid) + 0.5) * (2.0 / grid)
+    x1, x2 = np.meshgrid(centres, centres, indexing="xy")
+    p_left = left_map(result, run_index, x1.ravel(), x2.ravel())
+    for agent, (name, colour) in enumerate((("A", "tab:red"), ("B", "tab:purple"))):
+        ax.contour(x1, x2, p_left[agent].reshape(x1.shape), levels=[0.5], colors=colour,
+                   linewidths=2)
+        ax.plot([], [], color=colour, lw=2, label=f"agent {name}: P(L) = 1/2")
+    ax.legend(loc="lower left", fontsize="small")
+    ax.set_title(f"run {run_index}")
+
+
+def plot_prob_left(ax, result: ANDNetworkResult):
+    """Fig. 7b: P(L) in region I of both agents over iterations, mean and 95 % band over runs."""
+    for agent, name in enumerate(("A", "B")):
+        plot_mean_band(ax, result.iteration, result.prob_left[:, :, agent], label=f"agent {name}")
+    ax.set_xlabel("iteration")
+    ax.set_ylabel("P(L) in region I")
+    ax.set_ylim(0, 1)
+    ax.legend(loc="lower right")
+
+
+def plot_stuck_fraction(ax, result: SweepResult):
+    """Fraction of runs stuck in 'R everywhere' against region II's reward, with 95 % Wilson bands."""
+    n = result.stuck.shape[1]
+    fractions = result.stuck.mean(axis=1)
+    low, high = _wilson(fractions, n)
+    ax.errorbar(result.reward_outside, fractions, yerr=[fractions - low, high - fractions],
+                marker="o", capsize=3)
+    ax.set_xlabel("reward of (R, R) in region II")
+    ax.set_ylabel("fraction of runs stuck in 'R everywhere'")
+    ax.set_ylim(-0.02, 1.02)
+
+
+def typical_runs(result: ANDNetworkResult, count: int = 2) -> list[int]:
+    """Runs around the median final P(L) in region I (both agents): Fig. 7a's 'typical results'."""
+    in_I, _ = final_left_by_region(result)
+    order = np.argsort(in_I.mean(axis=1), kind="stable")
+    middle = (order.shape[0] - count) // 2
+    return [int(i) for i in order[middle:middle + count]]
+
+
+def _wilson(fractions: np.ndarray, n: int, z: float = 1.96):
+    centre = (fractions + z * z / (2 * n)) / (1 + z * z / n)
+    half = z * np.sqrt(fractions * (1 - fractions) / n + z * z / (4 * n * n)) / (1 + z * z / n)
+    return centre - half, centre + half

@@ -1,0 +1,374 @@
+"""Experiment 1 of Section 4.2: one 2-action GLA per agent in the line world (Fig. 5 and Fig. 6).
+
+Both agents see a context built from the joint position (Fig. 6 compares three encodings), act
+with eq. 15, get experiment 1's common 0/1 feedback and learn with eq. 13; then both restart at
+new random positions. A run records the average feedback per window of iterations and the final
+GLA parameters; :func:`evaluate` turns those into exact expected rewards over the state square.
+"""
+
+from dataclasses import dataclass, replace
+
+import numpy as np
+from numba import njit, prange
+
+from glamas import gla, lineworld, rng
+from glamas.plotting import plot_mean_band
+from glamas.runs import run_batches
+
+ENCODING_NAMES = ("joint", "absolute", "deictic")
+
+
+@dataclass(frozen=True)
+class SingleGLAConfig:
+    """Experiment 1 (Section 4.2, Fig. 5 and 6); defaults are the chapter's values."""
+
+    iterations: int = 100_000
+    """Learning iterations per run (Sec. 4.2: 100.000)."""
+    runs: int = 100
+    """Independent runs (the chapter does not say how many it averages; 100 as in Fig. 7b)."""
+    learning_rate: float = 0.01
+    """lambda of eq. 13 (Fig. 5 caption)."""
+    temperature: float = 0.5
+    """T of eq. 15 (Fig. 5 caption)."""
+    K: float = 1.0
+    """K_i of eq. 13 (Fig. 5 caption)."""
+    L: float = 1.0
+    """L_i of eq. 14 (Fig. 5 caption)."""
+    bounding: str = "clip"
+    """h of eq. 14: 'clip' (the original algorithm) or 'printed' (zero inside the box)."""
+    context: str = "joint"
+    """Context encoding (Fig. 6): 'joint' [x1, x2, 1], 'absolute' [|xA - xB|, 1] or
+    'deictic' [x_self - x_other, 1]."""
+    init_scale: float = 0.0
+    """Initial GLA parameters are uniform in [-init_scale, init_scale] (chapter silent; 0 = all
+    zeros, both actions equally likely everywhere)."""
+    record_points: int = 200
+    """Points of the learning curve: the average feedback over this many equal windows."""
+    eval_grid: int = 200
+    """Expected rewards are averages over the midpoints of an eval_grid x eval_grid grid."""
+
+    def __post_init__(self):
+        for name in ("iterations", "runs", "record_points", "eval_grid"):
+            value = getattr(self, name)
+            if not isinstance(value, (int, np.integer)) or isinstance(value, bool) or value < 1:
+                raise ValueError(f"{name} must be a whole number >= 1, got {value!r}")
+        if self.record_points > self.iterations:
+            raise ValueError(f"record_points ({self.record_points}) cannot exceed iterations "
+                             f"({self.iterations}); lower record_points or raise iterations")
+        if not isinstance(self.init_scale, (int, float)) or not 0 <= self.init_scale <= self.L:
+            raise ValueError(f"init_scale must be a number in [0, L={self.L}], got {self.init_scale!r}")
+        lineworld.encoding_code(self.context)
+        self.gla_params()  # validates learning_rate, temperature, K, L and bounding
+
+    def gla_params(self) -> gla.GLAParams:
+        return gla.GLAParams(self.learning_rate, self.temperature, self.K, self.L, self.bounding)
+
+
+@dataclass(frozen=True)
+class SingleGLAResult:
+    """What the runs of :func:`run` produced."""
+
+    config: SingleGLAConfig
+    """The configuration that produced the arrays."""
+    iteration: np.ndarray
+    """(record_points,) the last iteration of each recording window."""
+    reward: np.ndarray
+    """(runs, record_points) average feedback in each window."""
+    params: np.ndarray
+    """(runs, 2 agents, 2 actions, context length) final GLA parameters u (actions L, R)."""
+
+    def arrays(self) -> dict:
+        return {"iteration": self.iteration, "reward": self.reward, "params": self.params}
+
+
+@njit(cache=True)
+def learn(encoding, iterations, learning_rate, temperature, K, L, mode, init_scale,
+          state, params, reward):
+    """One run of experiment 1: the loop of Section 4.2 with eq. 12-15 for both agents.
+
+    ``params`` (2, 2, n) is filled with the initial and then the learned parameters, ``reward``
+    with the average feedback of each of its len(reward) windows.
+    """
+    n_inputs = params.shape[2]
+    for agent in range(2):
+        for action in range(2):
+            for k in range(n_inputs):
+                params[agent, action, k] = init_scale * (2.0 * rng.uniform(state) - 1.0)
+    context_a, context_b = np.empty(n_inputs), np.empty(n_inputs)
+    probs_a, probs_b = np.empty(2), np.empty(2)
+    u_a, u_b = params[0], params[1]
+    n_points = reward.shape[0]
+    point, window_start, window_sum = 0, 0, 0.0
+    window_end = iterations // n_points
+    for t in range(iterations):
+        x1, x2 = lineworld.restart(state)
+        lineworld.context(encoding, lineworld.AGENT_A, x1, x2, context_a)
+        lineworld.context(encoding, lineworld.AGENT_B, x1, x2, context_b)
+        action_a = gla.act(u_a, context_a, temperature, L, mode, probs_a, state)
+        action_b = gla.act(u_b, context_b, temperature, L, mode, probs_b, state)
+        beta = lineworld.regions_reward(x1, x2, action_a, action_b)
+        gla.update(u_a, context_a, action_a, beta, learning_rate, temperature, K, L, mode, probs_a)
+        gla.update(u_b, context_b, action_b, beta, learning_rate, temperature, K, L, mode, probs_b)
+        window_sum += beta
+        if t + 1 == window_end:
+            reward[point] = window_sum / (window_end - window_start)
+            point += 1
+            window_start, window_sum = window_end, 0.0
+            window_end = (point + 1) * iterations // n_points
+
+
+@njit(parallel=True, cache=True)
+def _learn_batch(encoding, iterations, learning_rate, temperature, K, L, mode, init_scale,
+                 states, params, reward):
+    for r in prange(states.shape[0]):
+        learn(encoding, iterations, learning_rate, temperature, K, L, mode, init_scale,
+              states[r], params[r], reward[r])
+
+
+def run(config: SingleGLAConfig, seed: int = 0, workers: int | None = None,
+        progress: str | None = None) -> SingleGLAResult:
+    """All runs of experiment 1 for ``config``; identical for any number of workers."""
+    encoding = lineworld.encoding_code(config.context)
+    n_inputs = lineworld.CONTEXT_LENGTH[encoding]
+    params = np.zeros((config.runs, 2, 2, n_inputs))
+    reward = np.zeros((config.runs, config.record_points))
+    p = config.gla_params()
+    inputs = (encoding, config.iterations, p.learning_rate, p.temperature, p.K, p.L,
+              p.bounding_code, float(config.init_scale))
+    run_batches(_learn_batch, inputs, (params, reward), seed, workers=workers, progress=progress)
+    points = np.arange(1, config.record_points + 1)
+    return SingleGLAResult(config, points * config.iterations // config.record_points, reward, params)
+
+
+@njit(cache=True)
+def correct_probabilities(u, encoding, agent, x1, x2, temperature, L, mode, out):
+    """out[i]: probability (eq. 15) that the agent plays its part of the rewarded joint action
+    at (x1[i], x2[i])."""
+    context = np.empty(u.shape[1])
+    probs = np.empty(2)
+    for i in range(x1.shape[0]):
+        lineworld.context(encoding, agent, x1[i], x2[i], context)
+        gla.boltzmann(u, context, temperature, L, mode, probs)
+        out[i] = probs[lineworld.best_action(x1[i], x2[i], agent)]
+
+
+@njit(cache=True)
+def best_actions(x1, x2, agent):
+    """The agent's part of the rewarded joint action at every point."""
+    out = np.empty(x1.shape[0], dtype=np.int64)
+    for i in range(x1.shape[0]):
+        out[i] = lineworld.best_action(x1[i], x2[i], agent)
+    return out
+
+
+def contexts(encoding: int, agent: int, x1: np.ndarray, x2: np.ndarray) -> np.ndarray:
+    """(points, context length) the agent's contexts at the given positions."""
+    out = np.empty((x1.shape[0], lineworld.CONTEXT_LENGTH[encoding]))
+    for i in range(x1.shape[0]):
+        lineworld.context(encoding, agent, x1[i], x2[i], out[i])
+    return out
+
+
+@dataclass(frozen=True)
+class Evaluation:
+    """Expected rewards of every run's final policies, averaged over the evaluation grid."""
+
+    agent_reward: np.ndarray
+    """(runs, 2) expected feedback of each agent's Boltzmann policy when the other agent plays
+    its part of the rewarded joint action (i.e. the agent's probability of playing its part)."""
+    line_reward: np.ndarray
+    """(runs, 2) the same for the agent's learned line: the greedy (most probable) action."""
+    team_reward: np.ndarray
+    """(runs,) expected feedback when both agents play their Boltzmann policies."""
+
+
+def evaluate(result: SingleGLAResult) -> Evaluation:
+    """Exact-on-a-grid expected rewards of the learned policies (no sampling noise)."""
+    c = result.config
+    encoding, mode = lineworld.encoding_code(c.context), c.gla_params().bounding_code
+    x1, x2 = lineworld.state_grid(c.eval_grid)
+    runs = result.params.shape[0]
+    agent_reward, line_reward, team = np.empty((runs, 2)), np.empty((runs, 2)), np.empty(runs)
+    correct = np.empty((2, x1.shape[0]))
+    for r in range(runs):
+        for agent in range(2):
+            correct_probabilities(result.params[r, agent], encoding, agent, x1, x2,
+                                  c.temperature, c.L, mode, correct[agent])
+        agent_reward[r] = correct.mean(axis=1)
+        line_reward[r] = (correct > 0.5).mean(axis=1)
+        team[r] = (correct[0] * correct[1]).mean()
+    return Evaluation(agent_reward, line_reward, team)
+
+
+def best_line_reward(encoding_name: str, agent: int, grid: int = 200, angles: int = 720) -> float:
+    """The best expected reward a single line (a fixed threshold on a linear function of the
+    context, i.e. a deterministic 2-action GLA policy) gives the agent, the other agent playing
+    its part of the rewarded joint action.
+
+    Exhaustive search on the evaluation grid: for each direction w of the non-bias inputs
+    (``angles`` directions over the circle when there are two, +-1 when there is one), every
+    threshold between consecutive distinct projections w.x is tried.
+    """
+    encoding = lineworld.encoding_code(encoding_name)
+    x1, x2 = lineworld.state_grid(grid)
+    features = contexts(encoding, agent, x1, x2)[:, :-1]  # drop the bias input
+    wants_left = best_actions(x1, x2, agent) == lineworld.LEFT
+    if features.shape[1] == 1:
+        directions = np.array([[1.0], [-1.0]])
+    else:
+        theta = np.arange(angles) * (2 * np.pi / angles)
+        directions = np.column_stack([np.cos(theta), np.sin(theta)])
+    best = 0.0
+    for w in directions:
+        projection = features @ w
+        order = np.argsort(projection, kind="stable")
+        s, left = projection[order], wants_left[order]
+        # rule "L iff projection > threshold", threshold just after position i (or below all)
+        right_correct_below = np.concatenate([[0], np.cumsum(~left)])
+        left_correct_above = np.concatenate([np.cumsum(left[::-1])[::-1], [0]])
+        valid = np.concatenate([[True], s[1:] != s[:-1], [True]])
+        correct = (right_correct_below + left_correct_above)[valid]
+        best = max(best, correct.max() / s.shape[0])
+    return float(best)
+
+
+def _final(curves: np.ndarray, fraction: float = 0.1) -> np.ndarray:
+    """Per run: the average feedback over the last ``fraction`` of the learning curve."""
+    tail = max(1, int(round(curves.shape[1] * fraction)))
+    return curves[:, -tail:].mean(axis=1)
+
+
+def measure(result: SingleGLAResult) -> dict:
+    """Fig. 5's metrics: each agent's expected reward (policy and learned line) against the best
+    a single line can reach with this context, the team's expected and final average reward."""
+    ev = evaluate(result)
+    encoding = result.config.context
+    line_best = [best_line_reward(encoding, agent, result.config.eval_grid) for agent in range(2)]
+    return {
+        "agent_a_reward": ev.agent_reward[:, 0].mean(),
+        "agent_b_reward": ev.agent_reward[:, 1].mean(),
+        "agent_a_line_reward": ev.line_reward[:, 0].mean(),
+        "agent_b_line_reward": ev.line_reward[:, 1].mean(),
+        "best_line_a": line_best[0],
+        "best_line_b": line_best[1],
+        "agent_a_line_gap": line_best[0] - ev.line_reward[:, 0].mean(),
+        "agent_b_line_gap": line_best[1] - ev.line_reward[:, 1].mean(),
+        "team_reward": ev.team_reward.mean(),
+        "final_average_reward": _final(result.reward).mean(),
+    }
+
+
+def typical_run(result: SingleGLAResult) -> int:
+    """The run whose team reward is the median one (the 'typical result' of Fig. 5b)."""
+    team = evaluate(result).team_reward
+    return int(np.argsort(team, kind="stable")[(team.shape[0] - 1) // 2])
+
+
+def compare_encodings(config: SingleGLAConfig, seed: int = 0, workers: int | None = None,
+                      progress: str | None = None) -> dict:
+    """Fig. 6: the same experiment with each context encoding (same seed, so run r of every
+    encoding sees the same positions until their actions differ)."""
+    return {name: run(replace(config, context=name), seed, workers,
+                      None if progress is None else f"{progress} ({name})")
+            for name in ENCODING_NAMES}
+
+
+def measure_encodings(results: dict) -> dict:
+    """Fig. 6's metrics: each encoding's final average reward (last tenth of the iterations) and
+    mean reward over the whole run (learning speed), and the paired differences between
+    encodings (run r of each shares its seed) with the lower end of their 95 % interval."""
+    final = {name: _final(res.reward) for name, res in results.items()}
+    measured = {f"{name}_final_reward": values.mean() for name, values in final.items()}
+    whole = {name: res.reward.mean(axis=1) for name, res in results.items()}
+    measured.update({f"{name}_mean_reward": values.mean() for name, values in whole.items()})
+    for better, worse in (("deictic", "joint"), ("joint", "absolute"), ("deictic", "absolute")):
+        for label, per_run in (("", final), ("_whole", whole)):
+            mean, low = _paired_difference(per_run[better], per_run[worse])
+            measured[f"{better}_minus_{worse}{label}"] = mean
+            measured[f"{better}_minus_{worse}{label}_low"] = low
+    return measured
+
+
+def _paired_difference(better: np.ndarray, worse: np.ndarray) -> tuple[float, float]:
+    """Mean of the per-run differences and the lower end of its 95 % confidence interval."""
+    diff = better - worse
+    half = 1.96 * diff.std(ddof=1) / np.sqrt(diff.shape[0]) if diff.shape[0] > 1 else 0.0
+    return float(diff.mean()), float(diff.mean() - half)
+
+
+# ---- plots (each draws on a given Axes) ----
+
+def plot_regions(ax):
+    """Fig. 5a: the three regions of experiment 1 and their rewarded joint actions (A, B)."""
+    x = np.linspace(-1.0, 1.0, 401)
+    upper = np.clip(x + lineworld.CLOSE_DISTANCE, -1.0, 1.0)
+    lower = np.clip(x - lineworld.CLOSE_DISTANCE, -1.0, 1.0)
+    ax.fill_between(x, upper, 1.0, color="tab:blue", alpha=0.35, linewidth=0)
+    ax.fill_between(x, -1.0, lower, color="tab:orange", alpha=0.35, linewidth=0)
+    ax.fill_between(x, lower, upper, color="tab:green", alpha=0.35, linewidth=0)
+    ax.text(-0.55, 0.7, "1: (L, L)", ha="center", va="center")
+    ax.text(0.55, -0.7, "2: (R, R)", ha="center", va="center")
+    ax.text(0.0, 0.0, "3: move apart", ha="center", va="center", rotation=45)
+    _square(ax)
+
+
+def plot_learned_lines(ax, result: SingleGLAResult, run_index: int, grid: int = 200):
+    """Fig. 5b: each agent's learned line (u_L - u_R).x = 0 (joint context) and the most
+    probable joint action in each cell of the partition the two lines make."""
+    if result.config.context != "joint":
+        raise ValueError(f"learned lines are drawn in the (x1, x2) plane: they need the joint "
+                         f"context, this result used {result.config.context!r}")
+    u = result.params[run_index]
+    x1, x2 = lineworld.state_grid(grid)
+    xs = np.column_stack([x1, x2, np.ones_like(x1)])
+    hu = _bounded(u, result.config)
+    prefers_left = [(xs @ (hu[agent, 0] - hu[agent, 1])) > 0 for agent in range(2)]
+    t = np.linspace(-1.0, 1.0, 401)
+    for agent, (name, colour) in enumerate((("A", "tab:red"), ("B", "tab:purple"))):
+        w = hu[agent, 0] - hu[agent, 1]
+        _draw_line(ax, w, t, colour, f"agent {name}")
+    for left_a in (True, False):
+        for left_b in (True, False):
+            cell = (prefers_left[0] == left_a) & (prefers_left[1] == left_b)
+            if cell.mean() > 0.02:  # label cells large enough to hold text
+                label = f"({'L' if left_a else 'R'}, {'L' if left_b else 'R'})"
+                ax.text(x1[cell].mean(), x2[cell].mean(), label, ha="center", va="center")
+    ax.legend(loc="lower right", fontsize="small")
+    _square(ax)
+
+
+def plot_reward_curves(ax, results: dict):
+    """Fig. 6: average feedback over iterations per context encoding, mean and 95 % band over runs."""
+    for name, res in results.items():
+        plot_mean_band(ax, res.iteration, res.reward, label=name)
+    ax.set_xlabel("iteration")
+    ax.set_ylabel("average reward")
+    ax.legend(loc="lower right")
+
+
+def _bounded(u: np.ndarray, config: SingleGLAConfig) -> np.ndarray:
+    """h(u) of eq. 14, the parameters eq. 15 actually uses."""
+    clipped = np.clip(u, -config.L, config.L)
+    if config.bounding == "clip":
+        return clipped
+    return np.where(np.abs(u) >= config.L, clipped, 0.0)
+
+
+def _draw_line(ax, w, t, colour, label):
+    """The line w[0] x1 + w[1] x2 + w[2] = 0 inside the square (nothing if it misses it)."""
+    if abs(w[1]) >= abs(w[0]) and w[1] != 0:
+        x, y = t, -(w[0] * t + w[2]) / w[1]
+    elif w[0] != 0:
+        x, y = -(w[1] * t + w[2]) / w[0], t
+    else:
+        return
+    inside = (np.abs(x) <= 1) & (np.abs(y) <= 1)
+    ax.plot(np.where(inside, x, np.nan), np.where(inside, y, np.nan), color=colour, lw=2, label=label)
+
+
+def _square(ax):
+    ax.set_xlim(-1, 1)
+    ax.set_ylim(-1, 1)
+    ax.set_aspect("equal")
+    ax.set_xlabel("x1 (position of agent A)")
+    ax.set_ylabel("x2 (position of agent B)")
