@@ -1,0 +1,385 @@
+"""The gridworld experiment of the chapter's Section 5.3 (Fig. 9-12): independent Q-learners,
+joint-state learners, the MMDP learner and 2observe (Alg. 4) on the TunnelToGoal map.
+
+``run`` trains every learner for ``episodes`` episodes in ``runs`` independent runs, ``measure``
+turns the binned learning curves into the numbers the chapter's claims are about, and the
+``plot_*`` functions draw Fig. 10-12 and the analyses on a given matplotlib Axes.
+"""
+
+import math
+from dataclasses import dataclass
+from pathlib import Path
+
+import matplotlib.pyplot as plt
+import numpy as np
+
+from glamas import claims as chapter
+from glamas import cli, gla, runs
+from glamas.gridworld import BOUNCE_MODES, GridMap, dp, load_map
+from glamas.learners import episode as ep
+from glamas.learners import independent, joint_state, mmdp, two_observe
+from glamas.paths import MAPS
+from glamas.plotting import new_figure, plot_mean_band, save_figure
+
+EXPERIMENT = "gridworld"
+LEARNERS = ("independent", "joint_state", "mmdp", "two_observe")
+LABELS = {"independent": "independent Q-learners", "joint_state": "joint-state learners",
+          "mmdp": "MMDP learner", "two_observe": "2observe"}
+_MODULES = {"independent": independent, "joint_state": joint_state, "mmdp": mmdp,
+            "two_observe": two_observe}
+
+
+@dataclass(frozen=True)
+class GridworldConfig:
+    """Settings of the Section 5.3 experiment; chapter values as defaults, the rest documented choices."""
+
+    map_file: str = "tunnel_to_goal.txt"
+    """Map file (data/maps format), a name in data/maps or a path; Fig. 9 is TunnelToGoal."""
+    learners: tuple = LEARNERS
+    """Which learners to train, a subset of independent, joint_state, mmdp, two_observe."""
+    episodes: int = 200_000
+    """Episodes ("iterations": until both agents are in the goal) per run (Sec. 5.3)."""
+    runs: int = 20
+    """Independent runs averaged (not stated in the chapter)."""
+    bin_size: int = 500
+    """Episodes averaged into one point of the learning curves; must divide ``episodes``."""
+    q_learning_rate: float = 0.05
+    """alpha of eq. 11 for every Q-learner (Sec. 5.3)."""
+    q_initial: float = 0.0
+    """Initial value of every Q-table entry (Sec. 5.3)."""
+    exploit_prob: float = 0.9
+    """Probability of the greedy action; the chapter's "epsilon = 0.9" read as exploitation."""
+    discount: float = 0.9
+    """gamma of eq. 11 (not stated in the chapter)."""
+    max_steps: int = 10_000
+    """Step cap per episode, a safeguard (not in the chapter); capped episodes are counted."""
+    bounce: str = "previous"
+    """Where a collided agent goes: 'previous' cell (re-implementations) or its 'start' cell."""
+    gla_learning_rate: float = 0.01
+    """lambda of eq. 13 for 2observe's GLAs (Sec. 5.3)."""
+    gla_temperature: float = 0.5
+    """T of eq. 15 for 2observe's GLAs (not stated for this experiment; Sec. 4.2 uses 0.5)."""
+    gla_K: float = 1.0
+    """K of eq. 13 (not stated for this experiment; Sec. 4.2 uses 1)."""
+    gla_L: float = 1.0
+    """L of eq. 14 (not stated for this experiment; Sec. 4.2 uses 1)."""
+    gla_bounding: str = "clip"
+    """h of eq. 14: 'clip' or 'printed' (see glamas.gla)."""
+    gla_init_range: float = 1.0
+    """GLA parameters start uniform in [-gla_init_range, gla_init_range] ("initialised randomly")."""
+    gla_feedback: tuple = ((1.0, 0.0), (0.0, 1.0))
+    """Fig. 10 (lost), reconstructed: feedback[choice][collision coming], choice 0 = act alone,
+    1 = coordinate; "collision coming" = the agents' preferred actions would collide."""
+    coordination_penalty_per_cell: float = 0.1
+    """Added feedback -this * delta when both coordinated without need (Sec. 5.3's 0 - delta/10)."""
+
+    def __post_init__(self):
+        _check_int(self, "episodes", 1)
+        _check_int(self, "runs", 1)
+        _check_int(self, "bin_size", 1)
+        _check_int(self, "max_steps", 1)
+        if self.episodes % self.bin_size:
+            raise ValueError(f"bin_size ({self.bin_size}) must divide episodes ({self.episodes}); "
+                             "choose a bin size such as 500 that divides the episode count")
+        learners = tuple(self.learners)
+        if not learners or len(set(learners)) != len(learners) or not set(learners) <= set(LEARNERS):
+            raise ValueError(f"learners must be distinct names from {LEARNERS}, got {self.learners!r}")
+        object.__setattr__(self, "learners", learners)
+        for name in ("q_learning_rate", "exploit_prob", "discount"):
+            _check_unit(self, name)
+        if not np.isfinite(self.q_initial):
+            raise ValueError(f"q_initial must be a finite number, got {self.q_initial!r}")
+        if self.bounce not in BOUNCE_MODES:
+            raise ValueError(f"bounce must be one of {sorted(BOUNCE_MODES)}, got {self.bounce!r}")
+        self.gla_params()  # validates the GLA settings with glamas.gla's messages
+        if not (isinstance(self.gla_init_range, (int, float)) and 0 <= self.gla_init_range <= self.gla_L):
+            raise ValueError(f"gla_init_range must be in [0, gla_L={self.gla_L}], got {self.gla_init_range!r}")
+        table = np.array(self.gla_feedback, dtype=float) if _is_table(self.gla_feedback) else None
+        if table is None or table.shape != (2, 2) or not np.isfinite(table).all():
+            raise ValueError("gla_feedback must be a 2x2 table of numbers, rows = (act alone, "
+                             f"coordinate), columns = (no collision coming, collision coming); got {self.gla_feedback!r}")
+        object.__setattr__(self, "gla_feedback", tuple(tuple(float(v) for v in row) for row in table))
+        if not (isinstance(self.coordination_penalty_per_cell, (int, float)) and self.coordination_penalty_per_cell >= 0):
+            raise ValueError("coordination_penalty_per_cell must be a number >= 0, "
+                             f"got {self.coordination_penalty_per_cell!r}")
+        gridmap = self.gridmap()
+        if gridmap.n_agents != 2:
+            raise ValueError(f"the learners are written for two agents; map {self.map_file!r} has {gridmap.n_agents}")
+
+    def gridmap(self) -> GridMap:
+        """The map: ``map_file`` as a path, or as a name in data/maps."""
+        path = Path(self.map_file)
+        return load_map(path if path.is_file() or path.parent != Path(".") else MAPS / path)
+
+    def gla_params(self) -> gla.GLAParams:
+        return gla.GLAParams(learning_rate=self.gla_learning_rate, temperature=self.gla_temperature,
+                             K=self.gla_K, L=self.gla_L, bounding=self.gla_bounding)
+
+    @property
+    def n_bins(self) -> int:
+        return self.episodes // self.bin_size
+
+
+def _check_int(config, name, minimum):
+    value = getattr(config, name)
+    if not isinstance(value, (int, np.integer)) or isinstance(value, bool) or value < minimum:
+        raise ValueError(f"{name} must be a whole number >= {minimum}, got {value!r}")
+
+
+def _check_unit(config, name):
+    value = getattr(config, name)
+    if not isinstance(value, (int, float)) or not 0 < value <= 1:
+        raise ValueError(f"{name} must be a number in (0, 1], got {value!r}")
+
+
+def _is_table(value) -> bool:
+    try:
+        np.array(value, dtype=float)
+    except (TypeError, ValueError):
+        return False
+    return True
+
+
+@dataclass(frozen=True)
+class GridworldResult:
+    """Learning curves (block means over episodes) and final learned structures, all arrays."""
+
+    learners: np.ndarray
+    """int (n_learners,): index into LEARNERS of each learner, in the order of the other arrays."""
+    log: np.ndarray
+    """(n_learners, runs, bins, columns): block means of the per-episode measurements; columns
+    as in glamas.learners.episode (steps and reward per agent, length, collisions, coordinations, capped)."""
+    table_shapes: np.ndarray
+    """int (n_learners, 3): (tables, states, actions) of each learner's final Q tables."""
+    gla_parameters: np.ndarray
+    """(runs, agents, 2 actions, 2 inputs): 2observe's final GLA parameters (zeros if not run)."""
+    episodes: np.ndarray
+    """int (bins,): the episode count at the end of each block (the curves' x axis)."""
+
+    def names(self) -> list[str]:
+        return [LEARNERS[k] for k in self.learners]
+
+    def curves(self, learner: str, column: int) -> np.ndarray:
+        """(runs, bins) block means of one log column for one learner."""
+        return self.log[self.names().index(learner), :, :, column]
+
+    def steps(self, learner: str) -> np.ndarray:
+        """(runs, bins): steps to the goal, averaged over both agents (Fig. 11a)."""
+        return self.log[self.names().index(learner), :, :, ep.STEPS:ep.STEPS + ep.N_AGENTS].mean(axis=2)
+
+    def reward(self, learner: str) -> np.ndarray:
+        """(runs, bins): undiscounted reward per episode, averaged over both agents (Fig. 11b)."""
+        return self.log[self.names().index(learner), :, :, ep.REWARD:ep.REWARD + ep.N_AGENTS].mean(axis=2)
+
+
+def run(config: GridworldConfig = GridworldConfig(), seed: int = 0, workers=None,
+        progress=None) -> GridworldResult:
+    """Train every learner of ``config`` in ``config.runs`` runs.
+
+    Learner ``LEARNERS[k]`` draws its runs' streams from master seed ``4 * seed + k``: every
+    (seed, learner) pair has its own streams, and a learner gets the same streams whichever
+    other learners are trained with it.
+    """
+    gridmap = config.gridmap()
+    n = len(config.learners)
+    log = np.zeros((n, config.runs, config.n_bins, ep.N_COLUMNS))
+    shapes = np.zeros((n, 3), dtype=np.int64)
+    u = np.zeros((config.runs,) + two_observe.new_gla_parameters(gridmap.n_agents).shape)
+    for k, name in enumerate(config.learners):
+        q = np.stack([_MODULES[name].new_tables(gridmap.n_cells, gridmap.n_agents)] * config.runs)
+        q[:] = config.q_initial
+        inputs = _kernel_inputs(name, config, gridmap)
+        outputs = (q, u, log[k]) if name == "two_observe" else (q, log[k])
+        label = None if progress is None else f"{progress}: {name}"
+        runs.run_batches(_MODULES[name].batch, inputs, outputs, len(LEARNERS) * seed + LEARNERS.index(name), workers=workers, progress=label)
+        shapes[k] = q.shape[1:]
+    codes = np.array([LEARNERS.index(name) for name in config.learners], dtype=np.int64)
+    episodes = np.arange(1, config.n_bins + 1, dtype=np.int64) * config.bin_size
+    return GridworldResult(learners=codes, log=log, table_shapes=shapes, gla_parameters=u,
+                           episodes=episodes)
+
+
+def _kernel_inputs(name: str, config: GridworldConfig, gridmap: GridMap) -> tuple:
+    world = (gridmap.next_cell, gridmap.is_goal, gridmap.starts, BOUNCE_MODES[config.bounce])
+    learning = (config.q_learning_rate, config.discount, config.exploit_prob)
+    schedule = (config.episodes, config.bin_size, config.max_steps)
+    if name != "two_observe":
+        return world + learning + schedule
+    p = config.gla_params()
+    automata = (p.learning_rate, p.temperature, p.K, p.L, p.bounding_code, float(config.gla_init_range),
+                np.array(config.gla_feedback), float(config.coordination_penalty_per_cell))
+    return world + (gridmap.n_cols,) + learning + automata + schedule
+
+
+FINAL_FRACTION = 0.1
+"""The "final" value of a curve is its mean over the last 10 % of the episodes."""
+CONVERGENCE_TOLERANCE = 0.05
+"""A learner has converged once its mean steps curve stays within 5 % of its final value."""
+
+
+def final(curves: np.ndarray) -> float:
+    """Mean over runs and over the last FINAL_FRACTION of the blocks."""
+    n = max(1, int(round(curves.shape[1] * FINAL_FRACTION)))
+    return float(curves[:, -n:].mean())
+
+
+def convergence_episode(curves: np.ndarray, episodes: np.ndarray) -> float:
+    """The episode after which the run-mean curve stays within CONVERGENCE_TOLERANCE of its
+    final value: the end of the last block outside it (0 if none is)."""
+    target = final(curves)
+    outside = np.flatnonzero(np.abs(curves.mean(axis=0) - target) > CONVERGENCE_TOLERANCE * abs(target))
+    return float(episodes[outside[-1]]) if outside.size else 0.0
+
+
+def measure(result: GridworldResult) -> dict:
+    """The numbers the chapter's claims are about (data/chapter/section5.json), per learner and compared."""
+    m = {}
+    for name in result.names():
+        m[f"steps_{name}"] = final(result.steps(name))
+        m[f"reward_{name}"] = final(result.reward(name))
+        m[f"collisions_{name}"] = final(result.curves(name, ep.COLLISIONS))
+        m[f"coordinations_{name}"] = final(result.curves(name, ep.COORDINATIONS))
+        m[f"convergence_{name}"] = convergence_episode(result.steps(name), result.episodes)
+        m[f"capped_episodes_{name}"] = float(result.curves(name, ep.CAPPED).sum(axis=1).mean() * result.episodes[0])
+    if {"two_observe", "independent", "mmdp"} <= set(result.names()):
+        for base in ("independent", "mmdp"):
+            m[f"steps_two_observe_minus_{base}"] = m["steps_two_observe"] - m[f"steps_{base}"]
+            m[f"convergence_two_observe_over_{base}"] = m["convergence_two_observe"] / m[f"convergence_{base}"]
+        m["reward_two_observe_over_mmdp"] = m["reward_two_observe"] / m["reward_mmdp"]
+        m["reward_two_observe_minus_independent"] = m["reward_two_observe"] - m["reward_independent"]
+        m["collisions_independent_off_3"] = abs(m["collisions_independent"] - 3.0)
+        m["coordinations_two_observe_off_4"] = abs(m["coordinations_two_observe"] - 4.0)
+    return m
+
+
+def claim_rows(result: GridworldResult) -> list[dict]:
+    """The chapter's Section 5.3 claims with their verdicts, computed from ``result``."""
+    return chapter.verdicts(chapter.load(EXPERIMENT), measure(result))
+
+
+def state_action_spaces(result: GridworldResult) -> list[dict]:
+    """Table 1 / Sec. 5.3 analysis, measured from the learners' final tables: per learner the
+    number of Q tables, their states and actions, the Q entries per agent and the GLA parameters."""
+    rows = []
+    for name, (tables, states, actions) in zip(result.names(), result.table_shapes):
+        n_agents = result.gla_parameters.shape[1]
+        q_per_agent = tables * states * actions / n_agents
+        gla_per_agent = int(np.prod(result.gla_parameters.shape[2:])) if name == "two_observe" else 0
+        rows.append({"learner": name, "tables": int(tables), "states": int(states),
+                     "actions": int(actions), "q_entries_per_agent": q_per_agent,
+                     "gla_parameters_per_agent": gla_per_agent})
+    return rows
+
+
+def coordination_probability(result: GridworldResult, config: GridworldConfig, deltas) -> np.ndarray:
+    """P(coordinate | delta) of 2observe's final GLAs (eq. 15), shape (runs, agents, len(deltas))."""
+    p = config.gla_params()
+    u = result.gla_parameters
+    probs = np.empty(2)
+    out = np.empty(u.shape[:2] + (len(deltas),))
+    for r in range(u.shape[0]):
+        for i in range(u.shape[1]):
+            for d, delta in enumerate(deltas):
+                gla.boltzmann(u[r, i], np.array([float(delta), 1.0]), p.temperature, p.L,
+                              p.bounding_code, probs)
+                out[r, i, d] = probs[two_observe.COORDINATE]
+    return out
+
+
+def optimum(config: GridworldConfig) -> dict:
+    """The reference the learners are drawn against: the episode of the optimal joint policy
+    (value iteration on the MMDP, gamma = config.discount), agent means, no exploration."""
+    episode = dp.optimal_rollout(config.gridmap(), config.discount, config.bounce)
+    return {"steps": float(episode.steps_to_goal.mean()), "reward": float(episode.returns.mean()),
+            "collisions": float(episode.collisions)}
+
+
+# --- plots: each draws on a given Axes -------------------------------------------------------
+
+def _plot_learners(ax, result, values, ylabel, reference=None, learners=None):
+    x = result.episodes
+    for name in learners or result.names():
+        plot_mean_band(ax, x, values(name), LABELS[name])
+    if reference is not None:
+        ax.axhline(reference, color="black", linestyle="--", linewidth=1, label="optimum (value iteration)")
+    ax.set_xlabel("episode")
+    ax.set_ylabel(ylabel)
+    ax.legend(fontsize="small")
+
+
+def plot_steps(ax, result, optimum=None):
+    """Fig. 11a: steps from start to goal, mean of both agents (mean and 95 % band over runs)."""
+    _plot_learners(ax, result, result.steps, "steps to goal (mean of the agents)",
+                   None if optimum is None else optimum["steps"])
+    ax.set_yscale("log")
+
+
+def plot_reward(ax, result, optimum=None):
+    """Fig. 11b: undiscounted reward per episode, mean of both agents."""
+    _plot_learners(ax, result, result.reward, "reward per episode (mean of the agents)",
+                   None if optimum is None else optimum["reward"])
+
+
+def plot_collisions(ax, result, optimum=None):
+    """Fig. 12a: agent-agent collisions per episode."""
+    _plot_learners(ax, result, lambda name: result.curves(name, ep.COLLISIONS), "collisions per episode",
+                   None if optimum is None else optimum["collisions"])
+
+
+def plot_coordinations(ax, result):
+    """Fig. 12b: steps per episode on which both 2observe agents chose to coordinate."""
+    _plot_learners(ax, result, lambda name: result.curves(name, ep.COORDINATIONS),
+                   "coordinations per episode", learners=["two_observe"])
+
+
+def plot_feedback_table(ax, config: GridworldConfig):
+    """Fig. 10 (lost, reconstructed): the GLA feedback actually used."""
+    f, c = config.gla_feedback, config.coordination_penalty_per_cell
+    cells = [[f"{f[0][0]:g}", f"{f[0][1]:g}"],
+             [f"{f[1][0]:g}  ({f[1][0]:g} - {c:g}·δ if both coordinate)", f"{f[1][1]:g}"]]
+    ax.axis("off")
+    table = ax.table(cellText=cells, rowLabels=["act alone", "coordinate"],
+                     colLabels=["no collision coming", "collision coming"], loc="center", cellLoc="center")
+    table.scale(1, 2)
+    ax.set_title("2observe GLA feedback (Fig. 10, reconstructed)")
+
+
+def plot_coordination_probability(ax, result, config: GridworldConfig, max_delta: int = 8):
+    """What 2observe's GLAs learned: P(coordinate | delta), mean over runs and agents with the
+    individual GLAs faint, against the "coordinate when closer than 2" rule of the later papers."""
+    deltas = np.arange(max_delta + 1)
+    p = coordination_probability(result, config, deltas)
+    for curve in p.reshape(-1, deltas.size):
+        ax.plot(deltas, curve, color="tab:blue", alpha=0.15, linewidth=0.8)
+    ax.plot(deltas, p.mean(axis=(0, 1)), "o-", color="tab:blue", label="learned (mean over GLAs)")
+    ax.step(deltas, (deltas < 2).astype(float), where="mid", color="black", linestyle="--",
+            label="coordinate when delta < 2")
+    ax.set_xlabel("delta (Manhattan distance between the agents)")
+    ax.set_ylabel("P(coordinate)")
+    ax.legend(fontsize="small")
+
+
+# --- figure scripts (paper_figures/fig10.py ... fig12b.py) --------------------------------------
+
+RESULT_NAME = "gridworld"
+"""Result file shared by the Fig. 11 and 12 scripts: the experiment runs once for all four."""
+_DRAW = {"fig11a": plot_steps, "fig11b": plot_reward, "fig12a": plot_collisions,
+         "fig12b": lambda ax, result, optimum: plot_coordinations(ax, result)}
+
+
+def figure_main(name: str, description: str, argv=None) -> list[Path]:
+    """The body of ``paper_figures/<name>.py``: parse the command line, get the experiment's
+    result (from --results when this configuration already ran, else run it), draw, save."""
+    parser = cli.figure_parser(description, runs=GridworldConfig.runs, iterations=GridworldConfig.episodes)
+    args = cli.parse(parser, argv)
+    config = GridworldConfig(runs=args.runs, episodes=args.iterations,
+                             bin_size=math.gcd(args.iterations, GridworldConfig.bin_size))
+    fig, ax = new_figure(6.0, 2.2 if name == "fig10" else 4.0)
+    if name == "fig10":
+        plot_feedback_table(ax, config)
+    else:
+        result = cli.load_or_run(args, RESULT_NAME, config, run, GridworldResult)
+        _DRAW[name](ax, result, optimum(config))
+    written = save_figure(fig, args.out, name)
+    plt.close(fig)
+    return written

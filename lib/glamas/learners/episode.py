@@ -1,0 +1,73 @@
+"""What every learner's episode loop shares: buffers, the episode bookkeeping and the binned log.
+
+An episode (the chapter's "iteration", Section 5.3) starts with every agent on its start cell
+and ends when all agents are in the goal, or at the step cap. The per-episode measurements are
+averaged over blocks of ``bin_size`` episodes straight into ``log`` (one row per block), so a
+200,000-episode run stays small.
+"""
+
+import numpy as np
+from numba import njit
+
+# Columns of a log row (two agents).
+STEPS = 0  # STEPS + i: steps agent i took to reach the goal (the cap if it did not)
+REWARD = 2  # REWARD + i: agent i's undiscounted reward in the episode (environment rewards)
+LENGTH = 4  # steps until every agent was in the goal
+COLLISIONS = 5  # agent-agent collision events
+COORDINATIONS = 6  # steps on which both agents chose to coordinate (2observe only)
+CAPPED = 7  # 1 when the episode hit the step cap
+N_COLUMNS = 8
+N_AGENTS = 2
+
+
+@njit(cache=True)
+def buffers(n_agents):
+    """Per-run step buffers: cells, done, actions, new_cells, rewards, bumped, collided, reached,
+    and the episode accumulator."""
+    return (np.empty(n_agents, np.int64), np.empty(n_agents, np.bool_), np.empty(n_agents, np.int64),
+            np.empty(n_agents, np.int64), np.empty(n_agents, np.float64), np.empty(n_agents, np.bool_),
+            np.empty(n_agents, np.bool_), np.empty(n_agents, np.bool_), np.empty(N_COLUMNS, np.float64))
+
+
+@njit(cache=True)
+def start_episode(starts, cells, done, acc):
+    """Every agent on its start cell, none in the goal, the episode's counters at zero."""
+    for i in range(starts.shape[0]):
+        cells[i] = starts[i]
+        done[i] = False
+    acc[:] = 0.0
+
+
+@njit(cache=True)
+def all_done(done):
+    for i in range(done.shape[0]):
+        if not done[i]:
+            return False
+    return True
+
+
+@njit(cache=True)
+def end_step(t, cells, done, new_cells, rewards, reached, collisions, acc):
+    """Book step ``t``'s rewards, arrivals and collisions, then move the agents to their new cells."""
+    acc[COLLISIONS] += collisions
+    for i in range(cells.shape[0]):
+        if done[i]:
+            continue
+        acc[REWARD + i] += rewards[i]
+        if reached[i]:
+            acc[STEPS + i] = t
+            done[i] = True
+        cells[i] = new_cells[i]
+
+
+@njit(cache=True)
+def end_episode(log, episode, bin_size, acc, t, done):
+    """Close the episode after ``t`` steps and add its measurements to its block's mean."""
+    acc[LENGTH] = t
+    for i in range(done.shape[0]):
+        if not done[i]:
+            acc[STEPS + i] = t
+            acc[CAPPED] = 1.0
+    row = episode // bin_size
+    for k in range(N_COLUMNS):
+        log[row, k] += acc[k] / bin_size

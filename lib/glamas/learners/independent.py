@@ -1,0 +1,47 @@
+"""Independent Q-learners (Section 5.3): each agent runs Alg. 3 on its own cell only, with its own
+reward, ignoring the other agent (a 25 x 4 table each on TunnelToGoal)."""
+
+import numpy as np
+from numba import njit, prange
+
+from glamas.gridworld import rules
+from glamas.learners import episode as ep
+from glamas.qlearning import epsilon_greedy, q_update
+
+
+def new_tables(n_cells: int, n_agents: int) -> np.ndarray:
+    """Q initial tables: one (cells x 4 actions) table per agent."""
+    return np.zeros((n_agents, n_cells, 4))
+
+
+@njit(cache=True)
+def run(next_cell, is_goal, starts, bounce, alpha, gamma, exploit, n_episodes, bin_size, max_steps,
+        q, log, state):
+    """One run of ``n_episodes`` episodes; learns in ``q`` and writes the binned ``log``."""
+    n_agents = starts.shape[0]
+    cells, done, actions, new_cells, rewards, bumped, collided, reached, acc = ep.buffers(n_agents)
+    for episode in range(n_episodes):
+        ep.start_episode(starts, cells, done, acc)
+        t = 0
+        while t < max_steps and not ep.all_done(done):
+            for i in range(n_agents):
+                if not done[i]:
+                    actions[i] = epsilon_greedy(q[i, cells[i]], exploit, state)
+            collisions = rules.step(next_cell, is_goal, starts, bounce, cells, done, actions,
+                                    new_cells, rewards, bumped, collided, reached)
+            for i in range(n_agents):
+                if not done[i]:
+                    q_update(q[i], cells[i], actions[i], rewards[i], new_cells[i], reached[i],
+                             alpha, gamma)
+            t += 1
+            ep.end_step(t, cells, done, new_cells, rewards, reached, collisions, acc)
+        ep.end_episode(log, episode, bin_size, acc, t, done)
+
+
+@njit(parallel=True, cache=True)
+def batch(next_cell, is_goal, starts, bounce, alpha, gamma, exploit, n_episodes, bin_size,
+          max_steps, states, q, log):
+    """:func:`run` for every run in parallel (glamas.runs batch-kernel form)."""
+    for r in prange(states.shape[0]):
+        run(next_cell, is_goal, starts, bounce, alpha, gamma, exploit, n_episodes, bin_size,
+            max_steps, q[r], log[r], states[r])

@@ -1,0 +1,57 @@
+"""Joint-state learners (Section 5.3): each agent runs Alg. 3 over the joint cells of both agents
+(625 states on TunnelToGoal) with its own reward, still choosing only its own action (4)."""
+
+import numpy as np
+from numba import njit, prange
+
+from glamas.gridworld import rules
+from glamas.learners import episode as ep
+from glamas.qlearning import epsilon_greedy, q_update
+
+
+def new_tables(n_cells: int, n_agents: int) -> np.ndarray:
+    """Q initial tables: one (joint cells x 4 actions) table per agent."""
+    return np.zeros((n_agents, n_cells ** n_agents, 4))
+
+
+@njit(cache=True)
+def joint_index(cells, n_cells):
+    """The joint state as a mixed-radix number (agent 0 most significant)."""
+    s = 0
+    for i in range(cells.shape[0]):
+        s = s * n_cells + cells[i]
+    return s
+
+
+@njit(cache=True)
+def run(next_cell, is_goal, starts, bounce, alpha, gamma, exploit, n_episodes, bin_size, max_steps,
+        q, log, state):
+    """One run of ``n_episodes`` episodes; learns in ``q`` and writes the binned ``log``."""
+    n_agents, n_cells = starts.shape[0], next_cell.shape[0]
+    cells, done, actions, new_cells, rewards, bumped, collided, reached, acc = ep.buffers(n_agents)
+    for episode in range(n_episodes):
+        ep.start_episode(starts, cells, done, acc)
+        t = 0
+        while t < max_steps and not ep.all_done(done):
+            s = joint_index(cells, n_cells)
+            for i in range(n_agents):
+                if not done[i]:
+                    actions[i] = epsilon_greedy(q[i, s], exploit, state)
+            collisions = rules.step(next_cell, is_goal, starts, bounce, cells, done, actions,
+                                    new_cells, rewards, bumped, collided, reached)
+            s_next = joint_index(new_cells, n_cells)
+            for i in range(n_agents):
+                if not done[i]:
+                    q_update(q[i], s, actions[i], rewards[i], s_next, reached[i], alpha, gamma)
+            t += 1
+            ep.end_step(t, cells, done, new_cells, rewards, reached, collisions, acc)
+        ep.end_episode(log, episode, bin_size, acc, t, done)
+
+
+@njit(parallel=True, cache=True)
+def batch(next_cell, is_goal, starts, bounce, alpha, gamma, exploit, n_episodes, bin_size,
+          max_steps, states, q, log):
+    """:func:`run` for every run in parallel (glamas.runs batch-kernel form)."""
+    for r in prange(states.shape[0]):
+        run(next_cell, is_goal, starts, bounce, alpha, gamma, exploit, n_episodes, bin_size,
+            max_steps, q[r], log[r], states[r])

@@ -1,0 +1,61 @@
+"""The MMDP learner (Sections 3.1 and 5.3): one central Q-learner over the joint cells and the joint
+actions (625 x 16 on TunnelToGoal) that learns from the single shared reward."""
+
+import numpy as np
+from numba import njit, prange
+
+from glamas.gridworld import rules
+from glamas.learners import episode as ep
+from glamas.learners.joint_state import joint_index
+from glamas.qlearning import epsilon_greedy, q_update
+
+
+def new_tables(n_cells: int, n_agents: int) -> np.ndarray:
+    """Q initial table: a single (joint cells x joint actions) table, shape (1, states, actions)."""
+    return np.zeros((1, n_cells ** n_agents, 4 ** n_agents))
+
+
+@njit(cache=True)
+def split_joint_action(joint, actions):
+    """Each agent's component of a joint action (agent 0 most significant, base 4)."""
+    for i in range(actions.shape[0] - 1, -1, -1):
+        actions[i] = joint % 4
+        joint //= 4
+
+
+@njit(cache=True)
+def run(next_cell, is_goal, starts, bounce, alpha, gamma, exploit, n_episodes, bin_size, max_steps,
+        q, log, state):
+    """One run of ``n_episodes`` episodes; learns in ``q[0]`` and writes the binned ``log``.
+
+    An agent in the goal no longer acts, so its component of the chosen joint action is ignored.
+    """
+    n_agents, n_cells = starts.shape[0], next_cell.shape[0]
+    table = q[0]
+    cells, done, actions, new_cells, rewards, bumped, collided, reached, acc = ep.buffers(n_agents)
+    for episode in range(n_episodes):
+        ep.start_episode(starts, cells, done, acc)
+        t = 0
+        while t < max_steps and not ep.all_done(done):
+            s = joint_index(cells, n_cells)
+            joint = epsilon_greedy(table[s], exploit, state)
+            split_joint_action(joint, actions)
+            collisions = rules.step(next_cell, is_goal, starts, bounce, cells, done, actions,
+                                    new_cells, rewards, bumped, collided, reached)
+            finished = True
+            for i in range(n_agents):
+                finished = finished and (done[i] or reached[i])
+            shared = rules.shared_reward(rewards, reached, finished)
+            q_update(table, s, joint, shared, joint_index(new_cells, n_cells), finished, alpha, gamma)
+            t += 1
+            ep.end_step(t, cells, done, new_cells, rewards, reached, collisions, acc)
+        ep.end_episode(log, episode, bin_size, acc, t, done)
+
+
+@njit(parallel=True, cache=True)
+def batch(next_cell, is_goal, starts, bounce, alpha, gamma, exploit, n_episodes, bin_size,
+          max_steps, states, q, log):
+    """:func:`run` for every run in parallel (glamas.runs batch-kernel form)."""
+    for r in prange(states.shape[0]):
+        run(next_cell, is_goal, starts, bounce, alpha, gamma, exploit, n_episodes, bin_size,
+            max_steps, q[r], log[r], states[r])

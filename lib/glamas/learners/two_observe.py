@@ -1,0 +1,130 @@
+"""2observe (Section 5, Alg. 4): a GLA per agent decides from the agents' distance whether to
+coordinate; the agents act on independent Q-learners over their own cells, and only when both
+chose to coordinate they check whether their preferred actions collide and, if so, one of them
+(picked at random) yields with a random other action (Section 5.2).
+"""
+
+import numpy as np
+from numba import njit, prange
+
+from glamas import gla, rng
+from glamas.gridworld import rules
+from glamas.learners import episode as ep
+from glamas.learners.independent import new_tables  # the same state-action space (Section 5.3)
+from glamas.qlearning import epsilon_greedy, q_update
+
+ACT_ALONE = 0
+"""GLA action: ignore the other agent this step."""
+COORDINATE = 1
+"""GLA action: coordinate with the other agent this step."""
+N_GLA_INPUTS = 2
+"""The GLA context [delta, 1]: the agents' Manhattan distance and a bias input."""
+
+
+def new_gla_parameters(n_agents: int) -> np.ndarray:
+    """Room for one 2-action GLA per agent, shape (agents, 2 actions, 2 inputs); the kernel
+    draws the initial values from the run's own random stream."""
+    return np.zeros((n_agents, 2, N_GLA_INPUTS))
+
+
+
+
+@njit(cache=True)
+def yield_at_random(preferred, actions, state):
+    """Section 5.2's coordination: one agent (picked at random) keeps its preferred action, the
+    other takes an action drawn uniformly from its other three."""
+    actions[0], actions[1] = preferred[0], preferred[1]
+    yielder = rng.integer(state, 2)
+    other = rng.integer(state, 3)
+    actions[yielder] = other + 1 if other >= preferred[yielder] else other
+
+
+@njit(cache=True)
+def first_level(next_cell, is_goal, cells, done, choices, preferred, actions, state):
+    """Alg. 4's if-branch for GLA ``choices`` and Q-preferred actions ``preferred``: fill
+    ``actions``; return (collision coming, both coordinated).
+
+    "Collision coming" means the preferred actions would collide (rules.would_collide).
+    """
+    coming = rules.would_collide(next_cell, is_goal, cells, done, preferred, 0, 1)
+    both = choices[0] == COORDINATE and choices[1] == COORDINATE
+    if both and coming:
+        yield_at_random(preferred, actions, state)
+    else:
+        actions[0], actions[1] = preferred[0], preferred[1]
+    return coming, both
+
+
+@njit(cache=True)
+def gla_feedback(table, penalty_per_cell, choice, coming, both, delta):
+    """r_c of Alg. 4 (Fig. 10, reconstructed): table[choice, collision coming], minus
+    ``penalty_per_cell * delta`` when both coordinated without need (Section 5.3's 0 - delta/10)."""
+    beta = table[choice, 1 if coming else 0]
+    if both and not coming:
+        beta -= penalty_per_cell * delta
+    return beta
+
+
+@njit(cache=True)
+def run(next_cell, is_goal, starts, bounce, n_cols, alpha, gamma, exploit, gla_rate, temperature,
+        K, L, bounding, init_range, feedback_table, penalty_per_cell, n_episodes, bin_size,
+        max_steps, q, u, log, state):
+    """One run of ``n_episodes`` episodes of Alg. 4; learns in ``q`` and ``u``, writes ``log``.
+
+    When one agent is in the goal there is nobody to observe: the other acts on its Q alone and
+    the GLAs are not updated.
+    """
+    n_agents = starts.shape[0]
+    cells, done, actions, new_cells, rewards, bumped, collided, reached, acc = ep.buffers(n_agents)
+    choices = np.empty(n_agents, np.int64)
+    preferred = np.empty(n_agents, np.int64)
+    probs = np.empty((n_agents, 2))
+    x = np.ones(N_GLA_INPUTS)
+    for i in range(n_agents):  # "initialised randomly" (Section 5.3)
+        for j in range(2):
+            for k in range(N_GLA_INPUTS):
+                u[i, j, k] = init_range * (2.0 * rng.uniform(state) - 1.0)
+    for episode in range(n_episodes):
+        ep.start_episode(starts, cells, done, acc)
+        t = 0
+        while t < max_steps and not ep.all_done(done):
+            observing = not (done[0] or done[1])
+            if observing:
+                delta = rules.manhattan(n_cols, cells[0], cells[1])
+                x[0] = delta
+                for i in range(n_agents):
+                    choices[i] = gla.act(u[i], x, temperature, L, bounding, probs[i], state)
+                for i in range(n_agents):
+                    preferred[i] = epsilon_greedy(q[i, cells[i]], exploit, state)
+                coming, both = first_level(next_cell, is_goal, cells, done, choices, preferred,
+                                           actions, state)
+                if both:
+                    acc[ep.COORDINATIONS] += 1
+            else:
+                for i in range(n_agents):
+                    if not done[i]:
+                        actions[i] = epsilon_greedy(q[i, cells[i]], exploit, state)
+            collisions = rules.step(next_cell, is_goal, starts, bounce, cells, done, actions,
+                                    new_cells, rewards, bumped, collided, reached)
+            for i in range(n_agents):
+                if not done[i]:
+                    q_update(q[i], cells[i], actions[i], rewards[i], new_cells[i], reached[i],
+                             alpha, gamma)
+            if observing:
+                for i in range(n_agents):
+                    beta = gla_feedback(feedback_table, penalty_per_cell, choices[i], coming, both, delta)
+                    gla.update(u[i], x, choices[i], beta, gla_rate, temperature, K, L, bounding, probs[i])
+            t += 1
+            ep.end_step(t, cells, done, new_cells, rewards, reached, collisions, acc)
+        ep.end_episode(log, episode, bin_size, acc, t, done)
+
+
+@njit(parallel=True, cache=True)
+def batch(next_cell, is_goal, starts, bounce, n_cols, alpha, gamma, exploit, gla_rate, temperature,
+          K, L, bounding, init_range, feedback_table, penalty_per_cell, n_episodes, bin_size,
+          max_steps, states, q, u, log):
+    """:func:`run` for every run in parallel (glamas.runs batch-kernel form)."""
+    for r in prange(states.shape[0]):
+        run(next_cell, is_goal, starts, bounce, n_cols, alpha, gamma, exploit, gla_rate,
+            temperature, K, L, bounding, init_range, feedback_table, penalty_per_cell, n_episodes,
+            bin_size, max_steps, q[r], u[r], log[r], states[r])

@@ -1,0 +1,66 @@
+"""Tabular Q-learning (chapter Section 2.2, eq. 11 and Alg. 3) as compiled pieces for the kernels.
+
+A Q table is a 2-d float array, one row per state and one column per action. Nothing here
+allocates, so the episode loops can call these functions every step.
+"""
+
+from numba import njit
+
+from glamas import rng
+
+
+@njit(cache=True)
+def q_update(q, s, a, r, s_next, terminal, alpha, gamma):
+    """Eq. 11: Q(s, a) <- (1 - alpha) Q(s, a) + alpha (r + gamma max_a' Q(s', a')).
+
+    A terminal transition (the agent entered the absorbing goal, whose value stays zero) has
+    no successor term.
+    """
+    target = r
+    if not terminal:
+        target += gamma * row_max(q, s_next)
+    q[s, a] = (1.0 - alpha) * q[s, a] + alpha * target
+
+
+@njit(cache=True)
+def row_max(q, s):
+    """max_a Q(s, a)."""
+    best = q[s, 0]
+    for a in range(1, q.shape[1]):
+        if q[s, a] > best:
+            best = q[s, a]
+    return best
+
+
+@njit(cache=True)
+def greedy(q_row, state):
+    """argmax_a q_row[a], ties broken uniformly at random (one draw, only when there is a tie)."""
+    best = q_row[0]
+    ties = 1
+    for a in range(1, q_row.shape[0]):
+        if q_row[a] > best:
+            best = q_row[a]
+            ties = 1
+        elif q_row[a] == best:
+            ties += 1
+    if ties == 1:
+        for a in range(q_row.shape[0]):
+            if q_row[a] == best:
+                return a
+    pick = rng.integer(state, ties)
+    for a in range(q_row.shape[0]):
+        if q_row[a] == best:
+            if pick == 0:
+                return a
+            pick -= 1
+    return q_row.shape[0] - 1  # not reached: pick < ties
+
+
+@njit(cache=True)
+def epsilon_greedy(q_row, exploit_prob, state):
+    """The chapter's epsilon-greedy selection (Section 5.3), with epsilon read as the probability
+    of exploiting: greedy (random tie-break) with probability ``exploit_prob``, otherwise an
+    action drawn uniformly from all actions."""
+    if rng.uniform(state) < exploit_prob:
+        return greedy(q_row, state)
+    return rng.integer(state, q_row.shape[0])

@@ -1,0 +1,11 @@
+"""Fig. 12a: collisions per episode of the four gridworld learners (chapter Section 5.3)."""
+
+from glamas.experiments import gridworld
+
+
+def main(argv=None):
+    gridworld.figure_main("fig12a", "Fig. 12a: collisions per episode of the four gridworld learners", argv)
+
+
+if __name__ == "__main__":
+    main()
