@@ -70,11 +70,8 @@ class GridMap:
             raise ValueError(f"cell {cell} is outside the map {self.name!r}, which has cells 0..{self.n_cells - 1}")
         return divmod(int(cell), self.n_cols)
 
-    def wall_between(self, a: int, b: int) -> bool:
-        """Whether a wall separates the neighbouring cells a and b (blocked cells aside)."""
-        return b not in self.open_neighbours(a) and not (self.blocked[a] or self.blocked[b])
-
     def open_neighbours(self, cell: int) -> set[int]:
+        """The cells one move away from ``cell``."""
         return {int(c) for c in self.next_cell[cell] if c != cell}
 
 

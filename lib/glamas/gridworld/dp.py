@@ -1,0 +1,287 @@
+"""Dynamic programming (chapter Section 2.2) on the gridworld's joint MMDP: the optimum the learners aim at.
+
+The joint MMDP of a map has one state per assignment of cells to the agents (an agent in a goal
+cell is done: it no longer acts), one action per joint action (4**n), deterministic transitions
+given by :func:`glamas.gridworld.rules.step` and the MMDP learner's shared reward
+(:func:`glamas.gridworld.rules.shared_reward`). States no play can reach (two acting agents on
+one cell, an agent on a blocked cell) and the all-done state are absorbing with reward 0.
+
+:func:`value_iteration` is Alg. 2 with eq. 6 and the chapter's stopping rule (largest change
+below epsilon); :func:`policy_iteration` is Alg. 1 with iterative policy evaluation (eq. 5).
+"""
+
+from dataclasses import dataclass, replace
+
+import numpy as np
+from numba import njit
+
+from glamas.gridworld import rules
+from glamas.gridworld.maps import GridMap
+from glamas.gridworld.rules import N_ACTIONS
+
+
+@dataclass(frozen=True, eq=False)
+class JointMDP:
+    """The joint MMDP of a map as transition and reward tables over (joint state, joint action)."""
+
+    gridmap: GridMap
+    """The map the MDP is built from."""
+    bounce: str
+    """Where collided agents bounce to: 'previous' cell or 'start' cell."""
+    next_state: np.ndarray
+    """int64 (n_states, n_joint_actions): the joint state each joint action leads to."""
+    reward: np.ndarray
+    """float (n_states, n_joint_actions): the MMDP's shared reward (penalties summed, +100 when all are in)."""
+    agent_rewards: np.ndarray
+    """float (n_states, n_joint_actions, n_agents): each agent's own reward from the rules."""
+    collisions: np.ndarray
+    """int64 (n_states, n_joint_actions): colliding pairs in the step."""
+    bumped: np.ndarray
+    """bool (n_states, n_joint_actions, n_agents): which agents bump into a wall in the step."""
+    reached: np.ndarray
+    """bool (n_states, n_joint_actions, n_agents): which agents enter the goal in the step."""
+    valid: np.ndarray
+    """bool (n_states,): states play can reach (distinct cells for acting agents, none blocked)."""
+
+    @property
+    def n_states(self) -> int:
+        return self.next_state.shape[0]
+
+    @property
+    def n_joint_actions(self) -> int:
+        return self.next_state.shape[1]
+
+    @property
+    def start_state(self) -> int:
+        return self.state(self.gridmap.starts)
+
+    def state(self, cells) -> int:
+        """The joint state of the agents' cells (agent 1 most significant)."""
+        return int(np.ravel_multi_index(tuple(int(c) for c in cells), (self.gridmap.n_cells,) * self.gridmap.n_agents))
+
+    def cells(self, state: int) -> tuple[int, ...]:
+        """The agents' cells in a joint state."""
+        return tuple(int(c) for c in np.unravel_index(state, (self.gridmap.n_cells,) * self.gridmap.n_agents))
+
+    def actions(self, joint_action: int) -> tuple[int, ...]:
+        """The agents' actions (N=0, E=1, S=2, W=3) in a joint action (agent 1 most significant)."""
+        return tuple(int(a) for a in np.unravel_index(joint_action, (N_ACTIONS,) * self.gridmap.n_agents))
+
+
+@dataclass(frozen=True, eq=False)
+class DPSolution:
+    """Optimal values and a greedy joint policy of a :class:`JointMDP`."""
+
+    values: np.ndarray
+    """float (n_states,): V of every joint state."""
+    policy: np.ndarray
+    """int64 (n_states,): the chosen joint action of every joint state."""
+    iterations: int
+    """Sweeps of value iteration, or improvement steps of policy iteration."""
+
+
+@dataclass(frozen=True, eq=False)
+class Rollout:
+    """One episode from the starts under a deterministic joint policy."""
+
+    cells: np.ndarray
+    """int64 (n_steps + 1, n_agents): the agents' cells, starts first."""
+    steps_to_goal: np.ndarray
+    """int64 (n_agents,): the step at which each agent entered the goal (-1: not within the steps)."""
+    returns: np.ndarray
+    """float (n_agents,): each agent's undiscounted sum of its own rewards."""
+    collisions: int
+    """Colliding pairs over the episode."""
+    bumps: np.ndarray
+    """int64 (n_agents,): wall bumps of each agent."""
+    finished: bool
+    """Whether every agent was in the goal at the end."""
+
+
+def joint_mdp(gridmap: GridMap, bounce: str = "previous") -> JointMDP:
+    """Tabulate the joint MMDP of ``gridmap`` (n_cells**n_agents states, 4**n_agents joint actions)."""
+    if bounce not in rules.BOUNCE_MODES:
+        raise ValueError(f"bounce must be one of {sorted(rules.BOUNCE_MODES)}, got {bounce!r}")
+    n_states = gridmap.n_cells ** gridmap.n_agents
+    if n_states * N_ACTIONS ** gridmap.n_agents > 50_000_000:
+        raise ValueError(f"the joint MMDP of {gridmap.name!r} has {n_states} states x "
+                         f"{N_ACTIONS ** gridmap.n_agents} joint actions: too large to tabulate; use fewer agents")
+    shape = (n_states, N_ACTIONS ** gridmap.n_agents)
+    tables = dict(next_state=np.empty(shape, np.int64), reward=np.empty(shape),
+                  agent_rewards=np.empty(shape + (gridmap.n_agents,)), collisions=np.empty(shape, np.int64),
+                  bumped=np.empty(shape + (gridmap.n_agents,), bool),
+                  reached=np.empty(shape + (gridmap.n_agents,), bool), valid=np.empty(n_states, bool))
+    _tabulate(gridmap.next_cell, gridmap.is_goal, gridmap.blocked, gridmap.starts, rules.BOUNCE_MODES[bounce],
+              *tables.values())
+    return JointMDP(gridmap, bounce, **tables)
+
+
+@njit(cache=True)
+def _tabulate(next_cell, is_goal, blocked, starts, bounce, next_state, reward, agent_rewards, collisions,
+              agent_bumped, agent_reached, valid):
+    n_cells, n = next_cell.shape[0], starts.shape[0]
+    cells, done, actions = np.empty(n, np.int64), np.empty(n, np.bool_), np.empty(n, np.int64)
+    new_cells, rewards = np.empty(n, np.int64), np.empty(n)
+    bumped, collided, reached = np.empty(n, np.bool_), np.empty(n, np.bool_), np.empty(n, np.bool_)
+    for s in range(next_state.shape[0]):
+        _digits(s, n_cells, cells)
+        valid[s] = _is_valid(cells, is_goal, blocked)
+        all_done = True
+        for i in range(n):
+            done[i] = is_goal[cells[i]]
+            all_done = all_done and done[i]
+        for ja in range(next_state.shape[1]):
+            if all_done or not valid[s]:
+                next_state[s, ja], reward[s, ja], collisions[s, ja] = s, 0.0, 0
+                agent_rewards[s, ja, :] = 0.0
+                agent_bumped[s, ja, :] = False
+                agent_reached[s, ja, :] = False
+                continue
+            _digits(ja, N_ACTIONS, actions)
+            collisions[s, ja] = rules.step(next_cell, is_goal, starts, bounce, cells, done, actions,
+                                           new_cells, rewards, bumped, collided, reached)
+            all_done_after = True
+            for i in range(n):
+                all_done_after = all_done_after and (done[i] or reached[i])
+                agent_rewards[s, ja, i] = rewards[i]
+                agent_bumped[s, ja, i] = bumped[i]
+                agent_reached[s, ja, i] = reached[i]
+            reward[s, ja] = rules.shared_reward(rewards, reached, all_done_after)
+            next_state[s, ja] = _number(new_cells, n_cells)
+
+
+@njit(cache=True)
+def _digits(number, base, out):
+    """Write ``number``'s base-``base`` digits into ``out``, most significant first."""
+    for i in range(out.shape[0] - 1, -1, -1):
+        out[i] = number % base
+        number //= base
+
+
+@njit(cache=True)
+def _number(digits, base):
+    number = 0
+    for i in range(digits.shape[0]):
+        number = number * base + digits[i]
+    return number
+
+
+@njit(cache=True)
+def _is_valid(cells, is_goal, blocked):
+    for i in range(cells.shape[0]):
+        if blocked[cells[i]]:
+            return False
+        for j in range(i + 1, cells.shape[0]):
+            if cells[i] == cells[j] and not is_goal[cells[i]]:
+                return False
+    return True
+
+
+def _check_gamma_epsilon(gamma, epsilon):
+    if not isinstance(gamma, (int, float)) or not 0.0 < gamma < 1.0:
+        raise ValueError(f"gamma must be a discount factor in (0, 1), got {gamma!r}")
+    if not isinstance(epsilon, (int, float)) or not epsilon > 0.0:
+        raise ValueError(f"epsilon must be a number > 0, got {epsilon!r}")
+
+
+def q_values(mdp: JointMDP, values: np.ndarray, gamma: float) -> np.ndarray:
+    """Q(s, a) = R(s, a) + gamma V(s') for deterministic transitions (eq. 6 inside the max)."""
+    return mdp.reward + gamma * values[mdp.next_state]
+
+
+def value_iteration(mdp: JointMDP, gamma: float, epsilon: float = 1e-9, max_sweeps: int = 100_000) -> DPSolution:
+    """Alg. 2: sweep eq. 6 until the largest change of V is below ``epsilon``; the policy is greedy in V."""
+    _check_gamma_epsilon(gamma, epsilon)
+    values = np.zeros(mdp.n_states)
+    for sweep in range(1, max_sweeps + 1):
+        new_values = q_values(mdp, values, gamma).max(axis=1)
+        change = np.abs(new_values - values).max()
+        values = new_values
+        if change < epsilon:
+            return DPSolution(values, greedy_policy(mdp, values, gamma), sweep)
+    raise RuntimeError(f"value iteration did not reach epsilon={epsilon} in {max_sweeps} sweeps; raise max_sweeps")
+
+
+def greedy_policy(mdp: JointMDP, values: np.ndarray, gamma: float) -> np.ndarray:
+    """Eq. 4: the joint action maximising R + gamma V (the lowest-numbered one among ties)."""
+    return q_values(mdp, values, gamma).argmax(axis=1).astype(np.int64)
+
+
+def policy_evaluation(mdp: JointMDP, policy: np.ndarray, gamma: float, epsilon: float) -> np.ndarray:
+    """Eq. 5 for a deterministic policy, iterated until the largest change is below ``epsilon``."""
+    rows = np.arange(mdp.n_states)
+    reward, successor = mdp.reward[rows, policy], mdp.next_state[rows, policy]
+    values = np.zeros(mdp.n_states)
+    while True:
+        new_values = reward + gamma * values[successor]
+        if np.abs(new_values - values).max() < epsilon:
+            return new_values
+        values = new_values
+
+
+def policy_iteration(mdp: JointMDP, gamma: float, epsilon: float = 1e-9, max_iterations: int = 1000) -> DPSolution:
+    """Alg. 1: evaluate the policy (eq. 5), improve it greedily, stop when it no longer changes.
+
+    Starts from 'every agent goes north'. A state keeps its action when that action is still
+    within ``tie`` of the best, so evaluation round-off cannot make the policy cycle between
+    equally good actions.
+    """
+    _check_gamma_epsilon(gamma, epsilon)
+    tie = 1e3 * epsilon / (1.0 - gamma)
+    policy = np.zeros(mdp.n_states, dtype=np.int64)
+    rows = np.arange(mdp.n_states)
+    for iteration in range(1, max_iterations + 1):
+        values = policy_evaluation(mdp, policy, gamma, epsilon)
+        q = q_values(mdp, values, gamma)
+        best = q.argmax(axis=1)
+        keep = q[rows, policy] >= q[rows, best] - tie
+        improved = np.where(keep, policy, best)
+        if np.array_equal(improved, policy):
+            return DPSolution(values, policy, iteration)
+        policy = improved
+    raise RuntimeError(f"policy iteration did not settle in {max_iterations} improvements; raise max_iterations")
+
+
+def rollout(mdp: JointMDP, policy: np.ndarray, max_steps: int | None = None) -> Rollout:
+    """Follow a deterministic joint policy from the start cells until every agent is in the goal
+    or ``max_steps`` (default: the number of joint states, beyond which a deterministic policy loops)."""
+    max_steps = mdp.n_states if max_steps is None else max_steps
+    n = mdp.gridmap.n_agents
+    state = mdp.start_state
+    path = [mdp.cells(state)]
+    steps, returns, bumps = np.full(n, -1, np.int64), np.zeros(n), np.zeros(n, np.int64)
+    collisions = 0
+    while len(path) <= max_steps and not all(mdp.gridmap.is_goal[c] for c in path[-1]):
+        action = int(policy[state])
+        returns += mdp.agent_rewards[state, action]
+        bumps += mdp.bumped[state, action]
+        steps[mdp.reached[state, action]] = len(path)
+        collisions += int(mdp.collisions[state, action])
+        state = int(mdp.next_state[state, action])
+        path.append(mdp.cells(state))
+    finished = all(mdp.gridmap.is_goal[c] for c in path[-1])
+    return Rollout(np.array(path, np.int64), steps, returns, collisions, bumps, finished)
+
+
+def selfish_policy(mdp: JointMDP, gamma: float) -> np.ndarray:
+    """The joint policy of agents that each follow their own single-agent optimum, ignoring the others."""
+    gridmap = mdp.gridmap
+    own = []
+    for start in gridmap.starts:
+        alone = joint_mdp(replace(gridmap, starts=np.array([start], np.int64)), mdp.bounce)
+        own.append(value_iteration(alone, gamma).policy)
+    policy = np.empty(mdp.n_states, np.int64)
+    for state in range(mdp.n_states):
+        cells = mdp.cells(state)
+        policy[state] = np.ravel_multi_index(tuple(own[i][c] for i, c in enumerate(cells)),
+                                             (N_ACTIONS,) * gridmap.n_agents)
+    return policy
+
+
+def optimal_rollout(gridmap: GridMap, gamma: float, bounce: str = "previous", epsilon: float = 1e-9) -> Rollout:
+    """The episode of the optimal joint policy (value iteration) from the starts."""
+    mdp = joint_mdp(gridmap, bounce)
+    episode = rollout(mdp, value_iteration(mdp, gamma, epsilon).policy)
+    if not episode.finished:
+        raise RuntimeError(f"the optimal policy of {gridmap.name!r} does not bring every agent to the goal")
+    return episode
