@@ -1,11 +1,13 @@
 """The map format and loader: the bundled TunnelToGoal map and every malformed-map error."""
 
+import importlib.util
+
 import numpy as np
 import pytest
 
 from glamas.gridworld import MapError, load_map, tunnel_to_goal
 from glamas.gridworld.rules import E, N, S, W
-from glamas.paths import MAPS
+from glamas.paths import MAPS, REPO
 
 GOOD = """\
 +-+-+-+
@@ -107,3 +109,36 @@ def test_missing_file_and_wrong_type():
         load_map("nowhere.txt")
     with pytest.raises(TypeError, match="path or the map's text"):
         load_map(42)
+
+
+def load_fig9():
+    spec = importlib.util.spec_from_file_location("fig9", REPO / "paper_figures" / "fig9.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def test_fig9_script_is_byte_reproducible(tmp_path):
+    fig9 = load_fig9()
+    fig9.main(["--out", str(tmp_path / "a")])
+    fig9.main(["--out", str(tmp_path / "b")])
+    names = sorted(p.name for p in (tmp_path / "a").iterdir())
+    assert names == ["fig9.pdf", "fig9.png", "fig9_optimum.pdf", "fig9_optimum.png"]
+    for name in names:
+        assert (tmp_path / "a" / name).read_bytes() == (tmp_path / "b" / name).read_bytes()
+
+
+def test_fig9_rejects_a_file_as_out(tmp_path, capsys):
+    target = tmp_path / "file.txt"
+    target.write_text("x")
+    with pytest.raises(SystemExit):
+        load_fig9().main(["--out", str(target)])
+    assert "exists and is not a directory" in capsys.readouterr().err
+
+
+def test_draw_map_walls():
+    from glamas.gridworld.draw import _walls
+    walls = _walls(tunnel_to_goal())
+    # The border (4 lines) and the 8 wall segments above and below the goal row.
+    assert len(walls) == 4 + 8
+    assert ([0, 1], [2, 2]) in walls and ([3, 4], [3, 3]) in walls and ([4, 5], [2, 2]) not in walls

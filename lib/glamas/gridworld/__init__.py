@@ -1,6 +1,7 @@
 """The gridworld of the chapter's Section 5.3: maps, rules, a Python environment, dynamic programming."""
 
 from glamas.gridworld import rules
+from glamas.gridworld.env import GridworldEnv
 from glamas.gridworld.maps import GridMap, MapError, load_map, tunnel_to_goal
 from glamas.gridworld.rules import (
     ACTION_NAMES, BOUNCE_MODES, BOUNCE_PREVIOUS, BOUNCE_START, BUMP_PENALTY, COLLISION_PENALTY,
@@ -9,6 +10,6 @@ from glamas.gridworld.rules import (
 
 __all__ = [
     "ACTION_NAMES", "BOUNCE_MODES", "BOUNCE_PREVIOUS", "BOUNCE_START", "BUMP_PENALTY",
-    "COLLISION_PENALTY", "GOAL_REWARD", "GridMap", "MapError", "N_ACTIONS", "load_map",
+    "COLLISION_PENALTY", "GOAL_REWARD", "GridMap", "GridworldEnv", "MapError", "N_ACTIONS", "load_map",
     "manhattan", "rules", "shared_reward", "step", "tunnel_to_goal", "would_collide",
 ]
