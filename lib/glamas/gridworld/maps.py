@@ -9,7 +9,9 @@ A map of R rows and C columns is drawn like a maze in 2R+1 lines of 2C+1 charact
   the cells above and below) or a space;
 - the border is closed: first and last lines ``+-+-...+``, cell lines begin and end with ``|``.
 
-Cells are numbered row by row, ``cell = row * n_cols + col``; row 0 is the top line.
+Cells are numbered row by row, ``cell = row * n_cols + col``; row 0 is the top line. A start
+symbol stands in place of the cell symbol, so a start is always a free cell (never the goal or a
+blocked cell). Walls are symmetric by construction: one character separates two cells.
 """
 
 from collections import deque
