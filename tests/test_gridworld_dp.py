@@ -129,3 +129,23 @@ def test_experiment_measure_and_config_errors():
         gridworld_optimum.GridworldOptimumConfig(gamma=1.5)
     with pytest.raises(ValueError, match="bounce must be one of"):
         gridworld_optimum.GridworldOptimumConfig(bounce="home")
+
+
+@pytest.mark.parametrize("field, value, message", [
+    ("epsilon", 0.0, r"epsilon must be a float > 0"),
+    ("selfish_steps", 0, r"selfish_steps must be a positive integer"),
+    ("gamma", 1, r"gamma must be a float in \(0, 1\), got 1"),
+])
+def test_experiment_config_errors(field, value, message):
+    with pytest.raises(ValueError, match=message):
+        gridworld_optimum.GridworldOptimumConfig(**{field: value})
+
+
+def test_plot_episode_rejects_unknown_episode():
+    import matplotlib
+    matplotlib.use("Agg")
+    from glamas import plotting
+    result = gridworld_optimum.run(gridworld_optimum.GridworldOptimumConfig())
+    fig, ax = plotting.new_figure(3, 3)
+    with pytest.raises(ValueError, match=r"which must be one of \['optimal', 'selfish'\], got 'best'"):
+        gridworld_optimum.plot_episode(ax, result, "best")
