@@ -1,0 +1,156 @@
+"""The Section 5.3 experiment: config defaults and validation, measurements, analyses, figure scripts."""
+
+import re
+import runpy
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from glamas import claims
+from glamas.experiments import gridworld as gw
+from glamas.gridworld import MapError
+from glamas.paths import REPO
+
+FIGURES = ("fig10", "fig11a", "fig11b", "fig12a", "fig12b")
+
+
+def test_config_defaults_are_the_chapter_parameters():
+    config = gw.GridworldConfig()
+    stated = claims.parameters("gridworld")
+    assert stated  # the chapter states some of them
+    for field, entry in stated.items():
+        assert getattr(config, field) == entry["value"], field
+
+
+@pytest.mark.parametrize("changes, message", [
+    ({"episodes": 1000, "bin_size": 300}, "bin_size (300) must divide episodes (1000)"),
+    ({"episodes": 0}, "episodes must be a whole number >= 1"),
+    ({"runs": 2.5}, "runs must be a whole number >= 1"),
+    ({"exploit_prob": 1.5}, "exploit_prob must be a number in (0, 1]"),
+    ({"discount": 0}, "discount must be a number in (0, 1]"),
+    ({"bounce": "wall"}, "bounce must be one of ['previous', 'start']"),
+    ({"learners": ("independent", "sarsa")}, "learners must be distinct names from"),
+    ({"learners": ()}, "learners must be distinct names from"),
+    ({"gla_temperature": -1.0}, "GLA temperature must be a finite number > 0"),
+    ({"gla_bounding": "soft"}, "GLA bounding must be one of"),
+    ({"gla_init_range": 2.0}, "gla_init_range must be in [0, gla_L=1.0]"),
+    ({"gla_feedback": ((1, 0, 0), (0, 1, 0))}, "gla_feedback must be a 2x2 table"),
+    ({"gla_feedback": "ones"}, "gla_feedback must be a 2x2 table"),
+    ({"coordination_penalty_per_cell": -0.1}, "coordination_penalty_per_cell must be a number >= 0"),
+    ({"q_initial": float("nan")}, "q_initial must be a finite number"),
+])
+def test_bad_configurations_are_rejected_with_a_message(changes, message):
+    with pytest.raises(ValueError, match=re.escape(message)):
+        gw.GridworldConfig(**changes)
+
+
+def test_map_file_errors_name_the_problem(tmp_path):
+    with pytest.raises(MapError, match="no map file"):
+        gw.GridworldConfig(map_file="no_such_map.txt")
+    three = tmp_path / "three.txt"
+    three.write_text("+-+-+-+\n|1 2 3|\n+ + + +\n|. G .|\n+-+-+-+\n")
+    with pytest.raises(ValueError, match="written for two agents; map .* has 3"):
+        gw.GridworldConfig(map_file=str(three))
+
+
+def test_map_file_by_name_or_path():
+    assert gw.GridworldConfig().gridmap().name == "tunnel_to_goal"
+    path = REPO / "data" / "maps" / "tunnel_to_goal.txt"
+    assert gw.GridworldConfig(map_file=str(path)).gridmap().n_cells == 25
+
+
+def test_final_and_convergence_episode_on_a_made_up_curve():
+    episodes = np.arange(1, 11) * 100
+    curves = np.array([[40.0, 30, 20, 12, 10.4, 10, 10, 10, 10, 10]] * 2)
+    assert gw.final(curves) == 10.0  # the last 10 % of the blocks
+    assert gw.convergence_episode(curves, episodes) == 400.0  # 12 is the last block outside 5 %
+    assert gw.convergence_episode(np.full((2, 10), 3.0), episodes) == 0.0
+
+
+@pytest.fixture(scope="module")
+def small():
+    config = gw.GridworldConfig(episodes=400, runs=2, bin_size=100)
+    return config, gw.run(config, seed=1, workers=1)
+
+
+def test_measure_gives_every_claimed_metric_and_verdicts_are_computed(small):
+    _, result = small
+    measured = gw.measure(result)
+    rows = gw.claim_rows(result)
+    assert len(rows) == len(claims.load("gridworld"))
+    for row in rows:
+        assert row["value"] == measured[row["claim"].metric]
+        assert row["holds"] == row["claim"].holds(row["value"])
+    assert measured["steps_independent"] == pytest.approx(gw.final(result.steps("independent")))
+    assert measured["coordinations_independent"] == 0.0
+
+
+def test_state_action_spaces_are_measured_from_the_tables(small):
+    rows = {row["learner"]: row for row in gw.state_action_spaces(small[1])}
+    assert rows["independent"]["q_entries_per_agent"] == 25 * 4
+    assert rows["joint_state"]["q_entries_per_agent"] == 625 * 4
+    assert rows["mmdp"]["q_entries_per_agent"] == 625 * 16 / 2  # one central table for two agents
+    assert rows["two_observe"]["q_entries_per_agent"] == 25 * 4
+    assert rows["two_observe"]["gla_parameters_per_agent"] == 4
+    assert rows["mmdp"]["gla_parameters_per_agent"] == 0
+
+
+def test_coordination_probability_is_eq15_of_the_final_parameters(small):
+    config, result = small
+    u = np.zeros_like(result.gla_parameters)
+    u[:, :, 1] = [-0.5, 0.75]  # coordinate: x.u = -0.5 delta + 0.75; act alone: 0
+    made_up = gw.GridworldResult(result.learners, result.log, result.table_shapes, u, result.episodes)
+    p = gw.coordination_probability(made_up, config, [0, 1, 2, 4])
+    expected = 1 / (1 + np.exp(-(-0.5 * np.array([0, 1, 2, 4]) + 0.75) / config.gla_temperature))
+    assert np.allclose(p, expected)
+
+
+def test_optimum_is_the_value_iteration_episode():
+    best = gw.optimum(gw.GridworldConfig())
+    assert best["steps"] == 10.5 and best["collisions"] == 0.0  # 10 and 11 steps (Fig. 9 notes)
+
+
+def _run_figure(name, argv):
+    runpy.run_path(str(REPO / "paper_figures" / f"{name}.py"), run_name="not_main")["main"](argv)
+
+
+def test_figure_scripts_small_scale_are_byte_reproducible(tmp_path):
+    for attempt in ("a", "b"):  # two independent runs from scratch
+        argv = ["--runs", "2", "--iterations", "300", "--workers", "1",
+                "--out", str(tmp_path / attempt / "out"), "--results", str(tmp_path / attempt / "results")]
+        for name in FIGURES:
+            _run_figure(name, argv)
+    for name in FIGURES:
+        for ext in ("png", "pdf"):
+            a = (tmp_path / "a" / "out" / f"{name}.{ext}").read_bytes()
+            assert a == (tmp_path / "b" / "out" / f"{name}.{ext}").read_bytes(), f"{name}.{ext}"
+    assert sorted(p.name for p in (tmp_path / "a" / "results").iterdir()) == ["gridworld.npz"]
+
+
+def test_figure_script_runs_from_another_directory(tmp_path):
+    done = subprocess.run([sys.executable, str(REPO / "paper_figures" / "fig12b.py"), "--runs", "2",
+                           "--iterations", "200", "--out", "out", "--results", "results"],
+                          cwd=tmp_path, capture_output=True, text=True)
+    assert done.returncode == 0, done.stderr
+    assert (tmp_path / "out" / "fig12b.png").is_file() and (tmp_path / "results" / "gridworld.npz").is_file()
+
+
+@pytest.mark.parametrize("argv, message", [
+    (["--runs", "0"], "must be at least 1"),
+    (["--iterations", "many"], "expected a whole number"),
+    (["--seed", "-2"], "must be 0 or more"),
+])
+def test_bad_command_line_arguments_are_rejected(argv, message, capsys, tmp_path):
+    with pytest.raises(SystemExit):
+        _run_figure("fig11a", argv + ["--out", str(tmp_path)])
+    assert message in capsys.readouterr().err
+
+
+def test_out_that_is_a_file_is_rejected(tmp_path, capsys):
+    (tmp_path / "file").write_text("")
+    with pytest.raises(SystemExit):
+        _run_figure("fig11b", ["--out", str(tmp_path / "file")])
+    assert "exists and is not a directory" in capsys.readouterr().err

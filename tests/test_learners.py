@@ -1,0 +1,131 @@
+"""The Section 5.3 learners: table shapes, small runs of each, seeding, and 2observe's first level."""
+
+import numpy as np
+import pytest
+
+from glamas.experiments import gridworld as gw
+from glamas.gridworld import tunnel_to_goal
+from glamas.gridworld.rules import E, N, S, W
+from glamas.learners import episode as ep
+from glamas.learners import independent, joint_state, mmdp, two_observe
+from glamas.learners.two_observe import ACT_ALONE, COORDINATE, first_level, gla_feedback
+from glamas.rng import run_states
+
+SMALL = gw.GridworldConfig(episodes=200, runs=2, bin_size=100)
+
+
+def test_table_shapes_follow_section_5_3():
+    assert independent.new_tables(25, 2).shape == (2, 25, 4)
+    assert joint_state.new_tables(25, 2).shape == (2, 625, 4)
+    assert mmdp.new_tables(25, 2).shape == (1, 625, 16)
+    assert two_observe.new_tables(25, 2).shape == (2, 25, 4)
+    assert two_observe.new_gla_parameters(2).shape == (2, 2, 2)
+
+
+def test_mmdp_joint_action_components():
+    actions = np.zeros(2, np.int64)
+    mmdp.split_joint_action(7, actions)
+    assert actions.tolist() == [1, 3]
+    mmdp.split_joint_action(12, actions)
+    assert actions.tolist() == [3, 0]
+
+
+@pytest.fixture(scope="module")
+def small_result():
+    return gw.run(SMALL, seed=5, workers=1)
+
+
+def test_every_learner_runs_and_its_log_is_consistent(small_result):
+    for name in gw.LEARNERS:
+        steps = small_result.curves(name, ep.STEPS)
+        assert np.isfinite(small_result.log).all()
+        assert (steps >= 10).all(), name  # 10 moves is the shortest path of either agent
+        assert (small_result.curves(name, ep.LENGTH) >= steps).all()
+        assert (small_result.reward(name) <= 100).all()
+        capped = small_result.curves(name, ep.CAPPED)  # early positive-value loops can hit the cap
+        assert ((0 <= capped) & (capped <= 1)).all()
+        assert (small_result.curves(name, ep.LENGTH) <= SMALL.max_steps).all()
+        if name != "two_observe":
+            assert (small_result.curves(name, ep.COORDINATIONS) == 0).all()
+    assert small_result.table_shapes.tolist() == [[2, 25, 4], [2, 625, 4], [1, 625, 16], [2, 25, 4]]
+    assert np.abs(small_result.gla_parameters).max() > 0  # initialised randomly
+
+
+def test_learners_learn_the_way_to_the_goal(small_result):
+    # After a few hundred episodes the learners need far fewer steps than the early random walk.
+    for name in ("independent", "two_observe"):
+        steps = small_result.steps(name).mean(axis=0)
+        assert steps[-1] < 0.5 * steps[0], name
+
+
+def test_same_seed_same_results_for_one_and_two_workers(small_result):
+    two = gw.run(SMALL, seed=5, workers=2)
+    assert np.array_equal(small_result.log, two.log)
+    assert np.array_equal(small_result.gla_parameters, two.gla_parameters)
+    assert not np.array_equal(small_result.log, gw.run(SMALL, seed=6, workers=1).log)
+
+
+def test_a_learner_gets_the_same_streams_whatever_it_is_trained_with(small_result):
+    alone = gw.run(gw.GridworldConfig(episodes=200, runs=2, bin_size=100, learners=("mmdp",)), seed=5, workers=1)
+    assert np.array_equal(alone.log[0], small_result.log[2])
+
+
+# --- 2observe's first level (Alg. 4, Sec. 5.2), case by case --------------------------------
+
+@pytest.fixture()
+def tunnel_entrance():
+    """Agents just above and below the tunnel entrance E = (2, 4), both heading into it."""
+    g = tunnel_to_goal()
+    cells = np.array([g.cell(1, 4), g.cell(3, 4)])
+    return g, cells, np.zeros(2, np.bool_), np.array([S, N])
+
+
+def _first_level(g, cells, done, choices, preferred, state):
+    actions = np.full(2, -1, np.int64)
+    coming, both = first_level(g.next_cell, g.is_goal, cells, done, np.array(choices), preferred, actions, state)
+    return actions, coming, both
+
+
+def test_both_coordinate_and_a_collision_is_coming_one_random_agent_yields(tunnel_entrance):
+    g, cells, done, preferred = tunnel_entrance
+    state = run_states(3, 1)[0]
+    yielders = []
+    for _ in range(3000):
+        actions, coming, both = _first_level(g, cells, done, (COORDINATE, COORDINATE), preferred, state)
+        assert coming and both
+        changed = np.flatnonzero(actions != preferred)
+        assert changed.size == 1  # one keeps its action, the other takes another one
+        yielders.append((changed[0], actions[changed[0]]))
+    agents = np.array([y[0] for y in yielders])
+    assert abs(agents.mean() - 0.5) < 0.04
+    others = [a for agent, a in yielders if agent == 0]
+    assert set(others) == {N, E, W}  # all other actions of agent 0 (preferred S), about equally
+    assert min(others.count(a) for a in (N, E, W)) > 0.25 * len(others)
+
+
+@pytest.mark.parametrize("choices", [(COORDINATE, ACT_ALONE), (ACT_ALONE, COORDINATE), (ACT_ALONE, ACT_ALONE)])
+def test_unless_both_coordinate_the_agents_play_their_preferred_actions(tunnel_entrance, choices):
+    g, cells, done, preferred = tunnel_entrance
+    actions, coming, both = _first_level(g, cells, done, choices, preferred, run_states(0, 1)[0])
+    assert coming and not both
+    assert actions.tolist() == preferred.tolist()  # the collision happens
+
+
+def test_both_coordinate_without_a_collision_coming_keeps_the_preferred_actions(tunnel_entrance):
+    g, cells, done, _ = tunnel_entrance
+    preferred = np.array([W, E])
+    actions, coming, both = _first_level(g, cells, done, (COORDINATE, COORDINATE), preferred, run_states(0, 1)[0])
+    assert both and not coming
+    assert actions.tolist() == [W, E]
+
+
+def test_gla_feedback_table_and_needless_coordination_penalty():
+    table = np.array(gw.GridworldConfig().gla_feedback)
+    assert gla_feedback(table, 0.1, ACT_ALONE, False, False, 3) == 1.0
+    assert gla_feedback(table, 0.1, ACT_ALONE, True, False, 3) == 0.0
+    assert gla_feedback(table, 0.1, COORDINATE, True, True, 2) == 1.0
+    assert gla_feedback(table, 0.1, COORDINATE, True, False, 2) == 1.0
+    assert gla_feedback(table, 0.1, COORDINATE, False, False, 3) == 0.0
+    assert gla_feedback(table, 0.1, COORDINATE, False, True, 3) == pytest.approx(-0.3)  # 0 - delta/10
+    other = np.array([[1.0, 0.0], [1.0, 1.0]])
+    assert gla_feedback(other, 0.1, COORDINATE, False, True, 4) == pytest.approx(0.6)
