@@ -327,7 +327,7 @@ def plot_parabola(ax, config: ANDNetworkConfig):
     ax.fill_between(x, np.clip(border, -1, 1), 1.0, color="tab:blue", alpha=0.2, linewidth=0)
     ax.plot(x, np.where(border <= 1, border, np.nan), color="k", lw=1.5)
     ax.text(0.0, 0.4, "I: (L, L) 0.9", ha="center")
-    ax.text(0.75, -0.8, f"II: (R, R) {config.reward_outside:g}", ha="center")
+    ax.text(0.98, -0.95, f"II: (R, R) {config.reward_outside:g}", ha="right")
     ax.set_xlim(-1, 1)
     ax.set_ylim(-1, 1)
     ax.set_aspect("equal")

@@ -1,0 +1,213 @@
+"""Section 4's experiments at small scale: results, seeding, config errors, chapter parameters,
+claims and the figure scripts."""
+
+import importlib.util
+from dataclasses import replace
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+import pytest  # noqa: E402
+
+from glamas import claims  # noqa: E402
+from glamas.experiments import and_network, single_gla  # noqa: E402
+
+REPO = Path(__file__).resolve().parents[1]
+SMALL_1 = single_gla.SingleGLAConfig(iterations=3000, runs=4, record_points=30, eval_grid=40)
+SMALL_2 = and_network.ANDNetworkConfig(iterations=3000, runs=4, record_points=30, eval_grid=40)
+
+
+def _load_script(name):
+    spec = importlib.util.spec_from_file_location(name, REPO / "paper_figures" / f"{name}.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+# ---- experiment 1 ----
+
+def test_single_gla_run_shapes_and_ranges():
+    result = single_gla.run(SMALL_1, seed=1)
+    assert result.reward.shape == (4, 30) and result.params.shape == (4, 2, 2, 3)
+    assert ((result.reward >= 0) & (result.reward <= 1)).all()
+    assert result.iteration[-1] == 3000
+    # with clip bounding the parameters stay near the box [-L, L]
+    assert np.abs(result.params).max() < 1.2
+
+
+def test_single_gla_learns_above_chance():
+    measured = single_gla.measure(single_gla.run(replace(SMALL_1, iterations=20000), seed=2))
+    # before learning the team earns 1/4 (one rewarded joint action of four)
+    assert measured["final_average_reward"] > 0.4
+    assert measured["agent_a_line_reward"] > 0.7
+
+
+@pytest.mark.parametrize("context, n_inputs", [("joint", 3), ("absolute", 2), ("deictic", 2)])
+def test_each_context_has_its_length(context, n_inputs):
+    result = single_gla.run(replace(SMALL_1, context=context, iterations=300), seed=0)
+    assert result.params.shape[-1] == n_inputs
+
+
+def test_single_gla_same_seed_same_results_for_one_and_two_workers():
+    one = single_gla.run(SMALL_1, seed=5, workers=1)
+    two = single_gla.run(SMALL_1, seed=5, workers=2)
+    np.testing.assert_array_equal(one.reward, two.reward)
+    np.testing.assert_array_equal(one.params, two.params)
+    other = single_gla.run(SMALL_1, seed=6, workers=1)
+    assert not np.array_equal(one.params, other.params)
+
+
+def test_best_single_line_for_agent_b_matches_the_analytic_value():
+    # B's best line is 'L iff d = x2 - x1 > 0.5': it errs only on -0.5 < d < 0 (where B should
+    # play L), which holds 0.21875 of the square, so it earns 0.78125
+    assert single_gla.best_line_reward("joint", 1, grid=200) == pytest.approx(0.78125, abs=0.01)
+    assert single_gla.best_line_reward("joint", 0, grid=200) == pytest.approx(1.0, abs=1e-9)
+    assert single_gla.best_line_reward("absolute", 0, grid=200) == pytest.approx(0.5, abs=0.01)
+
+
+def test_encoding_comparison_metrics():
+    results = single_gla.compare_encodings(replace(SMALL_1, runs=3), seed=0)
+    assert set(results) == {"joint", "absolute", "deictic"}
+    measured = single_gla.measure_encodings(results)
+    for claim in claims.load("state_encoding"):
+        assert claim.metric in measured
+
+
+@pytest.mark.parametrize("change, message", [
+    ({"iterations": 0}, "iterations must be a whole number >= 1, got 0"),
+    ({"runs": 2.5}, "runs must be a whole number >= 1, got 2.5"),
+    ({"record_points": 5000}, r"record_points \(5000\) cannot exceed iterations \(3000\)"),
+    ({"context": "polar"}, "context must be one of"),
+    ({"learning_rate": -0.1}, "GLA learning_rate must be a finite number > 0"),
+    ({"bounding": "soft"}, "GLA bounding must be one of"),
+    ({"init_scale": 2.0}, r"init_scale must be a number in \[0, L=1.0\]"),
+])
+def test_single_gla_config_errors_name_the_problem(change, message):
+    with pytest.raises(ValueError, match=message):
+        replace(SMALL_1, **change)
+
+
+def test_learned_lines_need_the_joint_context():
+    result = single_gla.run(replace(SMALL_1, context="deictic", iterations=300), seed=0)
+    fig, ax = plt.subplots()
+    with pytest.raises(ValueError, match="need the joint context"):
+        single_gla.plot_learned_lines(ax, result, 0)
+    plt.close(fig)
+
+
+# ---- experiment 2 ----
+
+def test_and_network_run_shapes_and_ranges():
+    result = and_network.run(SMALL_2, seed=1)
+    assert result.prob_left.shape == (4, 30, 2)
+    assert result.params.shape == (4, 2, 2, 2, 5)
+    assert ((result.prob_left >= 0) & (result.prob_left <= 1)).all()
+    assert result.iteration[0] == 0 and result.iteration[-1] == 3000
+    # the unwired network inputs stay zero, so their parameters never move from the initial ones
+    unwired = and_network.run(replace(SMALL_2, init_scale=0.0), seed=1).params[..., 3:]
+    assert not unwired.any()
+
+
+def test_and_network_starts_at_one_quarter_with_zero_parameters():
+    result = and_network.run(replace(SMALL_2, init_scale=0.0), seed=0)
+    np.testing.assert_allclose(result.prob_left[:, 0, :], 0.25)
+
+
+def test_and_network_same_seed_same_results_for_one_and_two_workers():
+    one = and_network.run(SMALL_2, seed=3, workers=1)
+    two = and_network.run(SMALL_2, seed=3, workers=2)
+    np.testing.assert_array_equal(one.prob_left, two.prob_left)
+    np.testing.assert_array_equal(one.params, two.params)
+
+
+def test_sweep_and_its_metrics():
+    result = and_network.sweep(replace(SMALL_2, runs=3), (0.5, 1.0), seed=0)
+    assert result.stuck.shape == (2, 3) and result.prob_left_I.shape == (2, 3, 2)
+    measured = and_network.measure_sweep(result)
+    assert measured["stuck_fraction_rise"] == measured["stuck_fraction_1"] - measured["stuck_fraction_0.5"]
+    with pytest.raises(ValueError, match="at least two values"):
+        and_network.sweep(SMALL_2, (0.5,))
+
+
+def test_and_network_metrics_cover_the_claims():
+    measured = and_network.measure(and_network.run(SMALL_2, seed=0))
+    for claim in claims.load("and_network"):
+        assert claim.metric in measured
+
+
+@pytest.mark.parametrize("change, message", [
+    ({"reward_outside": 1.5}, r"reward_outside must be in \[0, 1\]"),
+    ({"stuck_threshold": -0.1}, r"stuck_threshold must be in \[0, 1\]"),
+    ({"parabola_curvature": -1.0}, "parabola_curvature must be >= 0 so that region I is convex"),
+    ({"parabola_offset": 1.0}, "parabola_offset must be < 1 so that region I meets the square"),
+    ({"probe_points": 0}, "probe_points must be a whole number >= 1"),
+    ({"temperature": 0.0}, "GLA temperature must be a finite number > 0"),
+])
+def test_and_network_config_errors_name_the_problem(change, message):
+    with pytest.raises(ValueError, match=message):
+        replace(SMALL_2, **change)
+
+
+# ---- the chapter's parameters and claims ----
+
+@pytest.mark.parametrize("experiment, config", [
+    ("single_gla", single_gla.SingleGLAConfig()),
+    ("state_encoding", single_gla.SingleGLAConfig()),
+    ("and_network", and_network.ANDNetworkConfig()),
+])
+def test_config_defaults_are_the_chapters_parameters(experiment, config):
+    for field, entry in claims.parameters(experiment).items():
+        assert getattr(config, field) == entry["value"], f"{experiment}.{field} ({entry['where']})"
+
+
+def test_single_gla_metrics_cover_the_claims():
+    measured = single_gla.measure(single_gla.run(SMALL_1, seed=0))
+    for claim in claims.load("single_gla"):
+        assert claim.metric in measured
+
+
+# ---- figure scripts ----
+
+FIGURES = [("fig5", "fig5"), ("fig6", "fig6"), ("fig7a", "fig7a"), ("fig7b", "fig7b"),
+           ("fig7_sweep", "fig7_sweep")]
+
+
+@pytest.mark.parametrize("script, name", FIGURES)
+def test_figure_script_writes_byte_identical_files(tmp_path, script, name):
+    main = _load_script(script).main
+    args = ["--runs", "2", "--iterations", "200", "--seed", "4", "--workers", "1"]
+    main(args + ["--out", str(tmp_path / "a"), "--results", str(tmp_path / "a")])
+    main(args + ["--out", str(tmp_path / "b"), "--results", str(tmp_path / "b")])
+    for suffix in ("png", "pdf"):
+        first = (tmp_path / "a" / f"{name}.{suffix}").read_bytes()
+        assert first == (tmp_path / "b" / f"{name}.{suffix}").read_bytes()
+    assert (tmp_path / "a" / f"{name}.npz").exists()
+
+
+@pytest.mark.parametrize("args, message", [
+    (["--runs", "0"], "--runs: must be at least 1, got 0"),
+    (["--iterations", "many"], "--iterations: expected a whole number, got 'many'"),
+    (["--seed", "-3"], "--seed: must be 0 or more, got -3"),
+])
+def test_figure_script_rejects_bad_arguments(capsys, args, message):
+    with pytest.raises(SystemExit):
+        _load_script("fig5").main(args)
+    assert message in capsys.readouterr().err
+
+
+def test_fig7a_needs_two_runs(capsys, tmp_path):
+    with pytest.raises(SystemExit):
+        _load_script("fig7a").main(["--runs", "1", "--out", str(tmp_path)])
+    assert "--runs must be at least 2" in capsys.readouterr().err
+
+
+def test_figure_script_rejects_an_out_that_is_a_file(capsys, tmp_path):
+    existing = tmp_path / "file.txt"
+    existing.write_text("x")
+    with pytest.raises(SystemExit):
+        _load_script("fig6").main(["--out", str(existing)])
+    assert "exists and is not a directory" in capsys.readouterr().err
