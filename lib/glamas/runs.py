@@ -6,7 +6,7 @@ results are the same for any number of workers and any chunking.
 """
 
 import numba
-from tqdm.auto import tqdm
+from tqdm import tqdm  # not tqdm.auto: it warns in notebooks without ipywidgets
 
 from glamas.rng import run_states
 

@@ -182,18 +182,31 @@ class Evaluation:
     """(runs,) expected feedback when both agents play their Boltzmann policies."""
 
 
+def _correct_on_grid(params: np.ndarray, config: SingleGLAConfig) -> np.ndarray:
+    """(2 agents, grid points) each agent's probability of playing its part of the rewarded
+    joint action, for parameters (2 agents, 2 actions, context length)."""
+    encoding, mode = lineworld.encoding_code(config.context), config.gla_params().bounding_code
+    x1, x2 = lineworld.state_grid(config.eval_grid)
+    correct = np.empty((2, x1.shape[0]))
+    for agent in range(2):
+        correct_probabilities(params[agent], encoding, agent, x1, x2, config.temperature,
+                              config.L, mode, correct[agent])
+    return correct
+
+
+def team_reward(params: np.ndarray, config: SingleGLAConfig) -> float:
+    """Expected feedback of both agents' Boltzmann policies with the given parameters
+    (2 agents, 2 actions, context length): the mean over the grid of P_A(right) P_B(right)."""
+    correct = _correct_on_grid(params, config)
+    return float((correct[0] * correct[1]).mean())
+
+
 def evaluate(result: SingleGLAResult) -> Evaluation:
     """Exact-on-a-grid expected rewards of the learned policies (no sampling noise)."""
-    c = result.config
-    encoding, mode = lineworld.encoding_code(c.context), c.gla_params().bounding_code
-    x1, x2 = lineworld.state_grid(c.eval_grid)
     runs = result.params.shape[0]
     agent_reward, line_reward, team = np.empty((runs, 2)), np.empty((runs, 2)), np.empty(runs)
-    correct = np.empty((2, x1.shape[0]))
     for r in range(runs):
-        for agent in range(2):
-            correct_probabilities(result.params[r, agent], encoding, agent, x1, x2,
-                                  c.temperature, c.L, mode, correct[agent])
+        correct = _correct_on_grid(result.params[r], result.config)
         agent_reward[r] = correct.mean(axis=1)
         line_reward[r] = (correct > 0.5).mean(axis=1)
         team[r] = (correct[0] * correct[1]).mean()
