@@ -1,5 +1,6 @@
 """The Section 5.3 experiment: config defaults and validation, measurements, analyses, figure scripts."""
 
+import dataclasses
 import re
 import runpy
 import subprocess
@@ -41,6 +42,7 @@ def test_config_defaults_are_the_chapter_parameters():
     ({"gla_feedback": "ones"}, "gla_feedback must be a 2x2 table"),
     ({"coordination_penalty_per_cell": -0.1}, "coordination_penalty_per_cell must be a number >= 0"),
     ({"q_initial": float("nan")}, "q_initial must be a finite number"),
+    ({"rule_distance": -1}, "rule_distance must be a whole number >= 0"),
 ])
 def test_bad_configurations_are_rejected_with_a_message(changes, message):
     with pytest.raises(ValueError, match=re.escape(message)):
@@ -102,7 +104,7 @@ def test_coordination_probability_is_eq15_of_the_final_parameters(small):
     config, result = small
     u = np.zeros_like(result.gla_parameters)
     u[:, :, 1] = [-0.5, 0.75]  # coordinate: x.u = -0.5 delta + 0.75; act alone: 0
-    made_up = gw.GridworldResult(result.learners, result.log, result.table_shapes, u, result.episodes)
+    made_up = dataclasses.replace(result, gla_parameters=u)
     p = gw.coordination_probability(made_up, config, [0, 1, 2, 4])
     expected = 1 / (1 + np.exp(-(-0.5 * np.array([0, 1, 2, 4]) + 0.75) / config.gla_temperature))
     assert np.allclose(p, expected)

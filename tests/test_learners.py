@@ -129,3 +129,25 @@ def test_gla_feedback_table_and_needless_coordination_penalty():
     assert gla_feedback(table, 0.1, COORDINATE, False, True, 3) == pytest.approx(-0.3)  # 0 - delta/10
     other = np.array([[1.0, 0.0], [1.0, 1.0]])
     assert gla_feedback(other, 0.1, COORDINATE, False, True, 4) == pytest.approx(0.6)
+
+
+def test_two_observe_counts_its_observed_steps_by_distance(small_result):
+    counts = small_result.coming_counts
+    assert counts.shape == (2, 9, 2)  # deltas 0 .. 8 on the 5 x 5 map
+    assert counts[:, 0].sum() == 0  # two acting agents never share a cell
+    assert counts[:, :, 1].sum() > 0  # the tunnel entrance makes collisions come
+    assert gw.collision_coming_probability(small_result).shape == (9,)
+
+
+def test_fixed_rule_first_level_replaces_the_glas():
+    def ruled(distance):
+        config = gw.GridworldConfig(episodes=200, runs=2, bin_size=100, learners=("two_observe",),
+                                    rule_distance=distance)
+        return gw.run(config, seed=2, workers=1)
+    never, always = ruled(0), ruled(99)
+    assert (never.curves("two_observe", ep.COORDINATIONS) == 0).all()
+    # coordinating at every distance: every observed step is a coordination
+    observed = always.coming_counts.sum(axis=(1, 2))
+    assert np.allclose(always.curves("two_observe", ep.COORDINATIONS).sum(axis=1) * 100, observed)
+    # the GLAs do not learn under a fixed rule: the parameters keep their random initial values
+    assert np.array_equal(never.gla_parameters, always.gla_parameters)

@@ -7,7 +7,7 @@ turns the binned learning curves into the numbers the chapter's claims are about
 """
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 import matplotlib.pyplot as plt
@@ -72,6 +72,9 @@ class GridworldConfig:
     1 = coordinate; "collision coming" = the agents' preferred actions would collide."""
     coordination_penalty_per_cell: float = 0.1
     """Added feedback -this * delta when both coordinated without need (Sec. 5.3's 0 - delta/10)."""
+    rule_distance: int | None = None
+    """None: 2observe's GLAs learn when to coordinate (Alg. 4). A whole number d: a diagnostic, not
+    in the chapter, replacing the GLAs by the fixed rule "coordinate when delta < d"."""
 
     def __post_init__(self):
         _check_int(self, "episodes", 1)
@@ -102,6 +105,8 @@ class GridworldConfig:
         if not (isinstance(self.coordination_penalty_per_cell, (int, float)) and self.coordination_penalty_per_cell >= 0):
             raise ValueError("coordination_penalty_per_cell must be a number >= 0, "
                              f"got {self.coordination_penalty_per_cell!r}")
+        if self.rule_distance is not None:
+            _check_int(self, "rule_distance", 0)
         gridmap = self.gridmap()
         if gridmap.n_agents != 2:
             raise ValueError(f"the learners are written for two agents; map {self.map_file!r} has {gridmap.n_agents}")
@@ -153,6 +158,9 @@ class GridworldResult:
     """int (n_learners, 3): (tables, states, actions) of each learner's final Q tables."""
     gla_parameters: np.ndarray
     """(runs, agents, 2 actions, 2 inputs): 2observe's final GLA parameters (zeros if not run)."""
+    coming_counts: np.ndarray
+    """(runs, deltas, 2): 2observe's observed steps per distance delta without / with a
+    collision coming (zeros if not run)."""
     episodes: np.ndarray
     """int (bins,): the episode count at the end of each block (the curves' x axis)."""
 
@@ -185,18 +193,19 @@ def run(config: GridworldConfig = GridworldConfig(), seed: int = 0, workers=None
     log = np.zeros((n, config.runs, config.n_bins, ep.N_COLUMNS))
     shapes = np.zeros((n, 3), dtype=np.int64)
     u = np.zeros((config.runs,) + two_observe.new_gla_parameters(gridmap.n_agents).shape)
+    coming = np.zeros((config.runs,) + two_observe.new_coming_counts(gridmap.n_rows, gridmap.n_cols).shape)
     for k, name in enumerate(config.learners):
         q = np.stack([_MODULES[name].new_tables(gridmap.n_cells, gridmap.n_agents)] * config.runs)
         q[:] = config.q_initial
         inputs = _kernel_inputs(name, config, gridmap)
-        outputs = (q, u, log[k]) if name == "two_observe" else (q, log[k])
+        outputs = (q, u, coming, log[k]) if name == "two_observe" else (q, log[k])
         label = None if progress is None else f"{progress}: {name}"
         runs.run_batches(_MODULES[name].batch, inputs, outputs, len(LEARNERS) * seed + LEARNERS.index(name), workers=workers, progress=label)
         shapes[k] = q.shape[1:]
     codes = np.array([LEARNERS.index(name) for name in config.learners], dtype=np.int64)
     episodes = np.arange(1, config.n_bins + 1, dtype=np.int64) * config.bin_size
     return GridworldResult(learners=codes, log=log, table_shapes=shapes, gla_parameters=u,
-                           episodes=episodes)
+                           coming_counts=coming, episodes=episodes)
 
 
 def _kernel_inputs(name: str, config: GridworldConfig, gridmap: GridMap) -> tuple:
@@ -207,7 +216,8 @@ def _kernel_inputs(name: str, config: GridworldConfig, gridmap: GridMap) -> tupl
         return world + learning + schedule
     p = config.gla_params()
     automata = (p.learning_rate, p.temperature, p.K, p.L, p.bounding_code, float(config.gla_init_range),
-                np.array(config.gla_feedback), float(config.coordination_penalty_per_cell))
+                np.array(config.gla_feedback), float(config.coordination_penalty_per_cell),
+                -1 if config.rule_distance is None else config.rule_distance)
     return world + (gridmap.n_cols,) + learning + automata + schedule
 
 
@@ -252,9 +262,41 @@ def measure(result: GridworldResult) -> dict:
     return m
 
 
+def summary_table(result: GridworldResult) -> str:
+    """Final values (last 10 % of the episodes, mean over runs) and convergence episode per learner,
+    rounded to what 20 runs resolve."""
+    m = measure(result)
+    lines = [f"{'learner':24s} {'steps':>6s} {'reward':>7s} {'collisions':>10s} {'coordinations':>13s} "
+             f"{'converged by':>12s} {'capped/run':>10s}"]
+    for name in result.names():
+        lines.append(f"{LABELS[name]:24s} {m[f'steps_{name}']:6.2f} {m[f'reward_{name}']:7.1f} "
+                     f"{m[f'collisions_{name}']:10.3f} {m[f'coordinations_{name}']:13.2f} "
+                     f"{m[f'convergence_{name}']:12.0f} {m[f'capped_episodes_{name}']:10.1f}")
+    return "\n".join(lines)
+
+
+def with_learner(result: GridworldResult, other: GridworldResult, name: str) -> GridworldResult:
+    """``result`` with learner ``name``'s curves and 2observe's arrays taken from ``other`` (to
+    compare a variant of one learner against the same baselines)."""
+    k, j = result.names().index(name), other.names().index(name)
+    log = result.log.copy()
+    log[k] = other.log[j]
+    extra = {"gla_parameters": other.gla_parameters, "coming_counts": other.coming_counts} if name == "two_observe" else {}
+    return replace(result, log=log, **extra)
+
+
 def claim_rows(result: GridworldResult) -> list[dict]:
     """The chapter's Section 5.3 claims with their verdicts, computed from ``result``."""
     return chapter.verdicts(chapter.load(EXPERIMENT), measure(result))
+
+
+def state_action_table(result: GridworldResult) -> str:
+    """:func:`state_action_spaces` as text: the measured counterpart of Table 1 for this map."""
+    lines = [f"{'learner':24s} {'Q tables':>8s} {'states':>7s} {'actions':>7s} {'Q entries/agent':>15s} {'GLA params/agent':>16s}"]
+    for row in state_action_spaces(result):
+        lines.append(f"{LABELS[row['learner']]:24s} {row['tables']:8d} {row['states']:7d} {row['actions']:7d} "
+                     f"{row['q_entries_per_agent']:15.0f} {row['gla_parameters_per_agent']:16d}")
+    return "\n".join(lines)
 
 
 def state_action_spaces(result: GridworldResult) -> list[dict]:
@@ -294,6 +336,15 @@ def optimum(config: GridworldConfig) -> dict:
             "collisions": float(episode.collisions)}
 
 
+def collision_coming_probability(result: GridworldResult) -> np.ndarray:
+    """P(collision coming | delta) over 2observe's observed steps, pooled over runs (NaN where a
+    distance never occurred): coordinating pays under the default feedback only where it is > 1/2."""
+    counts = result.coming_counts.sum(axis=0)
+    seen = counts.sum(axis=1)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        return np.where(seen > 0, counts[:, 1] / seen, np.nan)
+
+
 # --- plots: each draws on a given Axes -------------------------------------------------------
 
 def _plot_learners(ax, result, values, ylabel, reference=None, learners=None):
@@ -302,6 +353,7 @@ def _plot_learners(ax, result, values, ylabel, reference=None, learners=None):
         plot_mean_band(ax, x, values(name), LABELS[name])
     if reference is not None:
         ax.axhline(reference, color="black", linestyle="--", linewidth=1, label="optimum (value iteration)")
+    ax.set_xscale("log")  # the learning happens in the first few thousand episodes
     ax.set_xlabel("episode")
     ax.set_ylabel(ylabel)
     ax.legend(fontsize="small")
@@ -332,6 +384,19 @@ def plot_coordinations(ax, result):
                    "coordinations per episode", learners=["two_observe"])
 
 
+def plot_variants(ax, results: dict, metric: str, learner: str = "two_observe"):
+    """One learner's curve of ``metric`` ('steps', 'reward', 'collisions' or 'coordinations')
+    for several configurations: ``results`` maps a label to a result."""
+    column = {"collisions": ep.COLLISIONS, "coordinations": ep.COORDINATIONS}
+    for label, result in results.items():
+        values = getattr(result, metric)(learner) if metric in ("steps", "reward") else result.curves(learner, column[metric])
+        plot_mean_band(ax, result.episodes, values, label)
+    ax.set_xscale("log")
+    ax.set_xlabel("episode")
+    ax.set_ylabel(f"{metric} per episode")
+    ax.legend(fontsize="small")
+
+
 def plot_feedback_table(ax, config: GridworldConfig):
     """Fig. 10 (lost, reconstructed): the GLA feedback actually used."""
     f, c = config.gla_feedback, config.coordination_penalty_per_cell
@@ -344,18 +409,22 @@ def plot_feedback_table(ax, config: GridworldConfig):
     ax.set_title("2observe GLA feedback (Fig. 10, reconstructed)")
 
 
-def plot_coordination_probability(ax, result, config: GridworldConfig, max_delta: int = 8):
-    """What 2observe's GLAs learned: P(coordinate | delta), mean over runs and agents with the
-    individual GLAs faint, against the "coordinate when closer than 2" rule of the later papers."""
-    deltas = np.arange(max_delta + 1)
+def plot_coordination_probability(ax, result, config: GridworldConfig):
+    """What 2observe's GLAs learned: P(coordinate | delta) of each final GLA (faint) and their
+    mean, against the "coordinate when closer than 2" rule of the later papers, with the observed
+    P(collision coming | delta) that the GLA's feedback depends on."""
+    deltas = np.arange(1, result.coming_counts.shape[1])  # two acting agents are never at distance 0
     p = coordination_probability(result, config, deltas)
     for curve in p.reshape(-1, deltas.size):
         ax.plot(deltas, curve, color="tab:blue", alpha=0.15, linewidth=0.8)
-    ax.plot(deltas, p.mean(axis=(0, 1)), "o-", color="tab:blue", label="learned (mean over GLAs)")
+    ax.plot(deltas, p.mean(axis=(0, 1)), "o-", color="tab:blue", label="P(coordinate), learned (mean of the GLAs)")
     ax.step(deltas, (deltas < 2).astype(float), where="mid", color="black", linestyle="--",
             label="coordinate when delta < 2")
+    ax.plot(deltas, collision_coming_probability(result)[1:], "s:", color="tab:red",
+            label="P(collision coming), observed")
     ax.set_xlabel("delta (Manhattan distance between the agents)")
-    ax.set_ylabel("P(coordinate)")
+    ax.set_ylabel("probability")
+    ax.set_ylim(-0.03, 1.03)
     ax.legend(fontsize="small")
 
 

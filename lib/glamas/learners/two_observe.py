@@ -21,6 +21,12 @@ N_GLA_INPUTS = 2
 """The GLA context [delta, 1]: the agents' Manhattan distance and a bias input."""
 
 
+def new_coming_counts(n_rows: int, n_cols: int) -> np.ndarray:
+    """Room for the count of observed steps per distance delta (0 .. n_rows + n_cols - 2) without
+    and with a collision coming, shape (deltas, 2): what the GLA's feedback depends on."""
+    return np.zeros((n_rows + n_cols - 1, 2))
+
+
 def new_gla_parameters(n_agents: int) -> np.ndarray:
     """Room for one 2-action GLA per agent, shape (agents, 2 actions, 2 inputs); the kernel
     draws the initial values from the run's own random stream."""
@@ -67,13 +73,16 @@ def gla_feedback(table, penalty_per_cell, choice, coming, both, delta):
 
 @njit(cache=True)
 def run(next_cell, is_goal, starts, bounce, n_cols, alpha, gamma, exploit, gla_rate, temperature,
-        K, L, bounding, init_range, feedback_table, penalty_per_cell, n_episodes, bin_size,
-        max_steps, q, u, log, state):
-    """One run of ``n_episodes`` episodes of Alg. 4; learns in ``q`` and ``u``, writes ``log``.
+        K, L, bounding, init_range, feedback_table, penalty_per_cell, rule_distance, n_episodes,
+        bin_size, max_steps, q, u, coming_counts, log, state):
+    """One run of ``n_episodes`` episodes of Alg. 4; learns in ``q`` and ``u``, writes ``log``
+    and counts the observed steps per (delta, collision coming) in ``coming_counts``.
 
     When one agent is in the goal there is nobody to observe: the other acts on its Q alone and
-    the GLAs are not updated.
+    the GLAs are not updated. ``rule_distance`` >= 0 replaces the GLAs by the fixed rule
+    "coordinate when delta < rule_distance" (a diagnostic; -1: the GLAs learn, as in Alg. 4).
     """
+    learn_first_level = rule_distance < 0
     n_agents = starts.shape[0]
     cells, done, actions, new_cells, rewards, bumped, collided, reached, acc = ep.buffers(n_agents)
     choices = np.empty(n_agents, np.int64)
@@ -93,11 +102,15 @@ def run(next_cell, is_goal, starts, bounce, n_cols, alpha, gamma, exploit, gla_r
                 delta = rules.manhattan(n_cols, cells[0], cells[1])
                 x[0] = delta
                 for i in range(n_agents):
-                    choices[i] = gla.act(u[i], x, temperature, L, bounding, probs[i], state)
+                    if learn_first_level:
+                        choices[i] = gla.act(u[i], x, temperature, L, bounding, probs[i], state)
+                    else:
+                        choices[i] = COORDINATE if delta < rule_distance else ACT_ALONE
                 for i in range(n_agents):
                     preferred[i] = epsilon_greedy(q[i, cells[i]], exploit, state)
                 coming, both = first_level(next_cell, is_goal, cells, done, choices, preferred,
                                            actions, state)
+                coming_counts[delta, 1 if coming else 0] += 1
                 if both:
                     acc[ep.COORDINATIONS] += 1
             else:
@@ -110,7 +123,7 @@ def run(next_cell, is_goal, starts, bounce, n_cols, alpha, gamma, exploit, gla_r
                 if not done[i]:
                     q_update(q[i], cells[i], actions[i], rewards[i], new_cells[i], reached[i],
                              alpha, gamma)
-            if observing:
+            if observing and learn_first_level:
                 for i in range(n_agents):
                     beta = gla_feedback(feedback_table, penalty_per_cell, choices[i], coming, both, delta)
                     gla.update(u[i], x, choices[i], beta, gla_rate, temperature, K, L, bounding, probs[i])
@@ -121,10 +134,10 @@ def run(next_cell, is_goal, starts, bounce, n_cols, alpha, gamma, exploit, gla_r
 
 @njit(parallel=True, cache=True)
 def batch(next_cell, is_goal, starts, bounce, n_cols, alpha, gamma, exploit, gla_rate, temperature,
-          K, L, bounding, init_range, feedback_table, penalty_per_cell, n_episodes, bin_size,
-          max_steps, states, q, u, log):
+          K, L, bounding, init_range, feedback_table, penalty_per_cell, rule_distance, n_episodes,
+          bin_size, max_steps, states, q, u, coming_counts, log):
     """:func:`run` for every run in parallel (glamas.runs batch-kernel form)."""
     for r in prange(states.shape[0]):
         run(next_cell, is_goal, starts, bounce, n_cols, alpha, gamma, exploit, gla_rate,
-            temperature, K, L, bounding, init_range, feedback_table, penalty_per_cell, n_episodes,
-            bin_size, max_steps, q[r], u[r], log[r], states[r])
+            temperature, K, L, bounding, init_range, feedback_table, penalty_per_cell, rule_distance,
+            n_episodes, bin_size, max_steps, q[r], u[r], coming_counts[r], log[r], states[r])
