@@ -16,12 +16,12 @@ def main(argv=None):
         parser.error("--runs must be at least 2: the figure shows two typical runs")
     config = and_network.ANDNetworkConfig(iterations=args.iterations, runs=args.runs,
                                           record_points=min(defaults.record_points, args.iterations))
-    result = and_network.run(config, seed=args.seed, workers=args.workers, progress="fig7a")
+    result = cli.load_or_run(args, "fig7", config, and_network.run, and_network.ANDNetworkResult)
 
     fig, axes = plotting.new_figure(8.0, 4.0, ncols=2)
     for ax, run_index in zip(axes, and_network.typical_runs(result, 2)):
         and_network.plot_boundaries(ax, result, run_index)
-    for path in cli.write_outputs(args, "fig7a", fig, config, result.arrays()):
+    for path in plotting.save_figure(fig, args.out, "fig7a"):
         print(path)
 
 

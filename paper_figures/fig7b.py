@@ -14,11 +14,11 @@ def main(argv=None):
     args = cli.parse(parser, argv)
     config = and_network.ANDNetworkConfig(iterations=args.iterations, runs=args.runs,
                                           record_points=min(defaults.record_points, args.iterations))
-    result = and_network.run(config, seed=args.seed, workers=args.workers, progress="fig7b")
+    result = cli.load_or_run(args, "fig7", config, and_network.run, and_network.ANDNetworkResult)
 
     fig, ax = plotting.new_figure(6.0, 4.0)
     and_network.plot_prob_left(ax, result)
-    for path in cli.write_outputs(args, "fig7b", fig, config, result.arrays()):
+    for path in plotting.save_figure(fig, args.out, "fig7b"):
         print(path)
 
 

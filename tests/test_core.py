@@ -151,9 +151,12 @@ def test_load_or_run_reuses_a_result_of_the_same_configuration(tmp_path):
     first = cli.load_or_run(args, "exp", _Config(), run, _Result)
     again = cli.load_or_run(args, "exp", _Config(), run, _Result)
     assert calls == [4] and np.array_equal(first.curve, again.curve)
-    with pytest.raises(results.ResultFileError, match="different configuration"):
-        cli.load_or_run(_parse(["--results", str(tmp_path), "--seed", "5", "--rerun"]), "exp", _Config(), run, _Result)
+    for flags in ([], ["--rerun"]):
+        with pytest.raises(SystemExit, match="different configuration.*not overwritten"):
+            cli.load_or_run(_parse(["--results", str(tmp_path), "--seed", "5"] + flags), "exp", _Config(), run, _Result)
     assert calls == [4]  # refused before running
+    replaced = cli.load_or_run(_parse(["--results", str(tmp_path), "--seed", "5", "--force"]), "exp", _Config(), run, _Result)
+    assert calls == [4, 5] and replaced.curve[0] == 5.0
 
 
 def test_figures_are_byte_reproducible(tmp_path):

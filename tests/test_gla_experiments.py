@@ -172,20 +172,30 @@ def test_single_gla_metrics_cover_the_claims():
 
 # ---- figure scripts ----
 
-FIGURES = [("fig5", "fig5"), ("fig6", "fig6"), ("fig7a", "fig7a"), ("fig7b", "fig7b"),
-           ("fig7_sweep", "fig7_sweep")]
+FIGURES = [("fig5", "fig5"), ("fig6", "fig6"), ("fig7a", "fig7"), ("fig7b", "fig7"),
+           ("fig7_sweep", "fig7_sweep")]  # (script and figure name, result file name)
+SMALL_ARGS = ["--runs", "2", "--iterations", "200", "--seed", "4", "--workers", "1"]
 
 
-@pytest.mark.parametrize("script, name", FIGURES)
-def test_figure_script_writes_byte_identical_files(tmp_path, script, name):
-    main = _load_script(script).main
-    args = ["--runs", "2", "--iterations", "200", "--seed", "4", "--workers", "1"]
-    main(args + ["--out", str(tmp_path / "a"), "--results", str(tmp_path / "a")])
-    main(args + ["--out", str(tmp_path / "b"), "--results", str(tmp_path / "b")])
+@pytest.mark.parametrize("name, result_name", FIGURES)
+def test_figure_script_writes_byte_identical_files(tmp_path, name, result_name):
+    main = _load_script(name).main
+    main(SMALL_ARGS + ["--out", str(tmp_path / "a"), "--results", str(tmp_path / "a")])
+    main(SMALL_ARGS + ["--out", str(tmp_path / "b"), "--results", str(tmp_path / "b")])
     for suffix in ("png", "pdf"):
         first = (tmp_path / "a" / f"{name}.{suffix}").read_bytes()
         assert first == (tmp_path / "b" / f"{name}.{suffix}").read_bytes()
-    assert (tmp_path / "a" / f"{name}.npz").exists()
+    assert (tmp_path / "a" / f"{result_name}.npz").exists()
+
+
+def test_fig7a_and_fig7b_share_one_run(tmp_path):
+    out = ["--out", str(tmp_path), "--results", str(tmp_path)]
+    _load_script("fig7a").main(SMALL_ARGS + out)
+    stored = (tmp_path / "fig7.npz").read_bytes()
+    _load_script("fig7b").main(SMALL_ARGS + out)
+    assert (tmp_path / "fig7.npz").read_bytes() == stored
+    with pytest.raises(SystemExit, match="different configuration"):
+        _load_script("fig7b").main(["--runs", "3"] + SMALL_ARGS[2:] + out)
 
 
 @pytest.mark.parametrize("args, message", [

@@ -1,6 +1,7 @@
 """The command line shared by the figure scripts in ``paper_figures/``."""
 
 import argparse
+import contextlib
 import dataclasses
 from pathlib import Path
 
@@ -70,18 +71,23 @@ def load_or_run(args: argparse.Namespace, name: str, config, run, result_type):
     (unless --rerun), otherwise ``run(config, seed=, workers=, progress=)`` and saved.
 
     Figures drawn from one experiment share its result file instead of running it again.
+    ``result_type`` is a dataclass of arrays; a field named ``config`` is not stored as an array
+    but is the configuration the file is checked against.
     """
     path = args.results / f"{name}.npz"
-    if path.exists() and not args.rerun and not args.force:
-        try:
-            return result_type(**results.load(path, config, seed=args.seed))
-        except results.ResultFileError as error:
-            raise SystemExit(f"error: {error}\n(or pass --force to replace it)") from None
+    carries_config = "config" in {f.name for f in dataclasses.fields(result_type)}
+    if path.exists() and not (args.rerun or args.force):
+        with contextlib.suppress(results.ResultFileError):  # unusable: refused just below
+            arrays = results.load(path, config, seed=args.seed)
+            return result_type(config=config, **arrays) if carries_config else result_type(**arrays)
     if not args.force:
-        results.check_writable(path, config, seed=args.seed)
+        try:
+            results.check_writable(path, config, seed=args.seed)
+        except results.ResultFileError as error:
+            raise SystemExit(f"error: {error} (--force)") from None
     result = run(config, seed=args.seed, workers=args.workers, progress=name)
-    results.save(path, config, {f.name: getattr(result, f.name) for f in dataclasses.fields(result)},
-                 seed=args.seed, overwrite=True)
+    arrays = {f.name: getattr(result, f.name) for f in dataclasses.fields(result) if f.name != "config"}
+    results.save(path, config, arrays, seed=args.seed, overwrite=True)
     return result
 
 
