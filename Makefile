@@ -5,6 +5,7 @@ PYTHON ?= python3
 VENV := .venv
 PY := $(VENV)/bin/python
 READY := $(VENV)/.installed
+EXTRAS := $(VENV)/.extras-installed
 FIGURES := $(sort $(wildcard paper_figures/fig*.py))
 NOTEBOOKS := $(sort $(wildcard notebooks/*.ipynb))
 
@@ -17,6 +18,11 @@ $(READY): requirements.txt pyproject.toml
 	$(PY) -m pip install --quiet -r requirements.txt
 	touch $@
 
+# The optional extras (Dask backend, PettingZoo adapter) have tests of their own.
+$(EXTRAS): $(READY) requirements-extras.txt
+	$(PY) -m pip install --quiet -r requirements-extras.txt
+	touch $@
+
 ## figures: regenerate every paper figure (PNG and PDF) in paper_figures/output
 figures: $(READY)
 	@for script in $(FIGURES); do echo "== $$script"; $(PY) $$script || exit 1; done
@@ -24,7 +30,7 @@ figures: $(READY)
 ## test: unit tests, then every notebook under nbval
 test: unit notebooks-check
 
-unit: $(READY)
+unit: $(READY) $(EXTRAS)
 	$(PY) -m pytest -p no:cacheprovider tests
 
 notebooks-check: $(READY)

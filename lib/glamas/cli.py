@@ -6,6 +6,7 @@ import dataclasses
 from pathlib import Path
 
 from glamas import plotting, results
+from glamas import runs as runners  # "runs" is the run count in figure_parser
 from glamas.paths import REPO, RESULTS
 
 DEFAULT_OUT = REPO / "paper_figures" / "output"
@@ -32,7 +33,8 @@ def _seed(text: str) -> int:
 
 
 def figure_parser(description: str, *, runs: int, iterations: int | None, seed: int = 0):
-    """An argument parser with --runs, --iterations, --seed, --workers and --out.
+    """An argument parser with --runs, --iterations, --seed, --workers, --backend, --scheduler,
+    --out, --results, --force and --rerun.
 
     ``iterations`` None leaves --iterations out (for figures without an iteration count).
     """
@@ -44,7 +46,12 @@ def figure_parser(description: str, *, runs: int, iterations: int | None, seed: 
                             help=f"learning iterations per run (default {iterations})")
     parser.add_argument("--seed", type=_seed, default=seed, help=f"master seed (default {seed})")
     parser.add_argument("--workers", type=_positive_int, default=None,
-                        help="threads for the runs (default: all cores); results do not depend on it")
+                        help="threads (or processes) for the runs (default: all cores); results do not depend on it")
+    parser.add_argument("--backend", choices=runners.BACKENDS, default=None,
+                        help="who runs the runs: numba threads here (default), local processes, or a "
+                             "Dask cluster; results are bit-identical")
+    parser.add_argument("--scheduler", metavar="ADDRESS", default=None,
+                        help="address of a Dask scheduler (e.g. tcp://HOST:8786); implies --backend dask")
     parser.add_argument("--out", type=Path, default=DEFAULT_OUT,
                         help=f"directory for the PNG and PDF (default {DEFAULT_OUT.relative_to(REPO)})")
     parser.add_argument("--results", type=Path, default=RESULTS,
@@ -57,8 +64,19 @@ def figure_parser(description: str, *, runs: int, iterations: int | None, seed: 
 
 
 def parse(parser: argparse.ArgumentParser, argv=None) -> argparse.Namespace:
-    """Parse ``argv``; reject an --out that exists and is not a directory."""
+    """Parse ``argv``; reject an --out that exists and is not a directory.
+
+    ``args.workers`` becomes what the experiments' ``run(..., workers=)`` takes: the thread
+    count (or None) for the threads backend, else a :mod:`glamas.runs` backend.
+    """
     args = parser.parse_args(argv)
+    if "backend" in args:
+        try:
+            args.workers = runners.backend(args.backend, args.workers, args.scheduler)
+            if isinstance(args.workers, runners.Dask):
+                runners.connect(args.workers).close()  # an unreachable scheduler fails here, not mid-way
+        except (ValueError, runners.BackendError) as error:
+            parser.error(str(error))
     for option in ("out", "results"):
         path = getattr(args, option)
         if path.exists() and not path.is_dir():

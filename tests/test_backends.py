@@ -1,0 +1,173 @@
+"""Run backends: threads, local processes (joblib) and a Dask cluster give bit-identical results."""
+
+import dataclasses
+import functools
+import sys
+
+import numpy as np
+import pytest
+from numba import njit, prange
+
+from glamas import cli, rng, runs
+from glamas.experiments import gridworld, single_gla
+
+SINGLE = single_gla.SingleGLAConfig(iterations=600, runs=7, record_points=6)
+GRID = gridworld.GridworldConfig(episodes=40, runs=3, bin_size=10, q_initial=0.5, max_steps=200)
+
+
+def _arrays(result) -> dict:
+    return {f.name: getattr(result, f.name) for f in dataclasses.fields(result)
+            if isinstance(getattr(result, f.name), np.ndarray)}
+
+
+def _assert_identical(a, b):
+    a, b = _arrays(a), _arrays(b)
+    assert a.keys() == b.keys() and a
+    for name in a:
+        assert a[name].dtype == b[name].dtype and np.array_equal(a[name], b[name]), name
+
+
+@pytest.fixture(scope="module")
+def dask_scheduler():
+    """An in-process Dask cluster: one worker with two threads, so two jobs run at once."""
+    import distributed
+    with distributed.LocalCluster(n_workers=1, threads_per_worker=2, processes=False,
+                                  dashboard_address=None) as cluster:
+        yield cluster.scheduler_address
+
+
+@pytest.fixture(scope="module")
+def reference():
+    """Both experiments as run today: numba threads in this process."""
+    return {"single": single_gla.run(SINGLE, seed=11, workers=1),
+            "grid": gridworld.run(GRID, seed=2, workers=1)}
+
+
+def test_chunk_states_are_the_slices_of_the_whole_spawn():
+    whole = rng.run_states(9, 12)
+    assert np.array_equal(rng.chunk_states(9, 0, 12), whole)
+    assert np.array_equal(rng.chunk_states(9, 5, 8), whole[5:8])
+    assert np.array_equal(rng.chunk_states(9, 11, 12), rng.run_states(9, 40)[11:12])
+    with pytest.raises(ValueError, match="0 <= start < stop"):
+        rng.chunk_states(9, 4, 4)
+    with pytest.raises(ValueError, match="seed must be a non-negative integer"):
+        rng.chunk_states(-1, 0, 2)
+
+
+@pytest.mark.parametrize("workers", [2, runs.Threads(2), runs.Processes(2), runs.Processes(1)],
+                         ids=["threads-2", "Threads(2)", "processes-2", "processes-1"])
+def test_local_backends_give_the_threads_results_bit_for_bit(reference, workers):
+    _assert_identical(single_gla.run(SINGLE, seed=11, workers=workers), reference["single"])
+    _assert_identical(gridworld.run(GRID, seed=2, workers=workers), reference["grid"])
+
+
+def test_a_dask_cluster_gives_the_threads_results_bit_for_bit(reference, dask_scheduler):
+    backend = runs.Dask(dask_scheduler)
+    _assert_identical(single_gla.run(SINGLE, seed=11, workers=backend), reference["single"])
+    _assert_identical(gridworld.run(GRID, seed=2, workers=backend), reference["grid"])
+
+
+def test_job_size_does_not_change_results(reference):
+    params = np.zeros_like(reference["single"].params)
+    reward = np.zeros_like(reference["single"].reward)
+    p = SINGLE.gla_params()
+    inputs = (0, SINGLE.iterations, p.learning_rate, p.temperature, p.K, p.L, p.bounding_code, 0.0)
+    assert SINGLE.context == "joint" and single_gla.lineworld.encoding_code("joint") == 0
+    runs.run_batches(single_gla._learn_batch, inputs, (params, reward), 11, workers=runs.Processes(2), chunk=3)
+    assert np.array_equal(reward, reference["single"].reward)
+    assert np.array_equal(params, reference["single"].params)
+
+
+def test_a_job_runs_any_slice_of_the_sweep_on_its_own(reference):
+    p = SINGLE.gla_params()
+    inputs = (0, SINGLE.iterations, p.learning_rate, p.temperature, p.K, p.L, p.bounding_code, 0.0)
+    initial = (np.zeros((2,) + reference["single"].params.shape[1:]), np.zeros((2, SINGLE.record_points)))
+    start, (params, reward) = runs.run_chunk("glamas.experiments.single_gla:_learn_batch", inputs, 11, 4, 6, initial)
+    assert start == 4
+    assert np.array_equal(reward, reference["single"].reward[4:6])
+    assert np.array_equal(params, reference["single"].params[4:6])
+    assert not initial[1].any()  # the job fills copies, not the arrays it was given
+
+
+def test_a_kernel_that_workers_cannot_import_is_rejected():
+    @njit(parallel=True)
+    def local_kernel(states, out):
+        for r in prange(states.shape[0]):
+            out[r] = rng.uniform(states[r])
+
+    with pytest.raises(ValueError, match="local_kernel is not a module-level function of an importable module"):
+        runs.run_batches(local_kernel, (), (np.zeros(3),), 0, workers=runs.Processes(1))
+    out = np.zeros(3)
+    runs.run_batches(local_kernel, (), (out,), 0)  # threads need no import
+    assert out.all()
+
+
+@pytest.mark.parametrize("call, message", [
+    (lambda: runs.backend("gpu"), "backend must be one of threads, processes, dask, got 'gpu'"),
+    (lambda: runs.backend("dask"), "the dask backend needs the scheduler's address: --scheduler ADDRESS"),
+    (lambda: runs.backend("processes", scheduler="tcp://h:8786"), "--scheduler means the dask backend, not 'processes'"),
+    (lambda: runs.backend(None, workers=2, scheduler="tcp://h:8786"), "--workers does not apply to the dask backend"),
+    (lambda: runs.Processes(0), r"Processes\(workers=...\) must be a whole number >= 1"),
+    (lambda: runs.Dask(""), r"Dask\(scheduler=...\) must be the scheduler's address"),
+    (lambda: runs.Dask("tcp://h:8786", timeout=0), r"Dask\(timeout=...\) must be a positive number"),
+    (lambda: single_gla.run(SINGLE, workers="dask"), "workers must be a thread count, None .* or a backend"),
+])
+def test_bad_backend_choices_are_rejected(call, message):
+    with pytest.raises(ValueError, match=message):
+        call()
+
+
+def test_backend_choices_map_to_backends():
+    assert runs.backend() is None and runs.backend("threads", workers=2) == 2
+    assert runs.backend("processes", workers=2) == runs.Processes(2)
+    assert runs.backend(None, scheduler="tcp://h:8786") == runs.Dask("tcp://h:8786")
+
+
+def test_dask_without_the_extra_names_the_extra_and_how_to_install_it(monkeypatch):
+    monkeypatch.setitem(sys.modules, "distributed", None)  # makes `import distributed` fail
+    with pytest.raises(runs.BackendError, match=r"optional extra 'dask'.*pip install -e '\.\[dask\]'"):
+        runs.backend("dask", scheduler="tcp://h:8786")
+    with pytest.raises(runs.BackendError, match="optional extra 'dask'"):
+        single_gla.run(SINGLE, workers=runs.Dask("tcp://h:8786"))
+
+
+def test_an_unreachable_scheduler_is_named():
+    with pytest.raises(runs.BackendError, match=r"cannot reach the Dask scheduler at tcp://127\.0\.0\.1:9 within 0\.5 s"):
+        single_gla.run(SINGLE, workers=runs.Dask("tcp://127.0.0.1:9", timeout=0.5))
+
+
+def _parse(argv):
+    return cli.parse(cli.figure_parser("test", runs=5, iterations=100), argv)
+
+
+def test_command_line_backends(dask_scheduler):
+    assert _parse([]).workers is None and _parse(["--workers", "2"]).workers == 2
+    assert _parse(["--backend", "processes", "--workers", "2"]).workers == runs.Processes(2)
+    assert _parse(["--scheduler", dask_scheduler]).workers == runs.Dask(dask_scheduler)
+    assert _parse(["--backend", "dask", "--scheduler", dask_scheduler]).workers == runs.Dask(dask_scheduler)
+
+
+@pytest.mark.parametrize("argv, message", [
+    (["--backend", "gpu"], "argument --backend: invalid choice: 'gpu'"),
+    (["--backend", "dask"], "the dask backend needs the scheduler's address"),
+    (["--backend", "threads", "--scheduler", "tcp://h:8786"], "--scheduler means the dask backend, not 'threads'"),
+    (["--scheduler", "tcp://h:8786", "--workers", "2"], "--workers does not apply to the dask backend"),
+])
+def test_bad_command_line_backends_are_rejected(argv, message, capsys):
+    with pytest.raises(SystemExit):
+        _parse(argv)
+    assert message in capsys.readouterr().err
+
+
+def test_command_line_without_the_dask_extra(monkeypatch, capsys):
+    monkeypatch.setitem(sys.modules, "distributed", None)
+    with pytest.raises(SystemExit):
+        _parse(["--scheduler", "tcp://h:8786"])
+    assert "optional extra 'dask'" in capsys.readouterr().err
+
+
+def test_command_line_with_an_unreachable_scheduler_names_its_address(monkeypatch, capsys):
+    monkeypatch.setattr(runs, "backend", functools.partial(runs.backend, timeout=0.5))  # a short wait
+    with pytest.raises(SystemExit):
+        _parse(["--scheduler", "tcp://127.0.0.1:9"])
+    assert "cannot reach the Dask scheduler at tcp://127.0.0.1:9 within 0.5 s" in capsys.readouterr().err
