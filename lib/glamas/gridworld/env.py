@@ -39,6 +39,11 @@ class GridworldEnv:
         self._bumped, self._collided, self._reached = (np.zeros(n, bool) for _ in range(3))
         self._steps = 0
 
+    @property
+    def cells(self) -> np.ndarray:
+        """The cell every agent is on, in agent order (a copy)."""
+        return self._cells.copy()
+
     def reset(self, seed=None):
         """Put every agent on its start cell; ``seed`` is accepted for the API (the game is deterministic)."""
         self.agents = list(self.possible_agents)

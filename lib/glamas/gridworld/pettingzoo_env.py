@@ -1,0 +1,113 @@
+"""The chapter's gridworld (Section 5.3) as a PettingZoo ``ParallelEnv`` (optional extra ``pettingzoo``).
+
+A thin adapter over :class:`glamas.gridworld.env.GridworldEnv`: every move goes through the same
+compiled :func:`glamas.gridworld.rules.step` as the learners' kernels. What the adapter adds is
+gymnasium spaces:
+
+- action of each agent: ``Discrete(4)``, 0=N, 1=E, 2=S, 3=W;
+- observation of each agent: an int64 array ``[own row, own col, then the other agents' (row,
+  col) in agent order]``, GridworldEnv's ``{"position", "others"}`` dict flattened, in
+  ``MultiDiscrete([n_rows, n_cols] * n_agents)``.
+
+An agent that enters the goal is terminated and leaves ``agents`` (the goal is absorbing); the
+live agents are truncated after ``max_steps`` steps. The game is deterministic: ``reset``'s
+seed only seeds the spaces' samplers, so a seeded run of sampled actions repeats exactly.
+"""
+
+import numpy as np
+
+try:
+    from gymnasium import spaces
+    from pettingzoo import ParallelEnv
+except ImportError as error:
+    raise ImportError(
+        "glamas.gridworld.pettingzoo_env needs the optional extra 'pettingzoo' (pettingzoo and gymnasium): "
+        "pip install -e '.[pettingzoo]' in the glamas repository (or: pip install -r requirements-extras.txt)"
+    ) from error
+
+from glamas.gridworld.env import GridworldEnv
+from glamas.gridworld.maps import GridMap, tunnel_to_goal
+from glamas.gridworld.rules import N_ACTIONS
+
+
+class GridworldParallelEnv(ParallelEnv):
+    """The gridworld game for ``gridmap.n_agents`` agents ``agent_1``, ``agent_2``, ...
+
+    ``gridmap`` defaults to the chapter's TunnelToGoal (Fig. 9); ``bounce`` and ``max_steps`` as
+    in GridworldEnv; ``render_mode`` None or 'ansi' (``render()`` returns the map as text, in
+    the format of ``data/maps``, with each agent's number on its cell).
+    """
+
+    metadata = {"name": "glamas_gridworld_v0", "render_modes": ["ansi"], "is_parallelizable": True}
+
+    def __init__(self, gridmap: GridMap | None = None, bounce: str = "previous", max_steps: int = 1000,
+                 render_mode: str | None = None):
+        if render_mode not in (None, *self.metadata["render_modes"]):
+            raise ValueError(f"render_mode must be None or one of {self.metadata['render_modes']}, got {render_mode!r}")
+        self._game = GridworldEnv(tunnel_to_goal() if gridmap is None else gridmap, bounce, max_steps)
+        self.gridmap = self._game.gridmap
+        self.render_mode = render_mode
+        self.possible_agents = list(self._game.possible_agents)
+        self.agents = []
+        n = self.gridmap.n_agents
+        self._observation_spaces = {name: spaces.MultiDiscrete(np.tile([self.gridmap.n_rows, self.gridmap.n_cols], n))
+                                    for name in self.possible_agents}
+        self._action_spaces = {name: spaces.Discrete(N_ACTIONS) for name in self.possible_agents}
+
+    def observation_space(self, agent):
+        return self._observation_spaces[agent]
+
+    def action_space(self, agent):
+        return self._action_spaces[agent]
+
+    def reset(self, seed=None, options=None):
+        """All agents on their start cells; returns (observations, infos)."""
+        if seed is not None:
+            for k, name in enumerate(self.possible_agents):
+                self._action_spaces[name].seed(seed + k)
+                self._observation_spaces[name].seed(seed + k)
+        observations, infos = self._game.reset(seed=seed)
+        self.agents = list(self._game.agents)
+        return self._flatten(observations), infos
+
+    def step(self, actions: dict):
+        """One joint move of the live agents; returns PettingZoo's five dicts."""
+        observations, rewards, terminations, truncations, infos = self._game.step(actions)
+        self.agents = list(self._game.agents)
+        return self._flatten(observations), rewards, terminations, truncations, infos
+
+    def state(self) -> np.ndarray:
+        """Every agent's (row, col) in agent order, flattened."""
+        return np.array([self.gridmap.row_col(int(c)) for c in self._game.cells], dtype=np.int64).ravel()
+
+    def render(self):
+        if self.render_mode is None:
+            raise ValueError("render() needs render_mode='ansi' when the environment is made")
+        return map_text(self.gridmap, self._game.cells)
+
+    def _flatten(self, observations: dict) -> dict:
+        return {name: np.array([*obs["position"], *(x for cell in obs["others"] for x in cell)], dtype=np.int64)
+                for name, obs in observations.items()}
+
+
+def map_text(gridmap: GridMap, cells) -> str:
+    """The map in the text format of ``data/maps`` with agent k's number on cell ``cells[k - 1]``."""
+    symbol = {c: str(k + 1) for k, c in enumerate(int(c) for c in cells)}
+    lines = ["+" + "-+" * gridmap.n_cols]
+    for r in range(gridmap.n_rows):
+        cell_line, below = "|", "+"
+        for c in range(gridmap.n_cols):
+            cell = gridmap.cell(r, c)
+            cell_line += symbol.get(cell, "G" if gridmap.is_goal[cell] else "#" if gridmap.blocked[cell] else ".")
+            cell_line += "|" if c == gridmap.n_cols - 1 or _wall(gridmap, cell, cell + 1) else " "
+            below += ("-" if r == gridmap.n_rows - 1 or _wall(gridmap, cell, cell + gridmap.n_cols) else " ") + "+"
+        lines += [cell_line, below]
+    return "\n".join(lines)
+
+
+def _wall(gridmap: GridMap, a: int, b: int) -> bool:
+    """A wall between neighbouring cells a and b: neither move enters the other cell, though both
+    cells are open (the goal's own moves do not count: it is absorbing)."""
+    if gridmap.blocked[a] or gridmap.blocked[b]:
+        return False
+    return b not in gridmap.open_neighbours(a) and a not in gridmap.open_neighbours(b)
