@@ -4,6 +4,10 @@ An episode (the chapter's "iteration", Section 5.3) starts with every agent on i
 and ends when all agents are in the goal, or at the step cap. The per-episode measurements are
 averaged over blocks of ``bin_size`` episodes straight into ``log`` (one row per block), so a
 200,000-episode run stays small.
+
+The constants below are the columns for two agents (the chapter's case). With N agents a row has
+N steps columns, then N reward columns, then length, collisions, coordinations and capped
+(:func:`n_columns`, :func:`reward_column`, :func:`column`): for two agents the same layout.
 """
 
 import numpy as np
@@ -21,12 +25,30 @@ N_AGENTS = 2
 
 
 @njit(cache=True)
+def n_columns(n_agents):
+    """Columns of a log row for ``n_agents`` agents (N_COLUMNS for two)."""
+    return 2 * n_agents + 4
+
+
+@njit(cache=True)
+def reward_column(n_agents, i):
+    """The column of agent i's reward (REWARD + i for two agents)."""
+    return n_agents + i
+
+
+@njit(cache=True)
+def column(n_agents, two_agent_column):
+    """The column of LENGTH, COLLISIONS, COORDINATIONS or CAPPED in an ``n_agents`` row."""
+    return two_agent_column + 2 * (n_agents - N_AGENTS)
+
+
+@njit(cache=True)
 def buffers(n_agents):
     """Per-run step buffers: cells, done, actions, new_cells, rewards, bumped, collided, reached,
     and the episode accumulator."""
     return (np.empty(n_agents, np.int64), np.empty(n_agents, np.bool_), np.empty(n_agents, np.int64),
             np.empty(n_agents, np.int64), np.empty(n_agents, np.float64), np.empty(n_agents, np.bool_),
-            np.empty(n_agents, np.bool_), np.empty(n_agents, np.bool_), np.empty(N_COLUMNS, np.float64))
+            np.empty(n_agents, np.bool_), np.empty(n_agents, np.bool_), np.empty(n_columns(n_agents), np.float64))
 
 
 @njit(cache=True)
@@ -49,11 +71,12 @@ def all_done(done):
 @njit(cache=True)
 def end_step(t, cells, done, new_cells, rewards, reached, collisions, acc):
     """Book step ``t``'s rewards, arrivals and collisions, then move the agents to their new cells."""
-    acc[COLLISIONS] += collisions
-    for i in range(cells.shape[0]):
+    n = cells.shape[0]
+    acc[column(n, COLLISIONS)] += collisions
+    for i in range(n):
         if done[i]:
             continue
-        acc[REWARD + i] += rewards[i]
+        acc[reward_column(n, i)] += rewards[i]
         if reached[i]:
             acc[STEPS + i] = t
             done[i] = True
@@ -63,11 +86,12 @@ def end_step(t, cells, done, new_cells, rewards, reached, collisions, acc):
 @njit(cache=True)
 def end_episode(log, episode, bin_size, acc, t, done):
     """Close the episode after ``t`` steps and add its measurements to its block's mean."""
-    acc[LENGTH] = t
-    for i in range(done.shape[0]):
+    n = done.shape[0]
+    acc[column(n, LENGTH)] = t
+    for i in range(n):
         if not done[i]:
             acc[STEPS + i] = t
-            acc[CAPPED] = 1.0
+            acc[column(n, CAPPED)] = 1.0
     row = episode // bin_size
-    for k in range(N_COLUMNS):
+    for k in range(acc.shape[0]):
         log[row, k] += acc[k] / bin_size
