@@ -24,7 +24,9 @@ from glamas.plotting import new_figure, plot_mean_band, save_figure
 EXPERIMENT = "gridworld"
 LEARNERS = ("independent", "joint_state", "mmdp", "two_observe")
 LABELS = {"independent": "independent Q-learners", "joint_state": "joint-state learners",
-          "mmdp": "MMDP learner", "two_observe": "2observe"}
+          "mmdp": "MMDP learner", "two_observe": "2observe",
+          # the related-work learners of glamas.experiments.related_work, drawn by the same plots
+          "sparse_maq": "sparse tabular MAQ", "cq": "CQ-learning"}
 _MODULES = {"independent": independent, "joint_state": joint_state, "mmdp": mmdp,
             "two_observe": two_observe}
 

@@ -1,0 +1,277 @@
+"""The related-work learners beside the chapter's on TunnelToGoal (Fig. 11/12-style comparison):
+sparse tabular multi-agent Q-learning (Kok and Vlassis 2004, coordination states given in
+advance, cited in Sec. 5.1) and CQ-learning (De Hauwere, Vrancx and Nowé 2010, the statistical
+test the chapter's Sec. 6 proposes instead of the GLA).
+
+The chapter's learners run exactly as in :mod:`glamas.experiments.gridworld` (same settings,
+same seeds); the related-work learners draw their streams from master seeds of their own, so
+adding them changes nothing of the chapter's experiment.
+"""
+
+import math
+from dataclasses import dataclass
+from pathlib import Path
+
+import matplotlib.pyplot as plt
+import numpy as np
+
+from glamas import claims as chapter
+from glamas import cli, runs
+from glamas.experiments import gridworld as gw
+from glamas.gridworld import BOUNCE_MODES, rules
+from glamas.learners import cq, sparse_maq
+from glamas.learners import episode as ep
+from glamas.plotting import new_figure, plot_mean_band, save_figure
+
+EXPERIMENT = "related_work"
+RELATED_LEARNERS = ("sparse_maq", "cq")
+ALL_LEARNERS = gw.LEARNERS + RELATED_LEARNERS
+"""Learner codes of a :class:`RelatedWorkResult`: the chapter's four keep their codes 0-3."""
+RELATED_SEED_OFFSET = 2 ** 32
+"""Related-work learner j draws its runs' streams from master seed
+``RELATED_SEED_OFFSET + len(RELATED_LEARNERS) * seed + j``: apart from the chapter learners'
+``4 * seed + k`` for every seed below 2**30."""
+CHAPTER_LEARNERS = ("independent", "mmdp", "two_observe")
+
+
+@dataclass(frozen=True)
+class RelatedWorkConfig:
+    """The comparison's settings: the chapter's experiment plus the related-work learners' own."""
+
+    gridworld: gw.GridworldConfig = gw.GridworldConfig(learners=CHAPTER_LEARNERS)
+    """The chapter's experiment (map, episodes, runs, Q-learning settings) and which of its learners
+    to train; the related-work learners use the same map, schedule and Q-learning settings."""
+    learners: tuple = RELATED_LEARNERS
+    """Which related-work learners to train: distinct names from sparse_maq, cq (may be empty)."""
+    coordination_distance: int = 2
+    """Sparse tabular MAQ: the agents coordinate in the joint states where their Manhattan distance
+    is at most this (given in advance, as Kok and Vlassis require); 2 covers every collision."""
+    cq_window: int = 30
+    """CQ-learning: rewards kept per state-action, in the baseline and in the recent window."""
+    cq_significance: float = 0.05
+    """CQ-learning: significance level of the two-sided Student t-test on immediate rewards."""
+    cq_solo_episodes: int = 1000
+    """CQ-learning: episodes each agent first learns alone (the single-agent phase), not counted
+    in ``gridworld.episodes``."""
+
+    def __post_init__(self):
+        if not isinstance(self.gridworld, gw.GridworldConfig):
+            raise ValueError(f"gridworld must be a GridworldConfig, got {self.gridworld!r}")
+        learners = tuple(self.learners)
+        if len(set(learners)) != len(learners) or not set(learners) <= set(RELATED_LEARNERS):
+            raise ValueError(f"learners must be distinct names from {RELATED_LEARNERS}, got {self.learners!r}")
+        object.__setattr__(self, "learners", learners)
+        for name, minimum in (("coordination_distance", 1), ("cq_window", 2), ("cq_solo_episodes", 1)):
+            value = getattr(self, name)
+            if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < minimum:
+                raise ValueError(f"{name} must be a whole number >= {minimum}, got {value!r}")
+        if not (isinstance(self.cq_significance, float) and 0.0 < self.cq_significance < 1.0):
+            raise ValueError(f"cq_significance must be a number in (0, 1) such as 0.05, got {self.cq_significance!r}")
+        if self.gridworld.gridmap().n_agents != 2:
+            raise ValueError("the related-work learners are written for two agents")
+
+
+@dataclass(frozen=True)
+class RelatedWorkResult(gw.GridworldResult):
+    """A :class:`~glamas.experiments.gridworld.GridworldResult` over the chapter's and the
+    related-work learners (codes into ALL_LEARNERS), with what each learner stores."""
+
+    local_entries: np.ndarray
+    """float (n_learners,): Q entries per agent over its own cells."""
+    joint_entries: np.ndarray
+    """float (n_learners, runs): Q entries per agent over joint states (joint actions for the
+    MMDP and sparse learners, counted in the final tables; CQ: 4 per marked joint state)."""
+    reward_samples: np.ndarray
+    """int (n_learners,): immediate rewards each agent keeps for a statistical test (CQ only)."""
+    cq_marked: np.ndarray
+    """bool (runs, agents, own cell, other's cell): the joint states each CQ agent learned to
+    observe (all False if CQ did not run)."""
+
+    def names(self) -> list[str]:
+        return [ALL_LEARNERS[k] for k in self.learners]
+
+
+def related_seed(seed: int, name: str) -> int:
+    """The master seed of related-work learner ``name`` for the experiment's ``seed``."""
+    return RELATED_SEED_OFFSET + len(RELATED_LEARNERS) * seed + RELATED_LEARNERS.index(name)
+
+
+def run(config: RelatedWorkConfig = RelatedWorkConfig(), seed: int = 0, workers=None,
+        progress=None) -> RelatedWorkResult:
+    """Train the chapter's learners (:func:`glamas.experiments.gridworld.run`, unchanged) and the
+    related-work learners of ``config`` in ``config.gridworld.runs`` runs."""
+    base = config.gridworld
+    chapter_result = gw.run(base, seed=seed, workers=workers, progress=progress)
+    gridmap = base.gridmap()
+    n_cells, n_agents = gridmap.n_cells, gridmap.n_agents
+    n = len(config.learners)
+    log = np.zeros((n, base.runs, base.n_bins, ep.N_COLUMNS))
+    shapes = np.zeros((n, 3), dtype=np.int64)
+    joint = np.zeros((n, base.runs))
+    samples = np.zeros(n, dtype=np.int64)
+    marked = np.zeros((base.runs, n_agents, n_cells, n_cells), dtype=np.bool_)
+    world = (gridmap.next_cell, gridmap.is_goal, gridmap.starts, BOUNCE_MODES[base.bounce])
+    learning = (base.q_learning_rate, base.discount, base.exploit_prob)
+    schedule = (base.episodes, base.bin_size, base.max_steps)
+    for j, name in enumerate(config.learners):
+        q = np.full((base.runs,) + cq.new_tables(n_cells, n_agents).shape, base.q_initial)
+        label = None if progress is None else f"{progress}: {name}"
+        if name == "sparse_maq":
+            index = sparse_maq.coordination_index(gridmap, config.coordination_distance)
+            q_joint = np.full((base.runs,) + sparse_maq.new_joint_table(index).shape, base.q_initial)
+            runs.run_batches(sparse_maq.batch, world + (index,) + learning + schedule, (q, q_joint, log[j]),
+                             related_seed(seed, name), workers=workers, progress=label)
+            joint[j] = q_joint[0].size / n_agents
+        else:
+            q_aug = np.stack([cq.new_augmented_tables(n_cells, n_agents)[0]] * base.runs)
+            t_critical = cq.t_critical_values(2 * config.cq_window - 2, config.cq_significance)
+            inputs = world + learning + (config.cq_window, t_critical, config.cq_solo_episodes) + schedule
+            runs.run_batches(cq.batch, inputs, (q, q_aug, marked, log[j]), related_seed(seed, name),
+                             workers=workers, progress=label)
+            joint[j] = marked.sum(axis=(2, 3)).mean(axis=1) * rules.N_ACTIONS
+            samples[j] = n_cells * rules.N_ACTIONS * config.cq_window
+        shapes[j] = q.shape[1:]
+    codes = np.array([ALL_LEARNERS.index(name) for name in config.learners], dtype=np.int64)
+    chapter_local = [float(np.prod(s[1:])) if name in ("independent", "two_observe") else 0.0
+                     for name, s in zip(chapter_result.names(), chapter_result.table_shapes)]
+    chapter_joint = [np.full(base.runs, 0.0 if name in ("independent", "two_observe") else np.prod(s) / n_agents)
+                     for name, s in zip(chapter_result.names(), chapter_result.table_shapes)]
+    return RelatedWorkResult(
+        learners=np.concatenate([chapter_result.learners, codes]),
+        log=np.concatenate([chapter_result.log, log]),
+        table_shapes=np.concatenate([chapter_result.table_shapes, shapes]),
+        gla_parameters=chapter_result.gla_parameters, coming_counts=chapter_result.coming_counts,
+        episodes=chapter_result.episodes,
+        local_entries=np.array(chapter_local + [float(n_cells * rules.N_ACTIONS)] * n),
+        joint_entries=np.concatenate([np.array(chapter_joint).reshape(-1, base.runs), joint]),
+        reward_samples=np.concatenate([np.zeros(len(chapter_local), dtype=np.int64), samples]),
+        cq_marked=marked)
+
+
+# --- measurements and claims --------------------------------------------------------------------
+
+def usable_joint_states(config: RelatedWorkConfig) -> int:
+    """Joint states in which both agents act: ordered pairs of distinct cells, neither the goal nor blocked."""
+    g = config.gridworld.gridmap()
+    usable = int((~(g.is_goal | g.blocked)).sum())
+    return usable * (usable - 1)
+
+
+def marked_distances(result: RelatedWorkResult, config: RelatedWorkConfig) -> np.ndarray:
+    """Manhattan distance of every joint state a CQ agent marked (all runs and agents pooled)."""
+    n_cols = config.gridworld.gridmap().n_cols
+    _, _, own, other = np.nonzero(result.cq_marked)
+    return np.abs(own // n_cols - other // n_cols) + np.abs(own % n_cols - other % n_cols)
+
+
+def measure(result: RelatedWorkResult, config: RelatedWorkConfig) -> dict:
+    """:func:`glamas.experiments.gridworld.measure` for every learner, plus each learner's stored
+    values and the related-work comparisons (data/chapter/related_work.json)."""
+    m = gw.measure(result)
+    names = result.names()
+    for k, name in enumerate(names):
+        m[f"q_entries_{name}"] = float(result.local_entries[k] + result.joint_entries[k].mean())
+    if "cq" in names:
+        per_agent = result.cq_marked.sum(axis=(2, 3)).mean()
+        m["marked_joint_states_cq"] = float(per_agent)
+        m["marked_fraction_cq"] = float(per_agent / usable_joint_states(config))
+        distances = marked_distances(result, config)
+        m["marked_within_coordination_distance_cq"] = float((distances <= config.coordination_distance).mean()) if distances.size else 0.0
+    for name in set(names) & set(RELATED_LEARNERS):
+        if "mmdp" in names:
+            m[f"reward_{name}_over_mmdp"] = m[f"reward_{name}"] / m["reward_mmdp"]
+            m[f"q_entries_{name}_over_mmdp"] = m[f"q_entries_{name}"] / m["q_entries_mmdp"]
+            m[f"convergence_{name}_over_mmdp"] = m[f"convergence_{name}"] / m["convergence_mmdp"]
+        if "independent" in names:
+            m[f"reward_{name}_minus_independent"] = m[f"reward_{name}"] - m["reward_independent"]
+    return m
+
+
+def claim_rows(result: RelatedWorkResult, config: RelatedWorkConfig) -> list[dict]:
+    """The related-work claims (data/chapter/related_work.json) with verdicts computed from ``result``."""
+    return chapter.verdicts(chapter.load(EXPERIMENT), measure(result, config))
+
+
+def summary_table(result: RelatedWorkResult, config: RelatedWorkConfig) -> str:
+    """Per learner: final steps, reward, collisions and coordinations (last 10 % of the episodes,
+    mean over runs), convergence episode, and what each agent stores (measured)."""
+    m = measure(result, config)
+    lines = [f"{'learner':24s} {'steps':>6s} {'reward':>7s} {'collisions':>10s} {'coordinations':>13s} "
+             f"{'converged by':>12s} {'Q entries/agent':>15s} {'samples/agent':>13s} {'GLA params/agent':>16s}"]
+    for k, name in enumerate(result.names()):
+        gla_parameters = int(np.prod(result.gla_parameters.shape[2:])) if name == "two_observe" else 0
+        lines.append(f"{gw.LABELS[name]:24s} {m[f'steps_{name}']:6.2f} {m[f'reward_{name}']:7.1f} "
+                     f"{m[f'collisions_{name}']:10.3f} {m[f'coordinations_{name}']:13.2f} "
+                     f"{m[f'convergence_{name}']:12.0f} {m[f'q_entries_{name}']:15.0f} "
+                     f"{result.reward_samples[k]:13d} {gla_parameters:16d}")
+    return "\n".join(lines)
+
+
+# --- plots: each draws on a given Axes -------------------------------------------------------
+
+def plot_coordinations(ax, result: RelatedWorkResult):
+    """Steps per episode on which the agents observed each other: both 2observe GLAs chose to
+    coordinate, sparse MAQ's agents were in a coordination state, or a CQ agent acted on a marked
+    joint state."""
+    for name in ("two_observe", "sparse_maq", "cq"):
+        if name in result.names():
+            plot_mean_band(ax, result.episodes, result.curves(name, ep.COORDINATIONS), gw.LABELS[name])
+    ax.set_xscale("log")
+    ax.set_xlabel("episode")
+    ax.set_ylabel("steps observing the other agent")
+    ax.legend(fontsize="small")
+
+
+def plot_size_and_reward(ax, result: RelatedWorkResult, config: RelatedWorkConfig):
+    """Each learner's Q entries per agent (measured) against its final reward: the chapter's
+    trade-off between state-action space and coordination."""
+    m = measure(result, config)
+    for name in result.names():
+        ax.scatter(m[f"q_entries_{name}"], m[f"reward_{name}"], s=40)
+        ax.annotate(gw.LABELS[name], (m[f"q_entries_{name}"], m[f"reward_{name}"]), fontsize="small",
+                    xytext=(5, -3), textcoords="offset points")
+    ax.set_xscale("log")
+    ax.set_xlabel("Q entries per agent (log)")
+    ax.set_ylabel("final reward per episode (mean of the agents)")
+
+
+def plot_marked_distances(ax, result: RelatedWorkResult, config: RelatedWorkConfig):
+    """How far apart the agents are in the joint states CQ-learning marked (pooled over runs and
+    agents, per agent and run), against the sparse learner's fixed coordination distance."""
+    distances = marked_distances(result, config)
+    per_run = result.cq_marked.shape[0] * result.cq_marked.shape[1]
+    bins = np.arange(1, distances.max(initial=1) + 2)
+    counts = np.array([(distances == d).sum() for d in bins[:-1]]) / per_run
+    ax.bar(bins[:-1], counts, color="tab:green", label="CQ-learning: marked joint states per agent")
+    ax.axvline(config.coordination_distance + 0.5, color="black", linestyle="--",
+               label=f"sparse MAQ: coordinates at distance <= {config.coordination_distance}")
+    ax.set_xlabel("Manhattan distance between the agents")
+    ax.set_ylabel("joint states per agent")
+    ax.legend(fontsize="small")
+
+
+# --- figure scripts (paper_figures/related_*.py) ----------------------------------------------
+
+RESULT_NAME = "related_work"
+"""Result file shared by the related_* figure scripts: the comparison runs once for all of them."""
+_DRAW = {"related_steps": lambda ax, r, c: gw.plot_steps(ax, r, gw.optimum(c.gridworld)),
+         "related_reward": lambda ax, r, c: gw.plot_reward(ax, r, gw.optimum(c.gridworld)),
+         "related_collisions": lambda ax, r, c: gw.plot_collisions(ax, r, gw.optimum(c.gridworld)),
+         "related_coordinations": lambda ax, r, c: plot_coordinations(ax, r),
+         "related_sizes": plot_size_and_reward}
+
+
+def figure_main(name: str, description: str, argv=None) -> list[Path]:
+    """The body of ``paper_figures/<name>.py``: parse the command line, get the comparison's result
+    (from --results when this configuration already ran, else run it), draw, save."""
+    parser = cli.figure_parser(description, runs=gw.GridworldConfig.runs, iterations=gw.GridworldConfig.episodes)
+    args = cli.parse(parser, argv)
+    base = gw.GridworldConfig(learners=CHAPTER_LEARNERS, runs=args.runs, episodes=args.iterations,
+                              bin_size=math.gcd(args.iterations, gw.GridworldConfig.bin_size))
+    config = RelatedWorkConfig(gridworld=base)
+    result = cli.load_or_run(args, RESULT_NAME, config, run, RelatedWorkResult)
+    fig, ax = new_figure(6.0, 4.0)
+    _DRAW[name](ax, result, config)
+    written = save_figure(fig, args.out, name)
+    plt.close(fig)
+    return written

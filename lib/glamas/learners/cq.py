@@ -1,0 +1,249 @@
+"""CQ-learning (De Hauwere, Vrancx and Nowé, "Learning multi-agent state space representations",
+AAMAS 2010): the chapter's future work (Sec. 6) of replacing the GLA by a statistical test.
+
+Each agent k first learns its task alone (single-agent Q-learning on its own cell, the other agent
+absent) and keeps, per own state-action (s_k, a_k), a window of its immediate rewards: the
+baseline. Then the agents learn together:
+
+1. if agent k's joint state (s_k, s_l) is marked, it acts on Q_j(s_k, s_l, .), else on Q_k(s_k, .);
+2. it observes its reward r_k and adds it to the window of recent rewards of (s_k, a_k);
+3. it updates the table it acted on: Q_k by eq. 11, or
+   Q_j(s_k, s_l, a_k) += alpha [r_k + gamma max_a Q_k(s'_k, a) - Q_j(s_k, s_l, a_k)]
+   (CQ-learning bootstraps on the local values of the next state);
+4. if the recent window is full and a Student t-test finds its mean significantly below the
+   baseline's, and r_k is below the baseline mean, the joint state (s_k, s_l) in which this low
+   reward came is marked: from then on agent k observes the other agent there, starting from
+   Q_j(s_k, s_l, .) = Q_k(s_k, .).
+
+Choices where the paper leaves room (named parameters of the experiment): the window length, the
+test (two-sample Student t-test with pooled variance, two-sided, at a given significance, plus
+"lower"), the number of episodes alone, and no unmarking. Memory is bounded: the baseline keeps
+count, sum and sum of squares of its last ``window`` rewards, the recent window its last
+``window`` rewards (sum and sum of squares kept up to date). Written for two agents; the
+augmented state pairs an agent's cell with one other agent's, so N agents would need a rule for
+which other agent to observe.
+"""
+
+import math
+
+import numpy as np
+from numba import njit, prange
+
+from glamas.gridworld import rules
+from glamas.learners import episode as ep
+from glamas.learners.independent import new_tables  # the local tables: as the independent learners
+from glamas.qlearning import epsilon_greedy, q_update, row_max
+
+N_AGENTS = 2
+"""CQ-learning is written here for two agents (see the module docstring)."""
+COUNT, SUM, SUM_SQUARES = 0, 1, 2
+"""Fields of a reward window's summary."""
+
+
+def new_augmented_tables(n_cells: int, n_agents: int) -> tuple[np.ndarray, np.ndarray]:
+    """Room for the joint-state values Q_j (agents, own cell, other's cell, 4 actions) and for the
+    marks of the joint states each agent observes (agents, own cell, other's cell); only marked
+    rows are ever used, so the learned table is 4 entries per marked joint state."""
+    if n_agents != N_AGENTS:
+        raise ValueError(f"CQ-learning is written for two agents, got {n_agents}")
+    return (np.zeros((n_agents, n_cells, n_cells, rules.N_ACTIONS)),
+            np.zeros((n_agents, n_cells, n_cells), dtype=np.bool_))
+
+
+# --- the test: Student's two-sample t-test ---------------------------------------------------
+
+def _incomplete_beta(a: float, b: float, x: float) -> float:
+    """Regularised incomplete beta function I_x(a, b), by its continued fraction (modified Lentz)."""
+    if x <= 0.0:
+        return 0.0
+    if x >= 1.0:
+        return 1.0
+    if x > (a + 1.0) / (a + b + 2.0):
+        return 1.0 - _incomplete_beta(b, a, 1.0 - x)
+    front = math.exp(math.lgamma(a + b) - math.lgamma(a) - math.lgamma(b) + a * math.log(x) + b * math.log1p(-x)) / a
+    tiny = 1e-300
+    c, d = 1.0, 1.0 - (a + b) * x / (a + 1.0)
+    d = 1.0 / (d if abs(d) > tiny else tiny)
+    f = d
+    for m in range(1, 500):
+        for numerator in (m * (b - m) * x / ((a + 2 * m - 1) * (a + 2 * m)),
+                          -(a + m) * (a + b + m) * x / ((a + 2 * m) * (a + 2 * m + 1))):
+            d = 1.0 + numerator * d
+            d = 1.0 / (d if abs(d) > tiny else tiny)
+            c = 1.0 + numerator / c
+            c = c if abs(c) > tiny else tiny
+            f *= c * d
+        if abs(c * d - 1.0) < 1e-15:
+            break
+    return front * f
+
+
+def two_sided_p_value(t: float, df: int) -> float:
+    """P(|T| >= |t|) for Student's t distribution with ``df`` degrees of freedom."""
+    return _incomplete_beta(df / 2.0, 0.5, df / (df + t * t))
+
+
+def t_critical_values(max_df: int, significance: float) -> np.ndarray:
+    """The two-sided critical values of Student's t at ``significance`` for 0 .. ``max_df``
+    degrees of freedom (index = df; infinite at df 0, where there is no test), by bisection."""
+    if not 0.0 < significance < 1.0:
+        raise ValueError(f"the significance level must be in (0, 1), got {significance!r}")
+    values = np.full(max_df + 1, np.inf)
+    for df in range(1, max_df + 1):
+        low, high = 0.0, 1.0
+        while two_sided_p_value(high, df) > significance:
+            high *= 2.0
+        for _ in range(200):
+            mid = 0.5 * (low + high)
+            low, high = (mid, high) if two_sided_p_value(mid, df) > significance else (low, mid)
+        values[df] = high
+    return values
+
+
+@njit(cache=True)
+def significantly_lower(baseline, recent, t_critical):
+    """Whether the recent rewards' mean is significantly below the baseline's: Student's
+    two-sample t-test with pooled variance (two-sided critical value ``t_critical[df]``), applied
+    to window summaries (count, sum, sum of squares)."""
+    n1, n2 = baseline[COUNT], recent[COUNT]
+    if n1 < 1.0 or n2 < 1.0 or n1 + n2 < 3.0:
+        return False
+    m1, m2 = baseline[SUM] / n1, recent[SUM] / n2
+    if m2 >= m1:
+        return False
+    squares = max(baseline[SUM_SQUARES] - baseline[SUM] * m1, 0.0) + max(recent[SUM_SQUARES] - recent[SUM] * m2, 0.0)
+    df = int(n1 + n2 - 2.0)
+    spread = squares / df * (1.0 / n1 + 1.0 / n2)
+    if spread <= 0.0:
+        return True  # both windows constant, at different values
+    return (m1 - m2) / math.sqrt(spread) > t_critical[df]
+
+
+# --- reward windows ---------------------------------------------------------------------------
+
+@njit(cache=True)
+def add_reward(samples, added, summary, r):
+    """Add reward ``r`` to a window of ``samples.shape[0]`` rewards (ring buffer; ``added`` counts
+    every reward ever added) and keep its summary (count, sum, sum of squares) up to date."""
+    size = samples.shape[0]
+    slot = added % size
+    if added >= size:
+        old = samples[slot]
+        summary[SUM] -= old
+        summary[SUM_SQUARES] -= old * old
+    else:
+        summary[COUNT] += 1.0
+    samples[slot] = r
+    summary[SUM] += r
+    summary[SUM_SQUARES] += r * r
+    return added + 1
+
+
+# --- the learner ------------------------------------------------------------------------------
+
+@njit(cache=True)
+def learn_alone(next_cell, is_goal, starts, bounce, alpha, gamma, exploit, n_episodes, max_steps,
+                q, samples, added, summary, state):
+    """The single-agent phase: each agent in turn learns ``n_episodes`` episodes alone (the other
+    counts as already in the goal, so it neither acts nor collides) and fills its reward windows."""
+    n_agents = starts.shape[0]
+    cells, done, actions, new_cells, rewards, bumped, collided, reached, acc = ep.buffers(n_agents)
+    for k in range(n_agents):
+        for _ in range(n_episodes):
+            ep.start_episode(starts, cells, done, acc)
+            for i in range(n_agents):
+                done[i] = i != k
+            t = 0
+            while t < max_steps and not done[k]:
+                s, a = cells[k], epsilon_greedy(q[k, cells[k]], exploit, state)
+                actions[k] = a
+                rules.step(next_cell, is_goal, starts, bounce, cells, done, actions, new_cells, rewards,
+                           bumped, collided, reached)
+                q_update(q[k], s, a, rewards[k], new_cells[k], reached[k], alpha, gamma)
+                added[k, s, a] = add_reward(samples[k, s, a], added[k, s, a], summary[k, s, a], rewards[k])
+                t += 1
+                ep.end_step(t, cells, done, new_cells, rewards, reached, 0, acc)
+
+
+@njit(cache=True)
+def augmented_update(q_aug, q, s, other, a, r, s_next, terminal, alpha, gamma):
+    """Step 3 in a marked joint state: Q_j(s, other, a) learns r plus the local value of the next state."""
+    target = r
+    if not terminal:
+        target += gamma * row_max(q, s_next)
+    q_aug[s, other, a] += alpha * (target - q_aug[s, other, a])
+
+
+@njit(cache=True)
+def mark_if_conflict(q_aug, marked, q, s, other, r, baseline, recent, t_critical):
+    """Step 4: mark joint state (s, other) when the recent rewards of the state-action are
+    significantly below the baseline and this reward ``r`` is below the baseline mean; the new
+    joint-state values start from the local ones. Returns whether it marked."""
+    if marked[s, other] or baseline[COUNT] < 1.0 or r >= baseline[SUM] / baseline[COUNT]:
+        return False
+    if not significantly_lower(baseline, recent, t_critical):
+        return False
+    marked[s, other] = True
+    for a in range(q.shape[1]):
+        q_aug[s, other, a] = q[s, a]
+    return True
+
+
+@njit(cache=True)
+def run(next_cell, is_goal, starts, bounce, alpha, gamma, exploit, window, t_critical, solo_episodes,
+        n_episodes, bin_size, max_steps, q, q_aug, marked, log, state):
+    """One run: ``solo_episodes`` episodes alone per agent, then ``n_episodes`` episodes together;
+    learns in ``q``, ``q_aug`` and ``marked``, writes the binned ``log`` of the joint episodes
+    (COORDINATIONS: steps on which an agent acted on a marked joint state)."""
+    n_agents, n_cells = starts.shape[0], next_cell.shape[0]
+    samples = np.zeros((n_agents, n_cells, rules.N_ACTIONS, window))
+    added = np.zeros((n_agents, n_cells, rules.N_ACTIONS), np.int64)
+    summary = np.zeros((n_agents, n_cells, rules.N_ACTIONS, 3))
+    learn_alone(next_cell, is_goal, starts, bounce, alpha, gamma, exploit, solo_episodes, max_steps,
+                q, samples, added, summary, state)
+    baseline = summary.copy()  # frozen: the rewards of the task alone
+    summary[:] = 0.0
+    added[:] = 0
+    cells, done, actions, new_cells, rewards, bumped, collided, reached, acc = ep.buffers(n_agents)
+    joint = np.zeros(n_agents, np.bool_)
+    for episode in range(n_episodes):
+        ep.start_episode(starts, cells, done, acc)
+        t = 0
+        while t < max_steps and not ep.all_done(done):
+            together = not (done[0] or done[1])  # with one agent in the goal there is nobody to observe
+            observed = False
+            for k in range(n_agents):
+                joint[k] = together and marked[k, cells[k], cells[1 - k]]
+                if done[k]:
+                    continue
+                row = q_aug[k, cells[k], cells[1 - k]] if joint[k] else q[k, cells[k]]
+                actions[k] = epsilon_greedy(row, exploit, state)
+                observed = observed or joint[k]
+            if observed:
+                acc[ep.COORDINATIONS] += 1
+            collisions = rules.step(next_cell, is_goal, starts, bounce, cells, done, actions,
+                                    new_cells, rewards, bumped, collided, reached)
+            for k in range(n_agents):
+                if done[k]:
+                    continue
+                s, a, other = cells[k], actions[k], cells[1 - k]
+                if joint[k]:
+                    augmented_update(q_aug[k], q[k], s, other, a, rewards[k], new_cells[k], reached[k], alpha, gamma)
+                else:
+                    q_update(q[k], s, a, rewards[k], new_cells[k], reached[k], alpha, gamma)
+                added[k, s, a] = add_reward(samples[k, s, a], added[k, s, a], summary[k, s, a], rewards[k])
+                if together and added[k, s, a] >= window:
+                    mark_if_conflict(q_aug[k], marked[k], q[k], s, other, rewards[k], baseline[k, s, a],
+                                     summary[k, s, a], t_critical)
+            t += 1
+            ep.end_step(t, cells, done, new_cells, rewards, reached, collisions, acc)
+        ep.end_episode(log, episode, bin_size, acc, t, done)
+
+
+@njit(parallel=True, cache=True)
+def batch(next_cell, is_goal, starts, bounce, alpha, gamma, exploit, window, t_critical, solo_episodes,
+          n_episodes, bin_size, max_steps, states, q, q_aug, marked, log):
+    """:func:`run` for every run in parallel (glamas.runs batch-kernel form)."""
+    for r in prange(states.shape[0]):
+        run(next_cell, is_goal, starts, bounce, alpha, gamma, exploit, window, t_critical, solo_episodes,
+            n_episodes, bin_size, max_steps, q[r], q_aug[r], marked[r], log[r], states[r])

@@ -1,0 +1,12 @@
+"""Related work on TunnelToGoal: steps on which the agents observe each other of independent, MMDP, 2observe, sparse tabular MAQ and
+CQ-learning (Fig. 11/12-style comparison, beyond the chapter)."""
+
+from glamas.experiments import related_work
+
+
+def main(argv=None):
+    related_work.figure_main("related_coordinations", "Related work on TunnelToGoal: steps on which the agents observe each other", argv)
+
+
+if __name__ == "__main__":
+    main()

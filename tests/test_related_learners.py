@@ -1,0 +1,231 @@
+"""The related-work learners: sparse tabular MAQ's four update cases by hand, CQ-learning's test
+and marks, small runs of both, seeds, configuration errors and the figure scripts."""
+
+import dataclasses
+import math
+import runpy
+
+import numpy as np
+import pytest
+
+from glamas import claims
+from glamas.experiments import gridworld as gw
+from glamas.experiments import related_work as rw
+from glamas.gridworld import load_map, tunnel_to_goal
+from glamas.gridworld.rules import E, N, S, W
+from glamas.learners import cq, sparse_maq
+from glamas.learners import episode as ep
+from glamas.paths import REPO
+
+ALPHA, GAMMA = 0.5, 0.9
+SMALL = rw.RelatedWorkConfig(gridworld=gw.GridworldConfig(learners=("independent", "mmdp"), episodes=400,
+                                                          runs=2, bin_size=100), cq_solo_episodes=50)
+
+
+# --- sparse tabular MAQ ------------------------------------------------------------------------
+
+def test_coordination_states_are_the_close_joint_states():
+    g = tunnel_to_goal()
+    index = sparse_maq.coordination_index(g, 2)
+    rows = np.flatnonzero(index >= 0)
+    assert index[rows].tolist() == list(range(rows.size))  # numbered in joint-state order
+    goal = int(np.flatnonzero(g.is_goal)[0])
+    for joint in rows:
+        a, b = divmod(int(joint), g.n_cells)
+        assert a != b and goal not in (a, b) and 1 <= rules_distance(g, a, b) <= 2
+    assert index[g.cell(1, 4) * 25 + g.cell(3, 4)] >= 0  # the tunnel entrance, distance 2
+    assert index[g.cell(0, 0) * 25 + g.cell(4, 0)] == -1  # the starts, distance 4
+    assert sparse_maq.new_joint_table(index).shape == (rows.size, 16)
+
+
+def rules_distance(g, a, b):
+    (ra, ca), (rb, cb) = g.row_col(a), g.row_col(b)
+    return abs(ra - rb) + abs(ca - cb)
+
+
+def test_coordination_index_errors_name_the_problem():
+    with pytest.raises(ValueError, match="coordination distance must be a whole number >= 1"):
+        sparse_maq.coordination_index(tunnel_to_goal(), 0)
+    three = load_map("+-+-+-+\n|1 2 3|\n+ + + +\n|. . G|\n+-+-+-+\n")
+    with pytest.raises(ValueError, match="written for two agents"):
+        sparse_maq.coordination_index(three, 2)
+
+
+@pytest.fixture()
+def tables():
+    q = np.zeros((2, 25, 4))
+    q[0, 7] = [1.0, 4.0, 2.0, 0.0]  # agent 0's values in its next cell 7: max 4
+    q[1, 9] = [3.0, 0.0, 6.0, 1.0]  # agent 1's values in its next cell 9: max 6
+    q_joint = np.zeros((3, 16))
+    q_joint[1] = np.arange(16.0)  # next coordination state: max 15
+    q_joint[0, 5] = 10.0
+    return q, q_joint
+
+
+def test_coordinated_to_coordinated_is_the_mmdp_update_on_the_summed_reward(tables):
+    _, q_joint = tables
+    sparse_maq.coordinated_to_coordinated(q_joint, 0, 5, np.array([-1.0, -10.0]), 1, ALPHA, GAMMA)
+    assert q_joint[0, 5] == pytest.approx(10 + ALPHA * (-11 + GAMMA * 15 - 10))
+
+
+def test_coordinated_to_uncoordinated_sums_the_agents_own_next_values(tables):
+    q, q_joint = tables
+    sparse_maq.coordinated_to_uncoordinated(q_joint, 0, 5, q, np.array([7, 9]), np.array([0.0, -1.0]),
+                                            np.array([False, False]), ALPHA, GAMMA)
+    assert q_joint[0, 5] == pytest.approx(10 + ALPHA * ((0 + GAMMA * 4) + (-1 + GAMMA * 6) - 10))
+    q_joint[0, 5] = 10.0  # agent 1 entered the goal: no future term for it
+    sparse_maq.coordinated_to_uncoordinated(q_joint, 0, 5, q, np.array([7, 9]), np.array([0.0, 100.0]),
+                                            np.array([False, True]), ALPHA, GAMMA)
+    assert q_joint[0, 5] == pytest.approx(10 + ALPHA * ((0 + GAMMA * 4) + 100 - 10))
+
+
+def test_uncoordinated_to_coordinated_gives_each_agent_half_the_joint_value(tables):
+    q, q_joint = tables
+    q[0, 3, E], q[1, 13, N] = 2.0, -4.0
+    sparse_maq.uncoordinated_to_coordinated(q, np.array([3, 13]), np.array([E, N]), np.array([0.0, -1.0]),
+                                            q_joint, 1, ALPHA, GAMMA)
+    assert q[0, 3, E] == pytest.approx(2 + ALPHA * (0 + GAMMA * 15 / 2 - 2))
+    assert q[1, 13, N] == pytest.approx(-4 + ALPHA * (-1 + GAMMA * 15 / 2 + 4))
+
+
+def test_uncoordinated_to_uncoordinated_is_independent_q_learning(tables):
+    q, _ = tables
+    sparse_maq.uncoordinated_to_uncoordinated(q, np.array([2, 14]), np.array([False, True]), np.array([S, W]),
+                                              np.array([-1.0, 0.0]), np.array([7, 9]), np.array([False, False]),
+                                              ALPHA, GAMMA)
+    assert q[0, 2, S] == pytest.approx(ALPHA * (-1 + GAMMA * 4))
+    assert q[1, 14, W] == 0.0  # agent 1 is in the goal: it does not act, nothing learned
+
+
+# --- CQ-learning's test --------------------------------------------------------------------------
+
+def test_t_critical_values_match_the_tables():
+    t = cq.t_critical_values(60, 0.05)
+    assert math.isinf(t[0])
+    assert t[1] == pytest.approx(12.7062, abs=1e-4)
+    assert t[10] == pytest.approx(2.2281, abs=1e-4)
+    assert t[58] == pytest.approx(2.0017, abs=1e-4)
+    assert cq.t_critical_values(5, 0.01)[5] == pytest.approx(4.0321, abs=1e-4)
+    assert cq.two_sided_p_value(2.2281389, 10) == pytest.approx(0.05, abs=1e-6)
+    with pytest.raises(ValueError, match="significance level must be in"):
+        cq.t_critical_values(5, 1.5)
+
+
+def _window(rewards, size):
+    samples, summary, added = np.zeros(size), np.zeros(3), 0
+    for r in rewards:
+        added = cq.add_reward(samples, added, summary, r)
+    return summary
+
+
+def test_reward_window_keeps_the_summary_of_its_last_rewards():
+    summary = _window([5.0, -10.0, 0.0, -1.0, 2.0], 3)
+    assert summary.tolist() == [3.0, 1.0, 5.0]  # the last three: 0, -1, 2
+
+
+def test_the_test_flags_rewards_that_drop_when_the_other_agent_is_near():
+    rng = np.random.default_rng(0)
+    t = cq.t_critical_values(58, 0.05)
+    baseline = _window(np.zeros(30), 30)  # the state-action alone: 0 every time
+    near = _window(np.where(rng.random(30) < 0.4, -10.0, 0.0), 30)  # collisions 40 % of the time
+    unchanged = _window(np.zeros(30), 30)
+    assert cq.significantly_lower(baseline, near, t)
+    assert not cq.significantly_lower(baseline, unchanged, t)
+    assert not cq.significantly_lower(near, baseline, t)  # higher is no conflict
+    rare = _window([-10.0] + [0.0] * 29, 30)  # one collision in 30: not significant
+    assert not cq.significantly_lower(baseline, rare, t)
+    noisy = _window(rng.normal(0, 1, 30), 30)
+    same = _window(rng.normal(0, 1, 30), 30)
+    assert not cq.significantly_lower(noisy, same, t)
+
+
+def test_a_conflict_marks_the_joint_state_and_copies_the_local_values():
+    t = cq.t_critical_values(58, 0.05)
+    q = np.zeros((25, 4))
+    q[9] = [1.0, 2.0, 3.0, 4.0]
+    q_aug, marked = np.zeros((25, 25, 4)), np.zeros((25, 25), np.bool_)
+    baseline = _window(np.zeros(30), 30)
+    near = _window([-10.0, 0.0] * 15, 30)
+    assert not cq.mark_if_conflict(q_aug, marked, q, 9, 19, 0.0, baseline, near, t)  # this reward is not low
+    assert cq.mark_if_conflict(q_aug, marked, q, 9, 19, -10.0, baseline, near, t)
+    assert marked[9, 19] and marked.sum() == 1
+    assert q_aug[9, 19].tolist() == [1.0, 2.0, 3.0, 4.0]
+    assert not cq.mark_if_conflict(q_aug, marked, q, 9, 14, -10.0, baseline, _window(np.zeros(30), 30), t)
+
+
+def test_augmented_update_bootstraps_on_the_local_next_values():
+    q = np.zeros((25, 4))
+    q[4] = [0.0, 8.0, 1.0, 2.0]
+    q_aug = np.zeros((25, 25, 4))
+    q_aug[9, 19, S] = 1.0
+    cq.augmented_update(q_aug, q, 9, 19, S, -10.0, 4, False, ALPHA, GAMMA)
+    assert q_aug[9, 19, S] == pytest.approx(1 + ALPHA * (-10 + GAMMA * 8 - 1))
+
+
+# --- small runs --------------------------------------------------------------------------------
+
+@pytest.fixture(scope="module")
+def small():
+    return rw.run(SMALL, seed=3, workers=1)
+
+
+def test_small_run_logs_both_learners_and_cq_marks_only_close_joint_states(small):
+    assert small.names() == ["independent", "mmdp", "sparse_maq", "cq"]
+    for name in ("sparse_maq", "cq"):
+        assert np.isfinite(small.curves(name, ep.STEPS)).all()
+        assert (small.curves(name, ep.STEPS) >= 10).all(), name
+        assert (small.reward(name) <= 100).all()
+        assert small.steps(name).mean(axis=0)[-1] < 40, name  # they learn the way to the goal
+        assert (small.curves(name, ep.COORDINATIONS) > 0).any(), name
+    assert small.cq_marked.any()  # the tunnel entrance makes conflicts
+    assert (rw.marked_distances(small, SMALL) <= 2).all()  # collisions only come from close agents
+    index = sparse_maq.coordination_index(tunnel_to_goal(), 2)
+    assert small.joint_entries[2].tolist() == [(index.max() + 1) * 16 / 2] * 2
+    assert small.joint_entries[3].tolist() == (small.cq_marked.sum(axis=(2, 3)).mean(axis=1) * 4).tolist()
+    assert small.local_entries.tolist() == [100.0, 0.0, 100.0, 100.0]
+    assert small.reward_samples.tolist() == [0, 0, 0, 25 * 4 * SMALL.cq_window]
+
+
+def test_chapter_learners_keep_their_seeds_and_results_do_not_depend_on_workers(small):
+    chapter = gw.run(SMALL.gridworld, seed=3, workers=1)
+    assert np.array_equal(small.log[:2], chapter.log)
+    two = rw.run(SMALL, seed=3, workers=2)
+    assert np.array_equal(small.log, two.log) and np.array_equal(small.cq_marked, two.cq_marked)
+    assert rw.related_seed(3, "sparse_maq") != rw.related_seed(3, "cq")
+    assert rw.related_seed(0, "sparse_maq") >= 2 ** 32
+
+
+def test_measure_gives_every_claimed_metric(small):
+    rows = rw.claim_rows(small, SMALL)
+    assert [row["claim"].id for row in rows] == [c.id for c in claims.load("related_work")]
+    m = rw.measure(small, SMALL)
+    assert m["q_entries_sparse_maq_over_mmdp"] == pytest.approx(m["q_entries_sparse_maq"] / 5000)
+    assert "CQ-learning" in rw.summary_table(small, SMALL)
+
+
+@pytest.mark.parametrize("changes, message", [
+    ({"learners": ("cq", "cq")}, "learners must be distinct names"),
+    ({"learners": ("two_observe",)}, "learners must be distinct names"),
+    ({"coordination_distance": 0}, "coordination_distance must be a whole number >= 1"),
+    ({"cq_window": 1}, "cq_window must be a whole number >= 2"),
+    ({"cq_solo_episodes": 2.5}, "cq_solo_episodes must be a whole number >= 1"),
+    ({"cq_significance": 5}, "cq_significance must be a number in (0, 1)"),
+    ({"gridworld": {"episodes": 10}}, "gridworld must be a GridworldConfig"),
+])
+def test_bad_configurations_are_rejected_with_a_message(changes, message):
+    with pytest.raises(ValueError, match=message.replace("(", r"\(").replace(")", r"\)")):
+        dataclasses.replace(SMALL, **changes)
+
+
+def test_figure_scripts_share_one_result_and_are_byte_reproducible(tmp_path):
+    names = ("related_steps", "related_reward", "related_collisions", "related_coordinations", "related_sizes")
+    for attempt in ("a", "b"):
+        argv = ["--runs", "2", "--iterations", "300", "--workers", "1",
+                "--out", str(tmp_path / attempt / "out"), "--results", str(tmp_path / attempt / "results")]
+        for name in names:
+            runpy.run_path(str(REPO / "paper_figures" / f"{name}.py"), run_name="not_main")["main"](argv)
+    assert sorted(p.name for p in (tmp_path / "a" / "results").iterdir()) == ["related_work.npz"]
+    for name in names:
+        for ext in ("png", "pdf"):
+            assert (tmp_path / "a" / "out" / f"{name}.{ext}").read_bytes() == \
+                (tmp_path / "b" / "out" / f"{name}.{ext}").read_bytes(), f"{name}.{ext}"
