@@ -139,6 +139,7 @@ def run_batches(batch, inputs: tuple, outputs: tuple, seed: int, *, workers=None
                          f"(glamas.runs.Threads, Processes or Dask), got {workers!r}")
     check_seed(seed)
     kernel = _kernel_name(batch)
+    inputs = tuple(_for_transport(x) for x in inputs)
     jobs = [(kernel, inputs, seed, start, min(start + chunk, n_runs),
              tuple(out[start:start + chunk] for out in outputs)) for start in range(0, n_runs, chunk)]
     run_jobs = _run_in_processes if isinstance(workers, Processes) else _run_on_dask
@@ -171,10 +172,8 @@ def run_chunk(kernel: str, inputs: tuple, seed: int, start: int, stop: int, init
     """
     batch = _resolve_kernel(kernel)
     states = chunk_states(seed, start, stop)
-    # Writable copies: transport may hand over read-only buffers, and a read-only array would
-    # make numba compile (and cache) a second version of the kernel.
-    inputs = tuple(np.array(x) if isinstance(x, np.ndarray) else x for x in inputs)
-    outputs = tuple(np.array(x) for x in initial)
+    inputs = tuple(_as_sent(x) for x in inputs)
+    outputs = tuple(np.array(x) for x in initial)  # copies: the caller's arrays stay untouched
     # One parallel launch at a time per process: numba's workqueue threading layer aborts on
     # concurrent launches (a Dask worker with several threads would make them).
     with _KERNEL_LOCK:
@@ -182,6 +181,28 @@ def run_chunk(kernel: str, inputs: tuple, seed: int, start: int, stop: int, init
             numba.set_num_threads(min(threads, numba.config.NUMBA_NUM_THREADS))
         batch(*inputs, states, *outputs)
     return start, outputs
+
+
+@dataclass(frozen=True)
+class _ReadOnly:
+    """A read-only input array in transit: transports lose the flag, and numba types a
+    read-only array apart (another compilation, another cache entry)."""
+
+    array: np.ndarray
+
+
+def _for_transport(x):
+    return _ReadOnly(x) if isinstance(x, np.ndarray) and not x.flags.writeable else x
+
+
+def _as_sent(x):
+    """A copy of an input array, read-only if the caller's was."""
+    if isinstance(x, _ReadOnly):
+        x = np.array(x.array)
+        x.flags.writeable = False
+    elif isinstance(x, np.ndarray):
+        x = np.array(x)
+    return x
 
 
 def _kernel_name(batch) -> str:
