@@ -11,6 +11,9 @@ default); :class:`Processes` sends each chunk as a job to local processes (jobli
 the kernel's name, its inputs, the seed and its run indices; it derives its runs' states with
 :func:`glamas.rng.chunk_states` and returns its output slices, which the caller writes back.
 So every backend gives bit-identical results.
+
+Threads stay the default: on one machine processes only add their start-up (benchmarks/
+bench_backends.py), since the numba threads already use every core.
 """
 
 import importlib
