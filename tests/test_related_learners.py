@@ -5,6 +5,7 @@ import dataclasses
 import math
 import runpy
 
+import matplotlib.pyplot as plt
 import numpy as np
 import pytest
 
@@ -132,8 +133,9 @@ def test_the_test_flags_rewards_that_drop_when_the_other_agent_is_near():
     assert cq.significantly_lower(baseline, near, t)
     assert not cq.significantly_lower(baseline, unchanged, t)
     assert not cq.significantly_lower(near, baseline, t)  # higher is no conflict
-    rare = _window([-10.0] + [0.0] * 29, 30)  # one collision in 30: not significant
+    rare = _window([-10.0] * 3 + [0.0] * 27, 30)  # t = sqrt(29 p / (1 - p)) = 1.80 < 2.00
     assert not cq.significantly_lower(baseline, rare, t)
+    assert cq.significantly_lower(baseline, _window([-10.0] * 4 + [0.0] * 26, 30), t)  # 2.11 > 2.00
     noisy = _window(rng.normal(0, 1, 30), 30)
     same = _window(rng.normal(0, 1, 30), 30)
     assert not cq.significantly_lower(noisy, same, t)
@@ -229,3 +231,13 @@ def test_figure_scripts_share_one_result_and_are_byte_reproducible(tmp_path):
         for ext in ("png", "pdf"):
             assert (tmp_path / "a" / "out" / f"{name}.{ext}").read_bytes() == \
                 (tmp_path / "b" / "out" / f"{name}.{ext}").read_bytes(), f"{name}.{ext}"
+
+
+def test_plots_draw_on_a_given_axes(small):
+    fig, axes = plt.subplots(1, 3)
+    rw.plot_coordinations(axes[0], small)
+    rw.plot_size_and_reward(axes[1], small, SMALL)
+    rw.plot_marked_distances(axes[2], small, SMALL)
+    assert [len(ax.get_legend().get_texts()) for ax in (axes[0], axes[2])] == [2, 2]
+    assert len(axes[1].texts) == len(small.names())
+    plt.close(fig)

@@ -224,29 +224,41 @@ def plot_coordinations(ax, result: RelatedWorkResult):
 
 def plot_size_and_reward(ax, result: RelatedWorkResult, config: RelatedWorkConfig):
     """Each learner's Q entries per agent (measured) against its final reward: the chapter's
-    trade-off between state-action space and coordination."""
+    trade-off between state-action space and coordination (learners on the same point share a label)."""
     m = measure(result, config)
+    points = {}
     for name in result.names():
-        ax.scatter(m[f"q_entries_{name}"], m[f"reward_{name}"], s=40)
-        ax.annotate(gw.LABELS[name], (m[f"q_entries_{name}"], m[f"reward_{name}"]), fontsize="small",
-                    xytext=(5, -3), textcoords="offset points")
+        points.setdefault((m[f"q_entries_{name}"], round(m[f"reward_{name}"], 1)), []).append(gw.LABELS[name])
+    by_reward = sorted((reward, entries, " = ".join(labels)) for (entries, reward), labels in points.items())
+    for i, (reward, entries, label) in enumerate(by_reward):
+        ax.scatter(entries, reward, s=40)
+        ax.annotate(label, (entries, reward), fontsize="small", textcoords="offset points",
+                    xytext=(-4, -14 if i % 2 == 0 else 7))  # by reward, alternately below and above
     ax.set_xscale("log")
+    ax.margins(x=0.1, y=0.12)
+    ax.set_xlim(right=ax.get_xlim()[1] * 3)  # room for the labels
     ax.set_xlabel("Q entries per agent (log)")
     ax.set_ylabel("final reward per episode (mean of the agents)")
 
 
 def plot_marked_distances(ax, result: RelatedWorkResult, config: RelatedWorkConfig):
-    """How far apart the agents are in the joint states CQ-learning marked (pooled over runs and
-    agents, per agent and run), against the sparse learner's fixed coordination distance."""
-    distances = marked_distances(result, config)
-    per_run = result.cq_marked.shape[0] * result.cq_marked.shape[1]
-    bins = np.arange(1, distances.max(initial=1) + 2)
-    counts = np.array([(distances == d).sum() for d in bins[:-1]]) / per_run
-    ax.bar(bins[:-1], counts, color="tab:green", label="CQ-learning: marked joint states per agent")
-    ax.axvline(config.coordination_distance + 0.5, color="black", linestyle="--",
-               label=f"sparse MAQ: coordinates at distance <= {config.coordination_distance}")
+    """Per Manhattan distance between the agents: the joint states a CQ agent learned to observe
+    (mean per agent and run) beside the coordination states sparse MAQ is given in advance."""
+    gridmap = config.gridworld.gridmap()
+    given = np.flatnonzero(sparse_maq.coordination_index(gridmap, config.coordination_distance) >= 0)
+    own, other = np.divmod(given, gridmap.n_cells)
+    given_distances = np.abs(own // gridmap.n_cols - other // gridmap.n_cols) + np.abs(own % gridmap.n_cols - other % gridmap.n_cols)
+    marked = marked_distances(result, config)
+    per_agent = result.cq_marked.shape[0] * result.cq_marked.shape[1]
+    distances = np.arange(1, max(config.coordination_distance, marked.max(initial=1)) + 1)
+    ax.bar(distances - 0.2, [(given_distances == d).sum() for d in distances], width=0.4, color="tab:red",
+           label="sparse MAQ: coordination states (given)")
+    ax.bar(distances + 0.2, [(marked == d).sum() / per_agent for d in distances], width=0.4, color="tab:purple",
+           label="CQ-learning: marked joint states per agent")
+    ax.set_xticks(distances)
+    ax.set_yscale("log")
     ax.set_xlabel("Manhattan distance between the agents")
-    ax.set_ylabel("joint states per agent")
+    ax.set_ylabel("joint states (log)")
     ax.legend(fontsize="small")
 
 
