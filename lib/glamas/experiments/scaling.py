@@ -1,0 +1,428 @@
+"""The scaling study (beyond the chapter): the Section 5.3 learners on warehouse maps with 2 to 6
+agents, to measure the argument of Table 1 and Section 3.1 that the joint learners' tables grow
+exponentially in the number of agents while independent learners and 2observe stay linear.
+
+Every map ``warehouse_N.txt`` is the same 5 x 7 warehouse (one one-track aisle to the shared goal,
+entered from the right end) with N agents starting along the top and bottom rows, so only the
+number of agents changes between the maps. ``run`` allocates a learner's Q tables only when they
+fit the memory budget (computed before allocating; otherwise the learner is skipped at that N and
+the reason recorded), trains it and keeps agent-mean learning curves. ``measure`` turns the curves
+and the measured table sizes into per-(method, N) numbers and growth rates fitted over N, from
+which the claims of ``data/chapter/scaling.json`` get their verdicts.
+"""
+
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import matplotlib.pyplot as plt
+import numpy as np
+
+from glamas import claims as chapter
+from glamas import cli, runs
+from glamas.experiments.gridworld import GridworldConfig, convergence_episode, final
+from glamas.gridworld import BOUNCE_MODES, GridMap, load_map
+from glamas.learners import episode as ep
+from glamas.learners import group_observe, independent, joint_state, mmdp
+from glamas.paths import MAPS
+from glamas.plotting import new_figure, plot_mean_band, save_figure
+
+EXPERIMENT = "scaling"
+METHODS = ("independent", "joint_state", "mmdp", "two_observe", "two_observe_rule")
+LABELS = {"independent": "independent Q-learners", "joint_state": "joint-state learners",
+          "mmdp": "MMDP learner", "two_observe": "2observe (N agents)",
+          "two_observe_rule": "2observe, fixed rule"}
+_MODULES = {"independent": independent, "joint_state": joint_state, "mmdp": mmdp,
+            "two_observe": group_observe, "two_observe_rule": group_observe}
+MAX_AGENTS = 9
+"""The map format numbers agents 1-9."""
+BYTES_PER_ENTRY = 8
+"""Q values are float64."""
+MACHINE_MEMORY_GIB = 24
+"""The memory of the machine the study was run on (2 cores, 24 GiB), drawn for reference."""
+
+# Columns of the agent-mean log kept per (method, N).
+STEPS, REWARD, COLLISIONS, COORDINATIONS, CAPPED = range(5)
+N_METRICS = 5
+
+
+@dataclass(frozen=True)
+class ScalingConfig:
+    """Settings of the scaling study; learner settings are the Section 5.3 experiment's."""
+
+    agents: tuple = (2, 3, 4, 5, 6)
+    """Numbers of agents N; map ``map_pattern.format(n=N)`` is used for each."""
+    map_pattern: str = "warehouse_{n}.txt"
+    """Map file name (in data/maps, or a path) with ``{n}`` for the number of agents."""
+    methods: tuple = METHODS
+    """Learners to train, a subset of METHODS; 'two_observe_rule' is a diagnostic outside the
+    chapter: 2observe with its GLAs replaced by the rule "coordinate when delta < rule_distance"."""
+    rule_distance: int = 3
+    """The fixed rule's distance for 'two_observe_rule' (3: delta at most 2, where every collision
+    of two agents comes from)."""
+    episodes: int = 20_000
+    """Episodes per run (each until every agent is in the goal, or the step cap)."""
+    runs: int = 10
+    """Independent runs per (method, N)."""
+    bin_size: int = 100
+    """Episodes averaged into one point of the learning curves; must divide ``episodes``."""
+    memory_budget_gib: float = 4.0
+    """Memory the Q tables of all runs of one (method, N) may take, in GiB (the machine has 24 GiB
+    and 2 cores shared with other work); a learner whose tables would need more is skipped at that N."""
+    learning: GridworldConfig = field(default_factory=lambda: GridworldConfig(max_steps=1000))
+    """Q-learning, GLA and collision settings (the Section 5.3 experiment's defaults, with a
+    1000-step cap per episode: with three or more agents an agent often gets trapped early on, see
+    the notebook); its map_file, learners, episodes, runs and bin_size are not used here."""
+
+    def __post_init__(self):
+        for name in ("episodes", "runs", "bin_size"):
+            value = getattr(self, name)
+            if not isinstance(value, (int, np.integer)) or isinstance(value, bool) or value < 1:
+                raise ValueError(f"{name} must be a whole number >= 1, got {value!r}")
+        if self.episodes % self.bin_size:
+            raise ValueError(f"bin_size ({self.bin_size}) must divide episodes ({self.episodes}); "
+                             "choose a bin size such as 100 that divides the episode count")
+        agents = tuple(self.agents) if isinstance(self.agents, (tuple, list)) else None
+        if (not agents or len(set(agents)) != len(agents)
+                or not all(isinstance(n, int) and 2 <= n <= MAX_AGENTS for n in agents)):
+            raise ValueError(f"agents must be distinct whole numbers from 2 to {MAX_AGENTS}, got {self.agents!r}")
+        object.__setattr__(self, "agents", tuple(sorted(agents)))
+        methods = tuple(self.methods) if isinstance(self.methods, (tuple, list)) else ()
+        if not methods or len(set(methods)) != len(methods) or not set(methods) <= set(METHODS):
+            raise ValueError(f"methods must be distinct names from {METHODS}, got {self.methods!r}")
+        object.__setattr__(self, "methods", methods)
+        if isinstance(self.rule_distance, bool) or not isinstance(self.rule_distance, int) or self.rule_distance < 0:
+            raise ValueError(f"rule_distance must be a whole number >= 0, got {self.rule_distance!r}")
+        if not (isinstance(self.memory_budget_gib, (int, float)) and self.memory_budget_gib > 0):
+            raise ValueError(f"memory_budget_gib must be a number > 0, got {self.memory_budget_gib!r}")
+        if not isinstance(self.learning, GridworldConfig):
+            raise ValueError(f"learning must be a GridworldConfig, got {type(self.learning).__name__}")
+        if "{n}" not in self.map_pattern:
+            raise ValueError(f"map_pattern must contain '{{n}}' for the number of agents, got {self.map_pattern!r}")
+        for n in self.agents:
+            gridmap = self.gridmap(n)
+            if gridmap.n_agents != n:
+                raise ValueError(f"map {gridmap.name!r} has {gridmap.n_agents} agents, the study expects {n}: "
+                                 f"give each map file exactly N starts 1..N")
+
+    def gridmap(self, n: int) -> GridMap:
+        """The map with ``n`` agents: ``map_pattern`` as a path, or as a name in data/maps."""
+        path = Path(self.map_pattern.format(n=n))
+        return load_map(path if path.is_file() or path.parent != Path(".") else MAPS / path)
+
+    @property
+    def n_bins(self) -> int:
+        return self.episodes // self.bin_size
+
+
+def table_shape(method: str, n_cells: int, n_agents: int) -> tuple:
+    """(tables, states, actions) of a learner's Q tables, computed without allocating them."""
+    return {"independent": (n_agents, n_cells, 4), "two_observe": (n_agents, n_cells, 4),
+            "two_observe_rule": (n_agents, n_cells, 4),
+            "joint_state": (n_agents, n_cells ** n_agents, 4),
+            "mmdp": (1, n_cells ** n_agents, 4 ** n_agents)}[method]
+
+
+def gla_parameter_count(method: str, n_agents: int) -> int:
+    """2observe's GLA parameters (2 actions x 2 inputs per agent); the other learners (and the
+    fixed rule) have none."""
+    return int(np.prod(group_observe.new_gla_parameters(n_agents).shape)) if method == "two_observe" else 0
+
+
+def memory_needed(config: ScalingConfig, method: str, n_agents: int) -> int:
+    """Bytes the Q tables of all of ``config.runs`` runs take together."""
+    shape = table_shape(method, config.gridmap(n_agents).n_cells, n_agents)
+    return config.runs * math.prod(shape) * BYTES_PER_ENTRY
+
+
+@dataclass(frozen=True)
+class ScalingResult:
+    """Agent-mean learning curves and measured table sizes for every (method, N), all arrays."""
+
+    methods: np.ndarray
+    """int (methods,): index into METHODS of each method, in the order of the other arrays."""
+    agents: np.ndarray
+    """int (agents,): the numbers of agents N."""
+    ran: np.ndarray
+    """bool (methods, agents): whether the learner ran (False: its tables exceed the budget)."""
+    table_shapes: np.ndarray
+    """int (methods, agents, 3): (tables, states, actions) of the Q tables per run: measured from
+    the allocated tables where the learner ran, computed where it was skipped."""
+    gla_parameters: np.ndarray
+    """int (methods, agents): GLA parameters per run (2observe: 4 per agent)."""
+    bytes_needed: np.ndarray
+    """int (methods, agents): bytes of Q tables for all runs together."""
+    log: np.ndarray
+    """(methods, agents, runs, bins, N_METRICS): block means of steps to goal and reward (means
+    over the agents), collisions, coordinations, capped episodes; NaN where skipped."""
+    episodes: np.ndarray
+    """int (bins,): the episode count at the end of each block."""
+
+    def names(self) -> list[str]:
+        return [METHODS[k] for k in self.methods]
+
+    def curves(self, method: str, n: int, metric: int) -> np.ndarray:
+        """(runs, bins) block means of one metric for one method and number of agents."""
+        return self.log[self.names().index(method), list(self.agents).index(n), :, :, metric]
+
+    def q_entries(self) -> np.ndarray:
+        """(methods, agents): Q-table entries per run (all agents' tables together)."""
+        return self.table_shapes.prod(axis=2)
+
+    def parameters(self) -> np.ndarray:
+        """(methods, agents): learned values per run, Q entries plus GLA parameters."""
+        return self.q_entries() + self.gla_parameters
+
+
+def seed_of(seed: int, method: str, n_agents: int) -> int:
+    """Master seed of one (method, N): distinct for every (seed, method, N); a method gets the same
+    streams at a given N whatever else is trained with it."""
+    return (seed * 16 + n_agents) * len(METHODS) + METHODS.index(method)
+
+
+def run(config: ScalingConfig = ScalingConfig(), seed: int = 0, workers=None, progress=None) -> ScalingResult:
+    """Train every method at every N that fits the memory budget (``config.runs`` runs each)."""
+    m, a = len(config.methods), len(config.agents)
+    ran = np.zeros((m, a), dtype=bool)
+    shapes = np.zeros((m, a, 3), dtype=np.int64)
+    glas = np.zeros((m, a), dtype=np.int64)
+    needed = np.zeros((m, a), dtype=np.int64)
+    log = np.full((m, a, config.runs, config.n_bins, N_METRICS), np.nan)
+    budget = config.memory_budget_gib * 2 ** 30
+    for j, n in enumerate(config.agents):
+        gridmap = config.gridmap(n)
+        for k, method in enumerate(config.methods):
+            shapes[k, j] = table_shape(method, gridmap.n_cells, n)
+            glas[k, j] = gla_parameter_count(method, n)
+            needed[k, j] = memory_needed(config, method, n)
+            if needed[k, j] > budget:
+                continue
+            label = None if progress is None else f"{progress}: {method}, N={n}"
+            q, full_log = _train(config, gridmap, method, seed_of(seed, method, n), workers, label)
+            shapes[k, j] = q.shape[1:]
+            ran[k, j] = True
+            log[k, j] = agent_means(full_log, n)
+    codes = np.array([METHODS.index(name) for name in config.methods], dtype=np.int64)
+    episodes = np.arange(1, config.n_bins + 1, dtype=np.int64) * config.bin_size
+    return ScalingResult(methods=codes, agents=np.array(config.agents, dtype=np.int64), ran=ran,
+                         table_shapes=shapes, gla_parameters=glas, bytes_needed=needed, log=log,
+                         episodes=episodes)
+
+
+def _train(config, gridmap, method, master_seed, workers, label):
+    n, c = gridmap.n_agents, config.learning
+    q = np.full((config.runs,) + table_shape(method, gridmap.n_cells, n), c.q_initial)
+    log = np.zeros((config.runs, config.n_bins, ep.n_columns(n)))
+    world = (gridmap.next_cell, gridmap.is_goal, gridmap.starts, BOUNCE_MODES[c.bounce])
+    learning = (c.q_learning_rate, c.discount, c.exploit_prob)
+    schedule = (config.episodes, config.bin_size, c.max_steps)
+    if method in ("two_observe", "two_observe_rule"):
+        p = c.gla_params()
+        rule = config.rule_distance if method == "two_observe_rule" else (
+            -1 if c.rule_distance is None else c.rule_distance)
+        automata = (p.learning_rate, p.temperature, p.K, p.L, p.bounding_code, float(c.gla_init_range),
+                    np.array(c.gla_feedback), float(c.coordination_penalty_per_cell), rule)
+        inputs = world + (gridmap.n_cols,) + learning + automata + schedule
+        u = np.zeros((config.runs,) + group_observe.new_gla_parameters(n).shape)
+        coming = np.zeros((config.runs,) + group_observe.new_coming_counts(gridmap.n_rows, gridmap.n_cols).shape)
+        outputs = (q, u, coming, log)
+    else:
+        inputs, outputs = world + learning + schedule, (q, log)
+    runs.run_batches(_MODULES[method].batch, inputs, outputs, master_seed, workers=workers, progress=label)
+    return q, log
+
+
+def agent_means(log: np.ndarray, n: int) -> np.ndarray:
+    """(runs, bins, N_METRICS) from an N-agent log (glamas.learners.episode layout)."""
+    out = np.empty(log.shape[:2] + (N_METRICS,))
+    out[..., STEPS] = log[..., ep.STEPS:ep.STEPS + n].mean(axis=2)
+    out[..., REWARD] = log[..., ep.reward_column(n, 0):ep.reward_column(n, n)].mean(axis=2)
+    out[..., COLLISIONS] = log[..., ep.column(n, ep.COLLISIONS)]
+    out[..., COORDINATIONS] = log[..., ep.column(n, ep.COORDINATIONS)]
+    out[..., CAPPED] = log[..., ep.column(n, ep.CAPPED)]
+    return out
+
+
+# --- measurements and claims -----------------------------------------------------------------
+
+def growth(agents, values) -> dict:
+    """Least-squares growth of ``values`` over the numbers of agents: the factor per added agent
+    (exp of the slope of log value against N: exponential growth has a constant factor) and the
+    slope of log value against log N (polynomial growth N^k has slope k); NaN below two points."""
+    agents, values = np.asarray(agents, float), np.asarray(values, float)
+    if agents.size < 2:
+        return {"factor_per_agent": math.nan, "loglog_slope": math.nan}
+    slope = np.polyfit(agents, np.log(values), 1)[0]
+    loglog = np.polyfit(np.log(agents), np.log(values), 1)[0]
+    return {"factor_per_agent": float(np.exp(slope)), "loglog_slope": float(loglog)}
+
+
+def measure(result: ScalingResult) -> dict:
+    """Per (method, N): parameters, final steps, reward, collisions, coordinations, convergence
+    episode; per method: growth fitted over the N it ran at, the largest such N; and the
+    comparisons the claims of data/chapter/scaling.json are about."""
+    m = {}
+    params = result.parameters()
+    for k, method in enumerate(result.names()):
+        ran_at = [int(n) for n, ok in zip(result.agents, result.ran[k]) if ok]
+        for j, n in enumerate(result.agents):
+            m[f"parameters_{method}_{n}"] = float(params[k, j])
+            if not result.ran[k, j]:
+                continue
+            m[f"steps_{method}_{n}"] = final(result.curves(method, n, STEPS))
+            m[f"reward_{method}_{n}"] = final(result.curves(method, n, REWARD))
+            m[f"collisions_{method}_{n}"] = final(result.curves(method, n, COLLISIONS))
+            m[f"coordinations_{method}_{n}"] = final(result.curves(method, n, COORDINATIONS))
+            m[f"capped_{method}_{n}"] = final(result.curves(method, n, CAPPED))
+            m[f"convergence_{method}_{n}"] = convergence_episode(result.curves(method, n, STEPS), result.episodes)
+        fit = growth(ran_at, [params[k, list(result.agents).index(n)] for n in ran_at])
+        m[f"growth_factor_{method}"] = fit["factor_per_agent"]
+        m[f"loglog_slope_{method}"] = fit["loglog_slope"]
+        m[f"largest_n_{method}"] = float(max(ran_at)) if ran_at else 0.0
+    names = result.names()
+    if "independent" in names:
+        m["loglog_slope_independent_off_1"] = abs(m["loglog_slope_independent"] - 1.0)
+    if {"independent", "two_observe"} <= set(names):
+        ratio = params[names.index("two_observe")] / params[names.index("independent")]
+        m["parameters_two_observe_over_independent_max"] = float(ratio.max())
+    if {"mmdp", "two_observe"} <= set(names):
+        both = [n for j, n in enumerate(result.agents)
+                if result.ran[names.index("mmdp"), j] and result.ran[names.index("two_observe"), j]]
+        m["collisions_two_observe_minus_mmdp_max"] = max(
+            (m[f"collisions_two_observe_{n}"] - m[f"collisions_mmdp_{n}"] for n in both), default=math.nan)
+    return m
+
+
+def claim_rows(result: ScalingResult) -> list[dict]:
+    """The Table 1 / Section 3.1 claims of data/chapter/scaling.json with computed verdicts."""
+    return chapter.verdicts(chapter.load(EXPERIMENT), measure(result))
+
+
+def size_table(result: ScalingResult) -> str:
+    """Q tables per run (tables x states x actions), learned values and memory for all runs, per
+    method and N; skipped learners marked with the memory they would need."""
+    lines = [f"{'method':22s} {'N':>2s} {'tables x states x actions':>27s} {'parameters/run':>15s} "
+             f"{'GiB (all runs)':>14s}  status"]
+    params = result.parameters()
+    for k, method in enumerate(result.names()):
+        for j, n in enumerate(result.agents):
+            t, s, a = result.table_shapes[k, j]
+            status = "ran" if result.ran[k, j] else "skipped: exceeds the memory budget"
+            lines.append(f"{LABELS[method]:22s} {n:2d} {f'{t} x {s} x {a}':>27s} {params[k, j]:15.3g} "
+                         f"{result.bytes_needed[k, j] / 2 ** 30:14.3g}  {status}")
+    return "\n".join(lines)
+
+
+def performance_table(result: ScalingResult) -> str:
+    """Final values (last 10 % of the episodes, mean over runs and agents; capped: the share of
+    those episodes that hit the step cap) and the episode after which the mean steps stay within
+    5 % of their final value, per method and N that ran."""
+    m = measure(result)
+    lines = [f"{'method':22s} {'N':>2s} {'steps':>7s} {'reward':>7s} {'collisions':>10s} "
+             f"{'coordinations':>13s} {'converged by':>12s} {'capped %':>8s}"]
+    for k, method in enumerate(result.names()):
+        for j, n in enumerate(result.agents):
+            if not result.ran[k, j]:
+                continue
+            lines.append(f"{LABELS[method]:22s} {n:2d} {m[f'steps_{method}_{n}']:7.2f} {m[f'reward_{method}_{n}']:7.1f} "
+                         f"{m[f'collisions_{method}_{n}']:10.2f} {m[f'coordinations_{method}_{n}']:13.2f} "
+                         f"{m[f'convergence_{method}_{n}']:12.0f} {100 * m[f'capped_{method}_{n}']:8.1f}")
+    return "\n".join(lines)
+
+
+def growth_table(result: ScalingResult) -> str:
+    """Per method: growth of the learned values per run, fitted over the N it ran at."""
+    m = measure(result)
+    lines = [f"{'method':22s} {'ran for N':>10s} {'factor per agent':>16s} {'log-log slope':>13s}"]
+    for k, method in enumerate(result.names()):
+        ran_at = [int(n) for n, ok in zip(result.agents, result.ran[k]) if ok]
+        span = f"{min(ran_at)}-{max(ran_at)}" if ran_at else "none"
+        lines.append(f"{LABELS[method]:22s} {span:>10s} {m[f'growth_factor_{method}']:16.3g} "
+                     f"{m[f'loglog_slope_{method}']:13.2f}")
+    return "\n".join(lines)
+
+
+# --- plots: each draws on a given Axes -------------------------------------------------------
+
+def plot_sizes(ax, result: ScalingResult, config: ScalingConfig | None = None):
+    """Values learned per run (Q entries + GLA parameters) against N (log scale): filled markers
+    where the learner ran, open markers where its tables were only computed (skipped), with the
+    whole machine's memory for one run and the study's memory budget if ``config`` is given."""
+    params = result.parameters()
+    for k, method in enumerate(result.names()):
+        line, = ax.plot(result.agents, params[k], "-", label=LABELS[method])
+        ok = result.ran[k]
+        ax.plot(result.agents[ok], params[k, ok], "o", color=line.get_color())
+        ax.plot(result.agents[~ok], params[k, ~ok], "o", mfc="none", color=line.get_color())
+    ax.axhline(MACHINE_MEMORY_GIB * 2 ** 30 / BYTES_PER_ENTRY, color="black", linestyle=":", linewidth=1,
+               label=f"the whole machine ({MACHINE_MEMORY_GIB} GiB) for one run")
+    if config is not None:
+        entries = config.memory_budget_gib * 2 ** 30 / BYTES_PER_ENTRY / config.runs
+        ax.axhline(entries, color="black", linestyle="--", linewidth=1,
+                   label=f"memory budget ({config.memory_budget_gib:g} GiB for {config.runs} runs)")
+    ax.set_yscale("log")
+    ax.set_xticks(result.agents)
+    ax.set_xlabel("agents N")
+    ax.set_ylabel("values learned per run")
+    ax.legend(fontsize="small")
+
+
+_METRIC_LABELS = {"steps": "final steps to goal (agent mean)", "reward": "final reward (agent mean)",
+                  "collisions": "final collisions per episode", "coordinations": "final coordinations per episode",
+                  "convergence": "episodes until within 5 % of final steps"}
+
+
+def plot_final(ax, result: ScalingResult, metric: str):
+    """One final measurement ('steps', 'reward', 'collisions', 'coordinations' or 'convergence')
+    against N for every method, at the N each method ran at."""
+    if metric not in _METRIC_LABELS:
+        raise ValueError(f"metric must be one of {sorted(_METRIC_LABELS)}, got {metric!r}")
+    m = measure(result)
+    for k, method in enumerate(result.names()):
+        ns = [int(n) for n, ok in zip(result.agents, result.ran[k]) if ok]
+        ax.plot(ns, [m[f"{metric}_{method}_{n}"] for n in ns], "o-", label=LABELS[method])
+    ax.set_xticks(result.agents)
+    ax.set_xlabel("agents N")
+    ax.set_ylabel(_METRIC_LABELS[metric])
+    ax.legend(fontsize="small")
+
+
+def plot_curves(ax, result: ScalingResult, n: int, metric: int = STEPS):
+    """Learning curves (mean and 95 % band over runs) of every method that ran with ``n`` agents."""
+    if n not in result.agents:
+        raise ValueError(f"no results for N = {n}; the study has N in {result.agents.tolist()}")
+    j = list(result.agents).index(n)
+    for k, method in enumerate(result.names()):
+        if result.ran[k, j]:
+            plot_mean_band(ax, result.episodes, result.curves(method, n, metric), LABELS[method])
+    ax.set_xscale("log")
+    ax.set_xlabel("episode")
+    ax.set_ylabel(["steps to goal (agent mean)", "reward (agent mean)", "collisions per episode",
+                   "coordinations per episode", "capped episodes"][metric] + f", N = {n}")
+    ax.legend(fontsize="small")
+
+
+# --- figure scripts (paper_figures/scaling_*.py) ----------------------------------------------
+
+RESULT_NAME = "scaling"
+"""Result file shared by the scaling figure scripts: the study runs once for all of them."""
+
+
+def figure_main(name: str, description: str, argv=None) -> list[Path]:
+    """The body of ``paper_figures/<name>.py``: parse the command line, get the study's result
+    (from --results when this configuration already ran, else run it), draw, save."""
+    parser = cli.figure_parser(description, runs=ScalingConfig.runs, iterations=ScalingConfig.episodes)
+    args = cli.parse(parser, argv)
+    config = ScalingConfig(runs=args.runs, episodes=args.iterations,
+                           bin_size=math.gcd(args.iterations, ScalingConfig.bin_size))
+    result = cli.load_or_run(args, RESULT_NAME, config, run, ScalingResult)
+    if name == "scaling_sizes":
+        fig, ax = new_figure(6.0, 4.0)
+        plot_sizes(ax, result, config)
+    else:
+        fig, axes = new_figure(12.0, 7.0, nrows=2, ncols=2)
+        for ax, metric in zip(axes.flat, ("steps", "reward", "collisions", "convergence")):
+            plot_final(ax, result, metric)
+    written = save_figure(fig, args.out, name)
+    plt.close(fig)
+    return written

@@ -1,0 +1,200 @@
+"""2observe (Section 5, Alg. 4) for N agents: the chapter's two-agent algorithm generalised.
+
+Each agent keeps the chapter's first level: one 2-action GLA with the context [delta, 1], where
+delta is now the Manhattan distance to the *nearest* other agent still acting (lowest agent number
+on ties). Agents alone in the world (every other agent in the goal) act on their Q-learner and
+their GLA is not updated, as in the two-agent kernel.
+
+The second level generalises Section 5.2's coordination to groups: among the agents that chose to
+coordinate, those whose preferred action would collide with another coordinating agent's preferred
+action go in a random order; each keeps its preferred action unless it would collide with an agent
+earlier in the order that kept its own, and then takes an action drawn uniformly from its other
+three. For two agents this is the chapter's rule ("one agent, picked at random, keeps its action,
+the other takes a random other action") and draws the very same random numbers as
+:func:`glamas.learners.two_observe.yield_at_random`.
+
+GLA feedback per agent i (Fig. 10, reconstructed: :func:`two_observe.gla_feedback`): "collision
+coming" means i's preferred action would collide with some other acting agent's preferred action;
+"both coordinated" means i and its nearest other agent both chose to coordinate (then the penalty
+``-penalty_per_cell * delta`` applies when no collision was coming for i).
+
+With two agents, :func:`run` reproduces :func:`two_observe.run` exactly (same random numbers,
+same log, same GLA parameters); only ``coming_counts`` counts each observing agent, so twice per
+step. The log's coordinations column counts agent-steps coordinating with their nearest agent,
+halved: for two agents, the steps on which both coordinated.
+"""
+
+import numpy as np
+from numba import njit, prange
+
+from glamas import gla, rng
+from glamas.gridworld import rules
+from glamas.learners import episode as ep
+from glamas.learners.independent import new_tables  # the same state-action space as two agents
+from glamas.learners.two_observe import ACT_ALONE, COORDINATE, N_GLA_INPUTS, gla_feedback, new_gla_parameters
+from glamas.qlearning import epsilon_greedy, q_update
+
+__all__ = ["batch", "coordinate_group", "nearest_others", "new_coming_counts", "new_gla_parameters",
+           "new_tables", "random_order", "run"]
+
+NOBODY = -1
+"""``nearest`` of an agent that has no other acting agent to observe."""
+
+
+def new_coming_counts(n_rows: int, n_cols: int) -> np.ndarray:
+    """Room for the count of observing agent-steps per distance delta without / with a collision
+    coming for that agent, shape (deltas, 2)."""
+    return np.zeros((n_rows + n_cols - 1, 2))
+
+
+@njit(cache=True)
+def nearest_others(n_cols, cells, done, nearest, deltas):
+    """For every acting agent: the nearest other acting agent (lowest number on ties) and its
+    Manhattan distance; ``nearest`` is NOBODY for agents that are done or alone."""
+    n = cells.shape[0]
+    for i in range(n):
+        nearest[i] = NOBODY
+        deltas[i] = 0
+        if done[i]:
+            continue
+        for j in range(n):
+            if j == i or done[j]:
+                continue
+            d = rules.manhattan(n_cols, cells[i], cells[j])
+            if nearest[i] == NOBODY or d < deltas[i]:
+                nearest[i] = j
+                deltas[i] = d
+
+
+@njit(cache=True)
+def random_order(members, count, state):
+    """Shuffle ``members[:count]`` uniformly (Durstenfeld: from the back, one draw per place)."""
+    for i in range(count - 1, 0, -1):
+        j = rng.integer(state, i + 1)
+        members[i], members[j] = members[j], members[i]
+
+
+@njit(cache=True)
+def collision_coming(next_cell, is_goal, cells, done, preferred, i):
+    """Whether agent i's preferred action would collide with another agent's preferred action."""
+    for j in range(cells.shape[0]):
+        if j != i and rules.would_collide(next_cell, is_goal, cells, done, preferred, i, j):
+            return True
+    return False
+
+
+@njit(cache=True)
+def coordinate_group(next_cell, is_goal, cells, done, choices, preferred, actions, order, kept, state):
+    """Section 5.2's coordination for a group (module docstring): fill ``actions`` from the
+    ``preferred`` ones; return how many coordinating agents were in a coming collision.
+
+    ``order`` and ``kept`` are per-run buffers of one entry per agent.
+    """
+    n = cells.shape[0]
+    count = 0
+    for i in range(n):
+        actions[i] = preferred[i]
+        if done[i] or choices[i] != COORDINATE:
+            continue
+        for j in range(n):
+            if j != i and choices[j] == COORDINATE and rules.would_collide(
+                    next_cell, is_goal, cells, done, preferred, i, j):
+                order[count] = i
+                count += 1
+                break
+    random_order(order, count, state)
+    for k in range(count):
+        i = order[k]
+        kept[i] = True
+        for m in range(k):
+            j = order[m]
+            if kept[j] and rules.would_collide(next_cell, is_goal, cells, done, preferred, i, j):
+                kept[i] = False
+                break
+        if not kept[i]:
+            other = rng.integer(state, 3)
+            actions[i] = other + 1 if other >= preferred[i] else other
+    return count
+
+
+@njit(cache=True)
+def run(next_cell, is_goal, starts, bounce, n_cols, alpha, gamma, exploit, gla_rate, temperature,
+        K, L, bounding, init_range, feedback_table, penalty_per_cell, rule_distance, n_episodes,
+        bin_size, max_steps, q, u, coming_counts, log, state):
+    """One run of ``n_episodes`` episodes of Alg. 4 for N agents; learns in ``q`` and ``u``,
+    writes ``log`` (N-agent layout of glamas.learners.episode) and ``coming_counts``.
+
+    ``rule_distance`` >= 0 replaces the GLAs by the fixed rule "coordinate when delta <
+    rule_distance" (a diagnostic; -1: the GLAs learn, as in Alg. 4).
+    """
+    learn_first_level = rule_distance < 0
+    n_agents = starts.shape[0]
+    coordinations_column = ep.column(n_agents, ep.COORDINATIONS)
+    cells, done, actions, new_cells, rewards, bumped, collided, reached, acc = ep.buffers(n_agents)
+    choices = np.empty(n_agents, np.int64)
+    preferred = np.empty(n_agents, np.int64)
+    nearest = np.empty(n_agents, np.int64)
+    deltas = np.empty(n_agents, np.int64)
+    coming = np.empty(n_agents, np.bool_)
+    order = np.empty(n_agents, np.int64)
+    kept = np.empty(n_agents, np.bool_)
+    probs = np.empty((n_agents, 2))
+    x = np.ones((n_agents, N_GLA_INPUTS))
+    for i in range(n_agents):  # "initialised randomly" (Section 5.3)
+        for j in range(2):
+            for k in range(N_GLA_INPUTS):
+                u[i, j, k] = init_range * (2.0 * rng.uniform(state) - 1.0)
+    for episode in range(n_episodes):
+        ep.start_episode(starts, cells, done, acc)
+        t = 0
+        while t < max_steps and not ep.all_done(done):
+            nearest_others(n_cols, cells, done, nearest, deltas)
+            for i in range(n_agents):
+                choices[i] = ACT_ALONE
+                if nearest[i] == NOBODY:
+                    continue
+                x[i, 0] = deltas[i]
+                if learn_first_level:
+                    choices[i] = gla.act(u[i], x[i], temperature, L, bounding, probs[i], state)
+                elif deltas[i] < rule_distance:
+                    choices[i] = COORDINATE
+            for i in range(n_agents):
+                if not done[i]:
+                    preferred[i] = epsilon_greedy(q[i, cells[i]], exploit, state)
+            for i in range(n_agents):
+                coming[i] = collision_coming(next_cell, is_goal, cells, done, preferred, i)
+            coordinate_group(next_cell, is_goal, cells, done, choices, preferred, actions, order, kept, state)
+            paired = 0
+            for i in range(n_agents):
+                if nearest[i] != NOBODY:
+                    coming_counts[deltas[i], 1 if coming[i] else 0] += 1
+                    if choices[i] == COORDINATE and choices[nearest[i]] == COORDINATE:
+                        paired += 1
+            acc[coordinations_column] += paired / 2
+            collisions = rules.step(next_cell, is_goal, starts, bounce, cells, done, actions,
+                                    new_cells, rewards, bumped, collided, reached)
+            for i in range(n_agents):
+                if not done[i]:
+                    q_update(q[i], cells[i], actions[i], rewards[i], new_cells[i], reached[i],
+                             alpha, gamma)
+            if learn_first_level:
+                for i in range(n_agents):
+                    if nearest[i] == NOBODY:
+                        continue
+                    both = choices[i] == COORDINATE and choices[nearest[i]] == COORDINATE
+                    beta = gla_feedback(feedback_table, penalty_per_cell, choices[i], coming[i], both, deltas[i])
+                    gla.update(u[i], x[i], choices[i], beta, gla_rate, temperature, K, L, bounding, probs[i])
+            t += 1
+            ep.end_step(t, cells, done, new_cells, rewards, reached, collisions, acc)
+        ep.end_episode(log, episode, bin_size, acc, t, done)
+
+
+@njit(parallel=True, cache=True)
+def batch(next_cell, is_goal, starts, bounce, n_cols, alpha, gamma, exploit, gla_rate, temperature,
+          K, L, bounding, init_range, feedback_table, penalty_per_cell, rule_distance, n_episodes,
+          bin_size, max_steps, states, q, u, coming_counts, log):
+    """:func:`run` for every run in parallel (glamas.runs batch-kernel form)."""
+    for r in prange(states.shape[0]):
+        run(next_cell, is_goal, starts, bounce, n_cols, alpha, gamma, exploit, gla_rate,
+            temperature, K, L, bounding, init_range, feedback_table, penalty_per_cell, rule_distance,
+            n_episodes, bin_size, max_steps, q[r], u[r], coming_counts[r], log[r], states[r])

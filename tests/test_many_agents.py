@@ -1,0 +1,270 @@
+"""N agents: the warehouse maps, the N-agent log, 2observe's group coordination rule by rule, the
+N-agent learners in small runs, and the scaling study's config, memory check, claims and figures."""
+
+import numpy as np
+import pytest
+
+from glamas import claims
+from glamas.experiments import gridworld as gw
+from glamas.experiments import scaling as sc
+from glamas.gridworld import load_map
+from glamas.gridworld.rules import E, N, S, W
+from glamas.learners import episode as ep
+from glamas.learners import group_observe, independent, joint_state, mmdp, two_observe
+from glamas.learners.two_observe import ACT_ALONE, COORDINATE
+from glamas.paths import MAPS
+from glamas.rng import run_states
+from glamas import runs
+
+OPEN_3X3 = """\
++-+-+-+
+|1 2 .|
++ + + +
+|3 . .|
++ + + +
+|. . G|
++-+-+-+
+"""
+
+
+# --- maps ------------------------------------------------------------------------------------
+
+def test_every_map_file_loads():
+    files = sorted(MAPS.glob("*.txt"))
+    assert len(files) >= 6
+    for path in files:
+        gridmap = load_map(path)
+        assert gridmap.n_agents >= 2, path.name
+
+
+def test_warehouse_maps_are_one_layout_with_n_agents():
+    maps = [load_map(MAPS / f"warehouse_{n}.txt") for n in range(2, 7)]
+    for n, gridmap in zip(range(2, 7), maps):
+        assert gridmap.n_agents == n
+        assert np.array_equal(gridmap.next_cell, maps[0].next_cell)
+        assert np.array_equal(gridmap.starts[:2], maps[0].starts)
+    g = maps[0]
+    # the aisle to the goal (row 2) is one track, entered only from its right end (2, 6)
+    aisle = [g.cell(2, c) for c in range(7)]
+    for c in range(6):
+        assert g.open_neighbours(aisle[c]) <= set(aisle)
+    assert g.open_neighbours(g.cell(2, 6)) == {g.cell(1, 6), g.cell(3, 6), g.cell(2, 5)}
+
+
+# --- the N-agent log layout --------------------------------------------------------------------
+
+def test_log_layout_for_two_agents_is_the_chapter_layout():
+    assert ep.n_columns(2) == ep.N_COLUMNS
+    assert [ep.reward_column(2, i) for i in (0, 1)] == [ep.REWARD, ep.REWARD + 1]
+    for col in (ep.LENGTH, ep.COLLISIONS, ep.COORDINATIONS, ep.CAPPED):
+        assert ep.column(2, col) == col
+    assert ep.n_columns(5) == 14 and ep.reward_column(5, 0) == 5 and ep.column(5, ep.CAPPED) == 13
+
+
+# --- 2observe for N agents: rules ------------------------------------------------------------
+
+def _converging_three():
+    """Agents above, left of and below the centre of a 3x3 world, all heading into it."""
+    g = load_map(OPEN_3X3)  # the start cells do not matter here
+    cells = np.array([g.cell(0, 1), g.cell(1, 0), g.cell(2, 1)])
+    return g, cells, np.zeros(3, np.bool_), np.array([S, E, N])
+
+
+def _resolve(g, cells, done, choices, preferred, state):
+    actions = np.zeros(3, np.int64)
+    count = group_observe.coordinate_group(g.next_cell, g.is_goal, cells, done, np.array(choices), preferred,
+                                           actions, np.zeros(3, np.int64), np.zeros(3, np.bool_), state)
+    return count, actions
+
+
+def test_three_agents_aiming_at_one_cell_one_keeps_the_others_draw_another_action():
+    g, cells, done, preferred = _converging_three()
+    keepers = np.zeros(3)
+    for state in run_states(11, 600):
+        count, actions = _resolve(g, cells, done, [COORDINATE] * 3, preferred, state)
+        assert count == 3
+        kept = actions == preferred
+        assert kept.sum() == 1
+        keepers += kept
+    assert np.all(np.abs(keepers / 600 - 1 / 3) < 0.07)  # the keeper is uniform over the group
+
+
+def test_an_agent_acting_alone_keeps_its_action_and_only_the_coordinating_pair_resolves():
+    g, cells, done, preferred = _converging_three()
+    for state in run_states(12, 100):
+        count, actions = _resolve(g, cells, done, [COORDINATE, COORDINATE, ACT_ALONE], preferred, state)
+        assert count == 2
+        assert actions[2] == preferred[2]
+        assert (actions[:2] == preferred[:2]).sum() == 1
+
+
+def test_no_collision_coming_draws_nothing():
+    g, cells, done, _ = _converging_three()
+    preferred = np.array([E, W, E])  # (0,1)->(0,2), (1,0) bumps, (2,1)->(2,2): no two collide
+    state = run_states(13, 1)[0]
+    before = state.copy()
+    count, actions = _resolve(g, cells, done, [COORDINATE] * 3, preferred, state)
+    assert count == 0 and np.array_equal(actions, preferred) and np.array_equal(state, before)
+
+
+def test_a_yielding_agent_no_longer_blocks_the_others():
+    # A = (0,0) E swaps with B = (0,1) W and aims where C = (1,1) N aims: A conflicts with B and
+    # with C, B and C do not conflict. If A comes first it keeps and B, C yield; otherwise A
+    # yields (it collides with the kept B or C) and B and C both keep their actions.
+    g = load_map(OPEN_3X3)
+    cells = np.array([g.cell(0, 0), g.cell(0, 1), g.cell(1, 1)])
+    preferred = np.array([E, W, N])
+    outcomes = set()
+    for state in run_states(14, 300):
+        count, actions = _resolve(g, cells, np.zeros(3, np.bool_), [COORDINATE] * 3, preferred, state)
+        kept = tuple((actions == preferred).tolist())
+        assert count == 3 and kept in {(True, False, False), (False, True, True)}
+        outcomes.add(kept)
+    assert len(outcomes) == 2
+
+
+def test_two_agents_draw_what_the_two_agent_rule_draws():
+    g, cells, done, preferred = _converging_three()
+    cells2, done2, pref2 = cells[:2].copy(), done[:2].copy(), preferred[:2].copy()
+    for state in run_states(15, 50):
+        a, b = state.copy(), state.copy()
+        expected = np.zeros(2, np.int64)
+        two_observe.yield_at_random(pref2, expected, a)
+        actions = np.zeros(2, np.int64)
+        group_observe.coordinate_group(g.next_cell, g.is_goal, cells2, done2, np.array([COORDINATE] * 2), pref2,
+                                       actions, np.zeros(2, np.int64), np.zeros(2, np.bool_), b)
+        assert np.array_equal(actions, expected) and np.array_equal(a, b)
+
+
+def test_nearest_other_agent_ignores_agents_in_the_goal_and_breaks_ties_by_number():
+    g = load_map(OPEN_3X3)
+    cells = np.array([g.cell(1, 1), g.cell(0, 1), g.cell(1, 0)])
+    nearest, deltas = np.zeros(3, np.int64), np.zeros(3, np.int64)
+    group_observe.nearest_others(g.n_cols, cells, np.zeros(3, np.bool_), nearest, deltas)
+    assert nearest.tolist() == [1, 0, 0] and deltas.tolist() == [1, 1, 1]
+    group_observe.nearest_others(g.n_cols, cells, np.array([False, True, True]), nearest, deltas)
+    assert nearest.tolist() == [group_observe.NOBODY] * 3
+
+
+def test_n_agent_2observe_is_the_two_agent_kernel_for_two_agents():
+    config = gw.GridworldConfig(episodes=300, runs=2, bin_size=100, learners=("two_observe",),
+                                gla_feedback=((1.0, 0.0), (1.0, 1.0)))
+    g = config.gridmap()
+    inputs = gw._kernel_inputs("two_observe", config, g)
+    out = []
+    for module in (two_observe, group_observe):
+        arrays = (np.zeros((2, 2, 25, 4)), np.zeros((2, 2, 2, 2)), np.zeros((2, 9, 2)), np.zeros((2, 3, 8)))
+        runs.run_batches(module.batch, inputs, arrays, 3, workers=1)
+        out.append(arrays)
+    (q, u, coming, log), (q2, u2, coming2, log2) = out
+    assert log[..., ep.COORDINATIONS].sum() > 0  # the comparison covers coordinated steps
+    assert np.array_equal(q, q2) and np.array_equal(u, u2) and np.array_equal(log, log2)
+    assert np.array_equal(2 * coming, coming2)  # counted per observing agent
+
+
+# --- the scaling study -----------------------------------------------------------------------
+
+SMALL = sc.ScalingConfig(agents=(2, 3), episodes=200, runs=2, bin_size=100, memory_budget_gib=0.01)
+
+
+@pytest.fixture(scope="module")
+def small_result():
+    return sc.run(SMALL, seed=1, workers=1)
+
+
+def test_small_study_runs_every_method_that_fits_and_skips_the_rest(small_result):
+    r = small_result
+    assert r.names() == list(sc.METHODS)
+    # MMDP at N=3: 42875 x 64 entries x 8 bytes x 2 runs = 44 MB > 0.01 GiB
+    assert r.ran.tolist() == [[True, True], [True, True], [True, False], [True, True], [True, True]]
+    assert np.isnan(r.log[2, 1]).all() and np.isfinite(r.log[r.ran]).all()
+    assert r.table_shapes[:, 1].tolist() == [[3, 35, 4], [3, 42875, 4], [1, 42875, 64], [3, 35, 4], [3, 35, 4]]
+    assert r.gla_parameters[3].tolist() == [8, 12] and r.gla_parameters[4].tolist() == [0, 0]
+    assert (r.curves("two_observe_rule", 3, sc.COORDINATIONS) > 0).all()  # the rule coordinates
+    assert r.bytes_needed[2, 1] == 2 * 42875 * 64 * 8
+    steps = r.curves("independent", 3, sc.STEPS)
+    assert (steps >= 10).all() and (steps <= SMALL.learning.max_steps).all()
+
+
+def test_same_seed_same_study_for_one_and_two_workers(small_result):
+    again = sc.run(SMALL, seed=1, workers=2)
+    assert np.array_equal(small_result.log, again.log, equal_nan=True)
+
+
+def test_n_agent_kernels_run_on_the_warehouse():
+    g = load_map(MAPS / "warehouse_4.txt")
+    for module in (independent, joint_state, mmdp):
+        if module is mmdp:
+            g = load_map(MAPS / "warehouse_3.txt")
+        q = module.new_tables(g.n_cells, g.n_agents)[None]
+        log = np.zeros((1, 2, ep.n_columns(g.n_agents)))
+        runs.run_batches(module.batch, (g.next_cell, g.is_goal, g.starts, 0, 0.05, 0.9, 0.9, 20, 10, 500),
+                         (q, log), 2, workers=1)
+        assert (log[0, :, :g.n_agents] >= 1).all() and np.abs(q).sum() > 0
+
+
+def test_growth_fits_recover_linear_and_exponential_sizes():
+    assert sc.growth([2, 3, 4], [2 * 35, 3 * 35, 4 * 35])["loglog_slope"] == pytest.approx(1.0)
+    assert sc.growth([2, 3], [35.0 ** 2, 35.0 ** 3])["factor_per_agent"] == pytest.approx(35.0)
+    assert np.isnan(sc.growth([2], [4.0])["factor_per_agent"])
+
+
+def test_claim_verdicts_come_from_the_measurements(small_result):
+    rows = sc.claim_rows(small_result)
+    assert [row["claim"].id for row in rows] == [c.id for c in claims.load("scaling")]
+    m = sc.measure(small_result)
+    by_id = {row["claim"].id: row for row in rows}
+    assert by_id["independent_linear_in_agents"]["value"] == pytest.approx(m["loglog_slope_independent_off_1"])
+    assert by_id["independent_linear_in_agents"]["holds"]
+    assert m["largest_n_mmdp"] == 2 and by_id["mmdp_not_for_large_systems"]["holds"]
+    assert np.isnan(m["growth_factor_mmdp"]) and not by_id["mmdp_exponential_in_agents"]["holds"]
+    assert "skipped" in sc.size_table(small_result) and "MMDP learner" in sc.performance_table(small_result)
+
+
+@pytest.mark.parametrize("kwargs, message", [
+    ({"agents": (1, 2)}, "agents must be distinct whole numbers from 2"),
+    ({"agents": (2, 2)}, "agents must be distinct"),
+    ({"methods": ("mmdp", "sarsa")}, "methods must be distinct names"),
+    ({"episodes": 250, "bin_size": 100}, "bin_size (100) must divide episodes (250)"),
+    ({"runs": 0}, "runs must be a whole number >= 1"),
+    ({"memory_budget_gib": 0}, "memory_budget_gib must be a number > 0"),
+    ({"rule_distance": -1}, "rule_distance must be a whole number >= 0"),
+    ({"map_pattern": "warehouse.txt"}, "map_pattern must contain '{n}'"),
+    ({"map_pattern": "warehouse_{n}.txt", "agents": (7,)}, "no map file"),
+    ({"map_pattern": "warehouse_3.txt{n}"}, "no map file"),
+    ({"learning": {"max_steps": 10}}, "learning must be a GridworldConfig"),
+])
+def test_config_errors_name_the_problem(kwargs, message):
+    with pytest.raises(Exception, match=None) as error:
+        sc.ScalingConfig(**kwargs)
+    assert message in str(error.value)
+
+
+def test_a_map_with_the_wrong_number_of_agents_is_refused(tmp_path):
+    (tmp_path / "w_2.txt").write_text((MAPS / "warehouse_3.txt").read_text())
+    with pytest.raises(ValueError, match="has 3 agents, the study expects 2"):
+        sc.ScalingConfig(agents=(2,), map_pattern=str(tmp_path / "w_{n}.txt"))
+
+
+def test_plots_refuse_unknown_metrics_and_agents(small_result):
+    import matplotlib.pyplot as plt
+    fig, ax = plt.subplots()
+    with pytest.raises(ValueError, match="metric must be one of"):
+        sc.plot_final(ax, small_result, "speed")
+    with pytest.raises(ValueError, match="no results for N = 5"):
+        sc.plot_curves(ax, small_result, 5)
+    plt.close(fig)
+
+
+def test_figure_scripts_write_byte_identical_figures(tmp_path):
+    import importlib.util
+    from glamas.paths import REPO
+    for name in ("scaling_sizes", "scaling_performance"):
+        spec = importlib.util.spec_from_file_location(name, REPO / "paper_figures" / f"{name}.py")
+        module = importlib.util.module_from_spec(spec)
+        spec.loader.exec_module(module)
+        args = ["--runs", "1", "--iterations", "100", "--workers", "1", "--results", str(tmp_path / "r")]
+        module.main(args + ["--out", str(tmp_path / "a")])
+        module.main(args + ["--out", str(tmp_path / "b")])
+        for suffix in ("png", "pdf"):
+            assert (tmp_path / "a" / f"{name}.{suffix}").read_bytes() == (tmp_path / "b" / f"{name}.{suffix}").read_bytes()
