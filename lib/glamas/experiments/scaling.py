@@ -198,7 +198,7 @@ def run(config: ScalingConfig = ScalingConfig(), seed: int = 0, workers=None, pr
             if needed[k, j] > budget:
                 continue
             label = None if progress is None else f"{progress}: {method}, N={n}"
-            q, full_log = _train(config, gridmap, method, seed_of(seed, method, n), workers, label)
+            q, full_log = train(config, gridmap, method, seed_of(seed, method, n), workers, label)
             shapes[k, j] = q.shape[1:]
             ran[k, j] = True
             log[k, j] = agent_means(full_log, n)
@@ -209,7 +209,9 @@ def run(config: ScalingConfig = ScalingConfig(), seed: int = 0, workers=None, pr
                          episodes=episodes)
 
 
-def _train(config, gridmap, method, master_seed, workers, label):
+def train(config: ScalingConfig, gridmap: GridMap, method: str, master_seed: int, workers=None, label=None):
+    """``config.runs`` runs of one method on one map: its final Q tables (runs, tables, states,
+    actions) and its full N-agent log (runs, bins, columns of glamas.learners.episode)."""
     n, c = gridmap.n_agents, config.learning
     q = np.full((config.runs,) + table_shape(method, gridmap.n_cells, n), c.q_initial)
     log = np.zeros((config.runs, config.n_bins, ep.n_columns(n)))
