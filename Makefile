@@ -6,7 +6,7 @@ VENV := .venv
 PY := $(VENV)/bin/python
 READY := $(VENV)/.installed
 EXTRAS := $(VENV)/.extras-installed
-FIGURES := $(sort $(wildcard paper_figures/fig*.py))
+FIGURES := $(sort $(wildcard paper_figures/*.py))
 NOTEBOOKS := $(sort $(wildcard notebooks/*.ipynb))
 
 .PHONY: figures test unit notebooks-check notebooks benchmark clean-env
