@@ -9,7 +9,7 @@ EXTRAS := $(VENV)/.extras-installed
 FIGURES := $(sort $(wildcard paper_figures/*.py))
 NOTEBOOKS := $(sort $(wildcard notebooks/*.ipynb))
 
-.PHONY: figures test unit notebooks-check notebooks benchmark clean-env
+.PHONY: figures test unit notebooks-check notebooks benchmark clean-env clean-cache
 
 $(READY): requirements.txt pyproject.toml
 	@$(PYTHON) -c 'import sys; sys.exit(sys.version_info < (3, 11) and "glamas needs Python >= 3.11: set PYTHON=python3.11")'
@@ -46,3 +46,7 @@ benchmark: $(READY)
 
 clean-env:
 	rm -rf $(VENV)
+
+## clean-cache: drop numba's compiled-kernel cache (after editing the library)
+clean-cache:
+	find lib -name __pycache__ -type d -prune -exec rm -rf {} +
