@@ -1,6 +1,7 @@
 """Seeding, parallel runs, result files, claims, figure CLI and byte-reproducible figures."""
 
 import dataclasses
+import os
 
 import numpy as np
 import pytest
@@ -77,6 +78,9 @@ def test_result_files_round_trip_and_refuse_other_configurations(tmp_path):
     results.save(path, _Config(runs=4), {"curve": np.zeros(2)}, seed=1, overwrite=True)
     assert results.load(path, _Config(runs=4), seed=1)["curve"].tolist() == [0.0, 0.0]
     assert [p.name for p in tmp_path.iterdir()] == ["r.npz"]  # no temporary file left behind
+    umask = os.umask(0)
+    os.umask(umask)
+    assert path.stat().st_mode & 0o777 == 0o666 & ~umask  # as any new file, not mkstemp's 0600
 
 
 def test_missing_and_corrupted_result_files_give_clear_errors(tmp_path):

@@ -45,11 +45,18 @@ def save(path, config, arrays: dict, *, seed: int | None = None, overwrite: bool
     try:
         with os.fdopen(fd, "wb") as handle:
             np.savez_compressed(handle, **{_CONFIG_KEY: np.array(text)}, **arrays)
+        os.chmod(tmp, 0o666 & ~_umask())  # mkstemp's 0600 would make results private
         os.replace(tmp, path)
     except BaseException:
         Path(tmp).unlink(missing_ok=True)
         raise
     return path
+
+
+def _umask() -> int:
+    mask = os.umask(0)
+    os.umask(mask)
+    return mask
 
 
 def check_writable(path, config, *, seed: int | None = None) -> None:
