@@ -148,7 +148,7 @@ def compiled(name, workers):
     else:
         q_aug, marked = (np.stack([table] * COMPILED_RUNS) for table in cq.new_augmented_tables(25, 2))
         extra = (WINDOW, cq.t_critical_values(2 * WINDOW - 2, SIGNIFICANCE), COMPILED_EPISODES // SOLO_SHARE)
-        call = lambda: cq.batch(*world, *learning, *extra, *schedule, states, q, q_aug, marked, log)  # noqa: E731
+        call = lambda: cq.batch(*world, g.n_cols, *learning, *extra, *schedule, states, q, q_aug, marked, log)  # noqa: E731
     start = time.perf_counter()
     call()
     elapsed = time.perf_counter() - start

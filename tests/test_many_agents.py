@@ -176,9 +176,9 @@ def test_small_study_runs_every_method_that_fits_and_skips_the_rest(small_result
     r = small_result
     assert r.names() == list(sc.METHODS)
     # MMDP at N=3: 42875 x 64 entries x 8 bytes x 2 runs = 44 MB > 0.01 GiB
-    assert r.ran.tolist() == [[True, True], [True, True], [True, False], [True, True], [True, True]]
+    assert r.ran[:5].tolist() == [[True, True], [True, True], [True, False], [True, True], [True, True]]
     assert np.isnan(r.log[2, 1]).all() and np.isfinite(r.log[r.ran]).all()
-    assert r.table_shapes[:, 1].tolist() == [[3, 35, 4], [3, 42875, 4], [1, 42875, 64], [3, 35, 4], [3, 35, 4]]
+    assert r.table_shapes[:5, 1].tolist() == [[3, 35, 4], [3, 42875, 4], [1, 42875, 64], [3, 35, 4], [3, 35, 4]]
     assert r.gla_parameters[3].tolist() == [8, 12] and r.gla_parameters[4].tolist() == [0, 0]
     assert (r.curves("two_observe_rule", 3, sc.COORDINATIONS) > 0).all()  # the rule coordinates
     assert r.bytes_needed[2, 1] == 2 * 42875 * 64 * 8

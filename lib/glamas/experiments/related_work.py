@@ -126,7 +126,8 @@ def run(config: RelatedWorkConfig = RelatedWorkConfig(), seed: int = 0, workers=
         else:
             q_aug = np.stack([cq.new_augmented_tables(n_cells, n_agents)[0]] * base.runs)
             t_critical = cq.t_critical_values(2 * config.cq_window - 2, config.cq_significance)
-            inputs = world + learning + (config.cq_window, t_critical, config.cq_solo_episodes) + schedule
+            inputs = world + (gridmap.n_cols,) + learning + (config.cq_window, t_critical,
+                                                             config.cq_solo_episodes) + schedule
             runs.run_batches(cq.batch, inputs, (q, q_aug, marked, log[j]), related_seed(seed, name),
                              workers=workers, progress=label)
             joint[j] = marked.sum(axis=(2, 3)).mean(axis=1) * rules.N_ACTIONS

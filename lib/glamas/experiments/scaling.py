@@ -9,6 +9,12 @@ fit the memory budget (computed before allocating; otherwise the learner is skip
 the reason recorded), trains it and keeps agent-mean learning curves. ``measure`` turns the curves
 and the measured table sizes into per-(method, N) numbers and growth rates fitted over N, from
 which the claims of ``data/chapter/scaling.json`` get their verdicts.
+
+The related-work learners of :mod:`glamas.experiments.related_work` join the study in their N-agent
+forms: sparse tabular MAQ with pairwise coordination (:func:`glamas.learners.sparse_maq.run_pairs`)
+and CQ-learning observing the nearest other agent (:mod:`glamas.learners.cq`). Besides their local
+Q tables they store joint values (sparse MAQ: every pair's joint table; CQ: 4 per marked joint
+state, measured) and CQ its reward windows; all of it counts in their values per run.
 """
 
 import math
@@ -21,19 +27,24 @@ import numpy as np
 from glamas import claims as chapter
 from glamas import cli, runs
 from glamas.experiments.gridworld import GridworldConfig, convergence_episode, final
-from glamas.gridworld import BOUNCE_MODES, GridMap, load_map
+from glamas.gridworld import BOUNCE_MODES, GridMap, load_map, rules
 from glamas.learners import episode as ep
-from glamas.learners import group_observe, independent, joint_state, mmdp
+from glamas.learners import cq, group_observe, independent, joint_state, mmdp, sparse_maq
 from glamas.paths import MAPS
 from glamas.plotting import new_figure, plot_mean_band, save_figure
 
 EXPERIMENT = "scaling"
-METHODS = ("independent", "joint_state", "mmdp", "two_observe", "two_observe_rule")
+CHAPTER_METHODS = ("independent", "joint_state", "mmdp", "two_observe", "two_observe_rule")
+RELATED_METHODS = ("sparse_maq", "cq")
+METHODS = CHAPTER_METHODS + RELATED_METHODS
 LABELS = {"independent": "independent Q-learners", "joint_state": "joint-state learners",
           "mmdp": "MMDP learner", "two_observe": "2observe (N agents)",
-          "two_observe_rule": "2observe, fixed rule"}
+          "two_observe_rule": "2observe, fixed rule", "sparse_maq": "sparse MAQ (pairs)",
+          "cq": "CQ-learning (nearest)"}
 _MODULES = {"independent": independent, "joint_state": joint_state, "mmdp": mmdp,
             "two_observe": group_observe, "two_observe_rule": group_observe}
+RELATED_SEED_OFFSET = 2 ** 32
+"""The related-work methods draw their master seeds from ``RELATED_SEED_OFFSET`` on (:func:`seed_of`)."""
 MAX_AGENTS = 9
 """The map format numbers agents 1-9."""
 BYTES_PER_ENTRY = 8
@@ -73,12 +84,24 @@ class ScalingConfig:
     """Q-learning, GLA and collision settings (the Section 5.3 experiment's defaults, with a
     1000-step cap per episode: with three or more agents an agent often gets trapped early on, see
     the notebook); its map_file, learners, episodes, runs and bin_size are not used here."""
+    coordination_distance: int = 2
+    """Sparse MAQ: a pair of agents coordinates in the joint states of their cells at Manhattan
+    distance at most this (as in the TunnelToGoal comparison, notebook 06)."""
+    cq_window: int = 30
+    """CQ-learning: rewards kept per state-action, in the baseline and in the recent window."""
+    cq_significance: float = 0.05
+    """CQ-learning: significance level of the two-sided Student t-test on immediate rewards."""
+    cq_solo_episodes: int = 1000
+    """CQ-learning: episodes each agent first learns alone, not counted in ``episodes``."""
 
     def __post_init__(self):
-        for name in ("episodes", "runs", "bin_size"):
+        for name, minimum in (("episodes", 1), ("runs", 1), ("bin_size", 1), ("coordination_distance", 1),
+                              ("cq_window", 2), ("cq_solo_episodes", 1)):
             value = getattr(self, name)
-            if not isinstance(value, (int, np.integer)) or isinstance(value, bool) or value < 1:
-                raise ValueError(f"{name} must be a whole number >= 1, got {value!r}")
+            if not isinstance(value, (int, np.integer)) or isinstance(value, bool) or value < minimum:
+                raise ValueError(f"{name} must be a whole number >= {minimum}, got {value!r}")
+        if not (isinstance(self.cq_significance, float) and 0.0 < self.cq_significance < 1.0):
+            raise ValueError(f"cq_significance must be a number in (0, 1) such as 0.05, got {self.cq_significance!r}")
         if self.episodes % self.bin_size:
             raise ValueError(f"bin_size ({self.bin_size}) must divide episodes ({self.episodes}); "
                              "choose a bin size such as 100 that divides the episode count")
@@ -118,7 +141,8 @@ class ScalingConfig:
 def table_shape(method: str, n_cells: int, n_agents: int) -> tuple:
     """(tables, states, actions) of a learner's Q tables, computed without allocating them."""
     return {"independent": (n_agents, n_cells, 4), "two_observe": (n_agents, n_cells, 4),
-            "two_observe_rule": (n_agents, n_cells, 4),
+            "two_observe_rule": (n_agents, n_cells, 4), "sparse_maq": (n_agents, n_cells, 4),
+            "cq": (n_agents, n_cells, 4),
             "joint_state": (n_agents, n_cells ** n_agents, 4),
             "mmdp": (1, n_cells ** n_agents, 4 ** n_agents)}[method]
 
@@ -129,10 +153,26 @@ def gla_parameter_count(method: str, n_agents: int) -> int:
     return int(np.prod(group_observe.new_gla_parameters(n_agents).shape)) if method == "two_observe" else 0
 
 
+def related_storage(config: ScalingConfig, method: str, gridmap: GridMap) -> tuple[int, int]:
+    """(joint values allocated, reward samples) per run beyond the local Q tables: sparse MAQ's
+    pair tables (pairs x coordination states x 16), CQ's room for a joint-state row per agent and
+    joint state (only marked rows are learned) and its recent reward windows; (0, 0) otherwise."""
+    n, c = gridmap.n_agents, gridmap.n_cells
+    if method == "sparse_maq":
+        index = sparse_maq.pair_coordination_index(gridmap, config.coordination_distance)
+        return math.prod(sparse_maq.new_pair_tables(index, n).shape[-2:]) * sparse_maq.n_pairs(n), 0
+    if method == "cq":
+        return n * c * c * 4, n * c * 4 * config.cq_window
+    return 0, 0
+
+
 def memory_needed(config: ScalingConfig, method: str, n_agents: int) -> int:
-    """Bytes the Q tables of all of ``config.runs`` runs take together."""
-    shape = table_shape(method, config.gridmap(n_agents).n_cells, n_agents)
-    return config.runs * math.prod(shape) * BYTES_PER_ENTRY
+    """Bytes the tables of all of ``config.runs`` runs take together (CQ: with its marks)."""
+    gridmap = config.gridmap(n_agents)
+    shape = table_shape(method, gridmap.n_cells, n_agents)
+    joint, samples = related_storage(config, method, gridmap)
+    marks = n_agents * gridmap.n_cells ** 2 if method == "cq" else 0
+    return config.runs * ((math.prod(shape) + joint + samples) * BYTES_PER_ENTRY + marks)
 
 
 @dataclass(frozen=True)
@@ -150,6 +190,12 @@ class ScalingResult:
     the allocated tables where the learner ran, computed where it was skipped."""
     gla_parameters: np.ndarray
     """int (methods, agents): GLA parameters per run (2observe: 4 per agent)."""
+    joint_entries: np.ndarray
+    """float (methods, agents): joint values per run beyond the Q tables of ``table_shapes``:
+    sparse MAQ every pair's joint table, CQ 4 per marked joint state (mean over runs; where skipped,
+    its room for every joint state); 0 for the chapter's learners."""
+    reward_samples: np.ndarray
+    """int (methods, agents): immediate rewards kept per run for CQ's test (0 for the others)."""
     bytes_needed: np.ndarray
     """int (methods, agents): bytes of Q tables for all runs together."""
     log: np.ndarray
@@ -170,14 +216,18 @@ class ScalingResult:
         return self.table_shapes.prod(axis=2)
 
     def parameters(self) -> np.ndarray:
-        """(methods, agents): learned values per run, Q entries plus GLA parameters."""
-        return self.q_entries() + self.gla_parameters
+        """(methods, agents): values stored per run: Q entries, GLA parameters, joint values and
+        reward samples."""
+        return self.q_entries() + self.gla_parameters + self.joint_entries + self.reward_samples
 
 
 def seed_of(seed: int, method: str, n_agents: int) -> int:
     """Master seed of one (method, N): distinct for every (seed, method, N); a method gets the same
-    streams at a given N whatever else is trained with it."""
-    return (seed * 16 + n_agents) * len(METHODS) + METHODS.index(method)
+    streams at a given N whatever else is trained with it (the related-work methods from
+    RELATED_SEED_OFFSET on, apart from the chapter's for every seed below 2**24)."""
+    if method in RELATED_METHODS:
+        return RELATED_SEED_OFFSET + (seed * 16 + n_agents) * len(RELATED_METHODS) + RELATED_METHODS.index(method)
+    return (seed * 16 + n_agents) * len(CHAPTER_METHODS) + CHAPTER_METHODS.index(method)
 
 
 def run(config: ScalingConfig = ScalingConfig(), seed: int = 0, workers=None, progress=None) -> ScalingResult:
@@ -186,6 +236,8 @@ def run(config: ScalingConfig = ScalingConfig(), seed: int = 0, workers=None, pr
     ran = np.zeros((m, a), dtype=bool)
     shapes = np.zeros((m, a, 3), dtype=np.int64)
     glas = np.zeros((m, a), dtype=np.int64)
+    joints = np.zeros((m, a))
+    samples = np.zeros((m, a), dtype=np.int64)
     needed = np.zeros((m, a), dtype=np.int64)
     log = np.full((m, a, config.runs, config.n_bins, N_METRICS), np.nan)
     budget = config.memory_budget_gib * 2 ** 30
@@ -194,19 +246,24 @@ def run(config: ScalingConfig = ScalingConfig(), seed: int = 0, workers=None, pr
         for k, method in enumerate(config.methods):
             shapes[k, j] = table_shape(method, gridmap.n_cells, n)
             glas[k, j] = gla_parameter_count(method, n)
+            joints[k, j], samples[k, j] = related_storage(config, method, gridmap)
             needed[k, j] = memory_needed(config, method, n)
             if needed[k, j] > budget:
                 continue
             label = None if progress is None else f"{progress}: {method}, N={n}"
-            q, full_log = train(config, gridmap, method, seed_of(seed, method, n), workers, label)
+            if method in RELATED_METHODS:
+                q, joints[k, j], full_log = train_related(config, gridmap, method, seed_of(seed, method, n),
+                                                          workers, label)
+            else:
+                q, full_log = train(config, gridmap, method, seed_of(seed, method, n), workers, label)
             shapes[k, j] = q.shape[1:]
             ran[k, j] = True
             log[k, j] = agent_means(full_log, n)
     codes = np.array([METHODS.index(name) for name in config.methods], dtype=np.int64)
     episodes = np.arange(1, config.n_bins + 1, dtype=np.int64) * config.bin_size
     return ScalingResult(methods=codes, agents=np.array(config.agents, dtype=np.int64), ran=ran,
-                         table_shapes=shapes, gla_parameters=glas, bytes_needed=needed, log=log,
-                         episodes=episodes)
+                         table_shapes=shapes, gla_parameters=glas, joint_entries=joints, reward_samples=samples,
+                         bytes_needed=needed, log=log, episodes=episodes)
 
 
 def train(config: ScalingConfig, gridmap: GridMap, method: str, master_seed: int, workers=None, label=None):
@@ -232,6 +289,30 @@ def train(config: ScalingConfig, gridmap: GridMap, method: str, master_seed: int
         inputs, outputs = world + learning + schedule, (q, log)
     runs.run_batches(_MODULES[method].batch, inputs, outputs, master_seed, workers=workers, progress=label)
     return q, log
+
+
+def train_related(config: ScalingConfig, gridmap: GridMap, method: str, master_seed: int, workers=None,
+                  label=None):
+    """``config.runs`` runs of sparse MAQ (pairwise) or CQ-learning (nearest agent) on one map: the
+    final local Q tables (runs, agents, cells, actions), the joint values learned per run (sparse
+    MAQ: all pair tables; CQ: 4 per marked joint state, mean over runs) and the full N-agent log."""
+    n, c = gridmap.n_agents, config.learning
+    q = np.full((config.runs,) + table_shape(method, gridmap.n_cells, n), c.q_initial)
+    log = np.zeros((config.runs, config.n_bins, ep.n_columns(n)))
+    world = (gridmap.next_cell, gridmap.is_goal, gridmap.starts, BOUNCE_MODES[c.bounce], gridmap.n_cols)
+    learning = (c.q_learning_rate, c.discount, c.exploit_prob)
+    schedule = (config.episodes, config.bin_size, c.max_steps)
+    if method == "sparse_maq":
+        index = sparse_maq.pair_coordination_index(gridmap, config.coordination_distance)
+        q_pairs = np.full((config.runs,) + sparse_maq.new_pair_tables(index, n).shape, c.q_initial)
+        runs.run_batches(sparse_maq.batch_pairs, world + (index, config.coordination_distance) + learning + schedule,
+                         (q, q_pairs, log), master_seed, workers=workers, progress=label)
+        return q, float(q_pairs[0].size), log
+    q_aug, marked = (np.stack([table] * config.runs) for table in cq.new_augmented_tables(gridmap.n_cells, n))
+    t_critical = cq.t_critical_values(2 * config.cq_window - 2, config.cq_significance)
+    inputs = world + learning + (config.cq_window, t_critical, config.cq_solo_episodes) + schedule
+    runs.run_batches(cq.batch, inputs, (q, q_aug, marked, log), master_seed, workers=workers, progress=label)
+    return q, float(marked.sum(axis=(1, 2, 3)).mean() * rules.N_ACTIONS), log
 
 
 def agent_means(log: np.ndarray, n: int) -> np.ndarray:
@@ -292,6 +373,13 @@ def measure(result: ScalingResult) -> dict:
                 if result.ran[names.index("mmdp"), j] and result.ran[names.index("two_observe"), j]]
         m["collisions_two_observe_minus_mmdp_max"] = max(
             (m[f"collisions_two_observe_{n}"] - m[f"collisions_mmdp_{n}"] for n in both), default=math.nan)
+    for method in set(RELATED_METHODS) & set(names):
+        k = names.index(method)
+        m[f"collisions_{method}_max"] = max((m[f"collisions_{method}_{n}"] for n, ok in zip(result.agents, result.ran[k])
+                                             if ok), default=math.nan)
+    if {"cq", "two_observe"} <= set(names):
+        ratio = params[names.index("cq")] / params[names.index("two_observe")]
+        m["parameters_cq_over_two_observe_min"] = float(ratio.min())
     return m
 
 
@@ -301,16 +389,18 @@ def claim_rows(result: ScalingResult) -> list[dict]:
 
 
 def size_table(result: ScalingResult) -> str:
-    """Q tables per run (tables x states x actions), learned values and memory for all runs, per
-    method and N; skipped learners marked with the memory they would need."""
-    lines = [f"{'method':22s} {'N':>2s} {'tables x states x actions':>27s} {'parameters/run':>15s} "
-             f"{'GiB (all runs)':>14s}  status"]
+    """Q tables per run (tables x states x actions), the related-work learners' joint values and
+    reward samples per run, all values stored per run and memory for all runs, per method and N;
+    skipped learners marked with the memory they would need."""
+    lines = [f"{'method':22s} {'N':>2s} {'tables x states x actions':>27s} {'joint':>8s} {'samples':>8s} "
+             f"{'parameters/run':>15s} {'GiB (all runs)':>14s}  status"]
     params = result.parameters()
     for k, method in enumerate(result.names()):
         for j, n in enumerate(result.agents):
             t, s, a = result.table_shapes[k, j]
             status = "ran" if result.ran[k, j] else "skipped: exceeds the memory budget"
-            lines.append(f"{LABELS[method]:22s} {n:2d} {f'{t} x {s} x {a}':>27s} {params[k, j]:15.3g} "
+            lines.append(f"{LABELS[method]:22s} {n:2d} {f'{t} x {s} x {a}':>27s} {result.joint_entries[k, j]:8.4g} "
+                         f"{result.reward_samples[k, j]:8d} {params[k, j]:15.3g} "
                          f"{result.bytes_needed[k, j] / 2 ** 30:14.3g}  {status}")
     return "\n".join(lines)
 
@@ -365,7 +455,7 @@ def plot_sizes(ax, result: ScalingResult, config: ScalingConfig | None = None):
     ax.set_yscale("log")
     ax.set_xticks(result.agents)
     ax.set_xlabel("agents N")
-    ax.set_ylabel("values learned per run")
+    ax.set_ylabel("values stored per run")
     ax.legend(fontsize="small")
 
 

@@ -19,9 +19,15 @@ Choices where the paper leaves room (named parameters of the experiment): the wi
 test (two-sample Student t-test with pooled variance, two-sided, at a given significance, plus
 "lower"), the number of episodes alone, and no unmarking. Memory is bounded: the baseline keeps
 count, sum and sum of squares of its last ``window`` rewards, the recent window its last
-``window`` rewards (sum and sum of squares kept up to date). Written for two agents; the
-augmented state pairs an agent's cell with one other agent's, so N agents would need a rule for
-which other agent to observe.
+``window`` rewards (sum and sum of squares kept up to date).
+
+**N agents** (beyond the paper's two-agent experiments): the augmented state pairs an agent's cell
+with the cell of its *nearest* other acting agent (Manhattan distance, lowest number on ties, as
+2observe's GLA context in :mod:`glamas.learners.group_observe`), whoever that agent is: agent k's
+tables stay (own cell, other's cell) whatever N, and a mark means "observe the nearest agent when
+it is on that cell". An agent whose every other agent is in the goal has nobody to observe and
+neither acts on nor marks joint states. With two agents the nearest other agent is simply the
+other one, so this is the two-agent algorithm, unchanged.
 """
 
 import math
@@ -31,11 +37,10 @@ from numba import njit, prange
 
 from glamas.gridworld import rules
 from glamas.learners import episode as ep
+from glamas.learners.group_observe import NOBODY, nearest_others
 from glamas.learners.independent import new_tables  # the local tables: as the independent learners
 from glamas.qlearning import epsilon_greedy, q_update, row_max
 
-N_AGENTS = 2
-"""CQ-learning is written here for two agents (see the module docstring)."""
 COUNT, SUM, SUM_SQUARES = 0, 1, 2
 """Fields of a reward window's summary."""
 
@@ -44,8 +49,6 @@ def new_augmented_tables(n_cells: int, n_agents: int) -> tuple[np.ndarray, np.nd
     """Room for the joint-state values Q_j (agents, own cell, other's cell, 4 actions) and for the
     marks of the joint states each agent observes (agents, own cell, other's cell); only marked
     rows are ever used, so the learned table is 4 entries per marked joint state."""
-    if n_agents != N_AGENTS:
-        raise ValueError(f"CQ-learning is written for two agents, got {n_agents}")
     return (np.zeros((n_agents, n_cells, n_cells, rules.N_ACTIONS)),
             np.zeros((n_agents, n_cells, n_cells), dtype=np.bool_))
 
@@ -190,12 +193,13 @@ def mark_if_conflict(q_aug, marked, q, s, other, r, baseline, recent, t_critical
 
 
 @njit(cache=True)
-def run(next_cell, is_goal, starts, bounce, alpha, gamma, exploit, window, t_critical, solo_episodes,
+def run(next_cell, is_goal, starts, bounce, n_cols, alpha, gamma, exploit, window, t_critical, solo_episodes,
         n_episodes, bin_size, max_steps, q, q_aug, marked, log, state):
     """One run: ``solo_episodes`` episodes alone per agent, then ``n_episodes`` episodes together;
     learns in ``q``, ``q_aug`` and ``marked``, writes the binned ``log`` of the joint episodes
     (COORDINATIONS: steps on which an agent acted on a marked joint state)."""
     n_agents, n_cells = starts.shape[0], next_cell.shape[0]
+    coordinations_column = ep.column(n_agents, ep.COORDINATIONS)
     samples = np.zeros((n_agents, n_cells, rules.N_ACTIONS, window))
     added = np.zeros((n_agents, n_cells, rules.N_ACTIONS), np.int64)
     summary = np.zeros((n_agents, n_cells, rules.N_ACTIONS, 3))
@@ -206,33 +210,34 @@ def run(next_cell, is_goal, starts, bounce, alpha, gamma, exploit, window, t_cri
     added[:] = 0
     cells, done, actions, new_cells, rewards, bumped, collided, reached, acc = ep.buffers(n_agents)
     joint = np.zeros(n_agents, np.bool_)
+    nearest, deltas = np.empty(n_agents, np.int64), np.empty(n_agents, np.int64)
     for episode in range(n_episodes):
         ep.start_episode(starts, cells, done, acc)
         t = 0
         while t < max_steps and not ep.all_done(done):
-            together = not (done[0] or done[1])  # with one agent in the goal there is nobody to observe
+            nearest_others(n_cols, cells, done, nearest, deltas)  # NOBODY: alone, nobody to observe
             observed = False
             for k in range(n_agents):
-                joint[k] = together and marked[k, cells[k], cells[1 - k]]
+                joint[k] = nearest[k] != NOBODY and marked[k, cells[k], cells[nearest[k]]]
                 if done[k]:
                     continue
-                row = q_aug[k, cells[k], cells[1 - k]] if joint[k] else q[k, cells[k]]
+                row = q_aug[k, cells[k], cells[nearest[k]]] if joint[k] else q[k, cells[k]]
                 actions[k] = epsilon_greedy(row, exploit, state)
                 observed = observed or joint[k]
             if observed:
-                acc[ep.COORDINATIONS] += 1
+                acc[coordinations_column] += 1
             collisions = rules.step(next_cell, is_goal, starts, bounce, cells, done, actions,
                                     new_cells, rewards, bumped, collided, reached)
             for k in range(n_agents):
                 if done[k]:
                     continue
-                s, a, other = cells[k], actions[k], cells[1 - k]
+                s, a, other = cells[k], actions[k], cells[nearest[k]]  # other: used only if not NOBODY
                 if joint[k]:
                     augmented_update(q_aug[k], q[k], s, other, a, rewards[k], new_cells[k], reached[k], alpha, gamma)
                 else:
                     q_update(q[k], s, a, rewards[k], new_cells[k], reached[k], alpha, gamma)
                 added[k, s, a] = add_reward(samples[k, s, a], added[k, s, a], summary[k, s, a], rewards[k])
-                if together and added[k, s, a] >= window:
+                if nearest[k] != NOBODY and added[k, s, a] >= window:
                     mark_if_conflict(q_aug[k], marked[k], q[k], s, other, rewards[k], baseline[k, s, a],
                                      summary[k, s, a], t_critical)
             t += 1
@@ -241,9 +246,9 @@ def run(next_cell, is_goal, starts, bounce, alpha, gamma, exploit, window, t_cri
 
 
 @njit(parallel=True, cache=True)
-def batch(next_cell, is_goal, starts, bounce, alpha, gamma, exploit, window, t_critical, solo_episodes,
+def batch(next_cell, is_goal, starts, bounce, n_cols, alpha, gamma, exploit, window, t_critical, solo_episodes,
           n_episodes, bin_size, max_steps, states, q, q_aug, marked, log):
     """:func:`run` for every run in parallel (glamas.runs batch-kernel form)."""
     for r in prange(states.shape[0]):
-        run(next_cell, is_goal, starts, bounce, alpha, gamma, exploit, window, t_critical, solo_episodes,
+        run(next_cell, is_goal, starts, bounce, n_cols, alpha, gamma, exploit, window, t_critical, solo_episodes,
             n_episodes, bin_size, max_steps, q[r], q_aug[r], marked[r], log[r], states[r])

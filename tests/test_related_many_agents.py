@@ -1,0 +1,213 @@
+"""Sparse tabular MAQ (pairwise coordination) and CQ-learning (nearest agent) for N agents: pair
+matching, the four updates per pair, action choice, the two-agent paths unchanged bit for bit,
+small runs, and the two learners in the scaling study."""
+
+import numpy as np
+import pytest
+
+from glamas.experiments import scaling as sc
+from glamas.gridworld import load_map, tunnel_to_goal
+from glamas.gridworld.rules import E, N, S, W
+from glamas.learners import cq, sparse_maq
+from glamas.learners import episode as ep
+from glamas.learners.sparse_maq import NO_PARTNER
+from glamas.paths import MAPS
+from glamas.rng import run_states
+
+ALPHA, GAMMA = 0.5, 0.9
+OPEN_3X3 = """\
++-+-+-+
+|1 2 .|
++ + + +
+|3 . .|
++ + + +
+|. . G|
++-+-+-+
+"""
+
+
+@pytest.fixture()
+def open3():
+    g = load_map(OPEN_3X3)
+    return g, sparse_maq.pair_coordination_index(g, 2)
+
+
+def match(g, index, cells, acting=(True, True, True), distance=2):
+    partner, rows = np.empty(len(cells), np.int64), np.empty(len(cells), np.int64)
+    pairs = sparse_maq.match_pairs(index, g.n_cols, g.n_cells, distance, np.array(cells), np.array(acting),
+                                   partner, rows)
+    return pairs, partner.tolist(), rows.tolist()
+
+
+# --- sparse MAQ: pairs ------------------------------------------------------------------------
+
+def test_pairs_are_numbered_once_each():
+    numbers = [sparse_maq.pair_number(i, j, 5) for i in range(5) for j in range(i + 1, 5)]
+    assert numbers == list(range(sparse_maq.n_pairs(5)))
+
+
+def test_an_agent_coordinates_with_its_nearest_partner(open3):
+    g, index = open3
+    # agent 0 at (0,0), agent 1 at (0,2): distance 2; agent 2 at (1,0): distance 1 from agent 0
+    pairs, partner, rows = match(g, index, [g.cell(0, 0), g.cell(0, 2), g.cell(1, 0)])
+    assert pairs == 1 and partner == [2, NO_PARTNER, 0]
+    assert rows[0] == rows[2] == index[g.cell(0, 0) * g.n_cells + g.cell(1, 0)] and rows[1] == -1
+
+
+def test_ties_go_to_the_lowest_agent_numbers(open3):
+    g, index = open3
+    # agent 2 at (0,1) is at distance 1 from agent 0 (0,0) and agent 1 (0,2): it pairs with agent 0
+    pairs, partner, _ = match(g, index, [g.cell(0, 0), g.cell(0, 2), g.cell(0, 1)])
+    assert pairs == 1 and partner == [2, NO_PARTNER, 0]
+
+
+def test_far_or_finished_agents_act_alone(open3):
+    g, index = open3
+    far = [g.cell(0, 0), g.cell(2, 1), g.cell(1, 2)]  # distances 3, 3 and 2 (agents 1, 2)
+    assert match(g, index, far)[1] == [NO_PARTNER, 2, 1]
+    assert match(g, index, far, distance=1)[1] == [NO_PARTNER] * 3
+    assert match(g, index, far, acting=(True, True, False))[1] == [NO_PARTNER] * 3
+
+
+def test_a_pair_draws_one_joint_action_lower_agent_first():
+    q, q_pairs = np.zeros((3, 9, 4)), np.zeros((3, 5, 16))
+    q_pairs[sparse_maq.pair_number(0, 2, 3), 4, 4 * S + W] = 1.0  # agent 0 goes S, agent 2 goes W
+    q[1, 7, E] = 1.0
+    actions, joint = np.zeros(3, np.int64), np.zeros(3, np.int64)
+    sparse_maq.choose_actions(q, q_pairs, np.array([0, 7, 3]), np.zeros(3, np.bool_), np.array([2, NO_PARTNER, 0]),
+                              np.array([4, -1, 4]), 1.0, actions, joint, run_states(0, 1)[0])
+    assert actions.tolist() == [S, E, W] and joint[0] == 4 * S + W
+
+
+@pytest.fixture()
+def tables():
+    q = np.zeros((3, 9, 4))
+    q[0, 1] = [1.0, 4.0, 2.0, 0.0]  # agent 0's next cell 1: max 4
+    q[2, 5] = [3.0, 0.0, 6.0, 1.0]  # agent 2's next cell 5: max 6
+    q_pairs = np.zeros((3, 4, 16))
+    q_pairs[:, 2] = np.arange(16.0)  # every pair's next row 2: max 15
+    q_pairs[:, 0, 5] = 10.0
+    return q, q_pairs
+
+
+def learn(q, q_pairs, partner, partner_next, rewards, reached=(False, False, False), actions=(E, S, W)):
+    sparse_maq.learn_pairs(q, q_pairs, np.array([0, 3, 6]), np.zeros(3, np.bool_), np.array(actions),
+                           np.array([5, 0, 5]), np.array(rewards), np.array([1, 4, 5]), np.array(reached),
+                           np.array(partner), np.array([0 if p != NO_PARTNER else -1 for p in partner]),
+                           np.array(partner_next), np.array([2 if p != NO_PARTNER else -1 for p in partner_next]),
+                           ALPHA, GAMMA)
+
+
+def test_a_pair_that_stays_together_makes_the_mmdp_update(tables):
+    q, q_pairs = tables
+    learn(q, q_pairs, [2, NO_PARTNER, 0], [2, NO_PARTNER, 0], [-1.0, 0.0, -10.0])
+    pair = sparse_maq.pair_number(0, 2, 3)
+    assert q_pairs[pair, 0, 5] == pytest.approx(10 + ALPHA * (-11 + GAMMA * 15 - 10))
+    assert q_pairs[pair, 0].sum() == q_pairs[pair, 0, 5]  # updated once, by the lower agent
+    assert q[1, 3, S] == pytest.approx(ALPHA * (0 + GAMMA * q[1, 4].max()))  # agent 1 alone: eq. 11
+
+
+def test_a_pair_that_breaks_up_sums_each_agents_next_value(tables):
+    q, q_pairs = tables
+    # pair (0, 2) breaks: agent 0 acts alone next, agent 2 joins agent 1 (half their best joint value)
+    learn(q, q_pairs, [2, NO_PARTNER, 0], [NO_PARTNER, 2, 1], [0.0, 0.0, -1.0])
+    pair = sparse_maq.pair_number(0, 2, 3)
+    assert q_pairs[pair, 0, 5] == pytest.approx(10 + ALPHA * ((0 + GAMMA * 4) + (-1 + GAMMA * 15 / 2) - 10))
+    # agent 1 joins a pair: its own value learns half the pair's best joint value
+    assert q[1, 3, S] == pytest.approx(ALPHA * (0 + GAMMA * 15 / 2))
+
+
+def test_an_agent_entering_the_goal_has_no_future_term(tables):
+    q, q_pairs = tables
+    learn(q, q_pairs, [2, NO_PARTNER, 0], [NO_PARTNER, NO_PARTNER, NO_PARTNER], [0.0, 100.0, 100.0],
+          reached=(False, True, True))
+    assert q_pairs[sparse_maq.pair_number(0, 2, 3), 0, 5] == pytest.approx(10 + ALPHA * ((0 + GAMMA * 4) + 100 - 10))
+    assert q[1, 3, S] == pytest.approx(ALPHA * 100)
+
+
+def test_two_agent_pairs_are_the_two_agent_learner_bit_for_bit():
+    g = tunnel_to_goal()
+    index = sparse_maq.coordination_index(g, 2)
+    world, rest = (g.next_cell, g.is_goal, g.starts, 0), (0.05, 0.9, 0.9, 300, 100, 10_000)
+    q1, q2 = np.zeros((2, 2, 25, 4)), np.zeros((2, 2, 25, 4))
+    joint, pairs = np.zeros((2,) + sparse_maq.new_joint_table(index).shape), np.zeros((2, 1) + sparse_maq.new_joint_table(index).shape)
+    log1, log2 = np.zeros((2, 3, ep.N_COLUMNS)), np.zeros((2, 3, ep.N_COLUMNS))
+    sparse_maq.batch(*world, index, *rest, run_states(4, 2), q1, joint, log1)
+    sparse_maq.batch_pairs(*world, g.n_cols, index, 2, *rest, run_states(4, 2), q2, pairs, log2)
+    assert np.array_equal(log1, log2) and np.array_equal(q1, q2) and np.array_equal(joint, pairs[:, 0])
+    assert log1[:, :, ep.COORDINATIONS].sum() > 0
+
+
+def test_index_for_many_agents_and_its_errors():
+    three = load_map(OPEN_3X3)
+    with pytest.raises(ValueError, match="use pair_coordination_index and run_pairs for N agents"):
+        sparse_maq.coordination_index(three, 2)
+    with pytest.raises(ValueError, match="coordination distance must be a whole number >= 1"):
+        sparse_maq.pair_coordination_index(three, 0)
+    assert np.array_equal(sparse_maq.pair_coordination_index(tunnel_to_goal(), 2),
+                          sparse_maq.coordination_index(tunnel_to_goal(), 2))
+
+
+# --- CQ-learning: the nearest other agent ------------------------------------------------------
+
+def test_cq_marks_with_many_agents_pair_an_agent_with_a_near_agent():
+    g = load_map(MAPS / "warehouse_3.txt")
+    n, c = g.n_agents, g.n_cells
+    q, log = np.zeros((1, n, c, 4)), np.zeros((1, 4, ep.n_columns(n)))
+    q_aug, marked = (table[None] for table in cq.new_augmented_tables(c, n))
+    cq.batch(g.next_cell, g.is_goal, g.starts, 0, g.n_cols, 0.05, 0.9, 0.9, 30, cq.t_critical_values(58, 0.05),
+             200, 400, 100, 1000, run_states(2, 1), q, q_aug, marked, log)
+    own, other = np.nonzero(marked[0].any(axis=0))
+    assert own.size > 0 and (log[0, :, ep.column(n, ep.COORDINATIONS)] > 0).any()
+    distances = [abs(a // g.n_cols - b // g.n_cols) + abs(a % g.n_cols - b % g.n_cols) for a, b in zip(own, other)]
+    assert np.mean(np.array(distances) <= 2) >= 0.9  # conflicts come from near agents
+    for k in range(n):  # a marked row starts from the local values and is learned from there
+        assert np.abs(q_aug[0, k][~marked[0, k]]).sum() == 0
+
+
+# --- the scaling study -------------------------------------------------------------------------
+
+SMALL = sc.ScalingConfig(agents=(2, 3), episodes=200, runs=2, bin_size=100, methods=sc.RELATED_METHODS,
+                         cq_solo_episodes=100)
+
+
+@pytest.fixture(scope="module")
+def small():
+    return sc.run(SMALL, seed=1, workers=1)
+
+
+def test_the_study_counts_the_pair_tables_and_the_reward_windows(small):
+    assert small.names() == ["sparse_maq", "cq"] and small.ran.all()
+    rows = [int(sparse_maq.pair_coordination_index(SMALL.gridmap(n), 2).max()) + 1 for n in (2, 3)]
+    assert small.joint_entries[0].tolist() == [1 * rows[0] * 16, 3 * rows[1] * 16]
+    assert small.reward_samples[1].tolist() == [2 * 35 * 4 * 30, 3 * 35 * 4 * 30]
+    assert small.parameters()[1].tolist() == [2 * 140 + small.joint_entries[1, 0] + 2 * 35 * 4 * 30,
+                                              3 * 140 + small.joint_entries[1, 1] + 3 * 35 * 4 * 30]
+    assert small.bytes_needed[1, 1] == 2 * ((3 * 140 + 3 * 35 * 35 * 4 + 3 * 35 * 4 * 30) * 8 + 3 * 35 * 35)
+    assert np.isfinite(small.log).all() and (small.curves("cq", 3, sc.COORDINATIONS) > 0).any()
+
+
+def test_new_methods_leave_the_chapter_methods_seeds_and_results_alone(small):
+    assert [sc.seed_of(2, m, 3) for m in sc.CHAPTER_METHODS] == [(2 * 16 + 3) * 5 + k for k in range(5)]
+    assert sc.seed_of(0, "sparse_maq", 2) >= 2 ** 32 and sc.seed_of(0, "cq", 2) != sc.seed_of(0, "sparse_maq", 2)
+    again = sc.run(SMALL, seed=1, workers=2)
+    assert np.array_equal(small.log, again.log) and np.array_equal(small.joint_entries, again.joint_entries)
+
+
+def test_the_related_claims_get_measured_values(small):
+    m = sc.measure(small)
+    assert m["collisions_sparse_maq_max"] == max(m["collisions_sparse_maq_2"], m["collisions_sparse_maq_3"])
+    assert "parameters_cq_over_two_observe_min" not in m  # 2observe did not run
+    assert 1 < m["growth_factor_sparse_maq"] < 10
+
+
+@pytest.mark.parametrize("kwargs, message", [
+    ({"coordination_distance": 0}, "coordination_distance must be a whole number >= 1"),
+    ({"cq_window": 1}, "cq_window must be a whole number >= 2"),
+    ({"cq_solo_episodes": 2.5}, "cq_solo_episodes must be a whole number >= 1"),
+    ({"cq_significance": 1.5}, "cq_significance must be a number in (0, 1)"),
+])
+def test_config_errors_name_the_problem(kwargs, message):
+    with pytest.raises(ValueError) as error:
+        sc.ScalingConfig(agents=(2,), **kwargs)
+    assert message in str(error.value)
