@@ -45,7 +45,8 @@ def match(world, index, cells, acting):
         for i in range(len(cells)):
             for j in range(i + 1, len(cells)):
                 if (acting[i] and acting[j] and partner[i] is None and partner[j] is None
-                        and world.distance(cells[i], cells[j]) == d and index[cells[i] * world.n_cells + cells[j]] >= 0):
+                        and world.distance(cells[i], cells[j]) == d
+                        and index[cells[i] * world.n_cells + cells[j]] >= 0):
                     partner[i], partner[j] = j, i
     return partner
 
@@ -89,7 +90,8 @@ def sparse_reference(world, index, episodes, seed=0):
                     q_update(q[i], cells[i], actions[i], rewards[i], new[i], reached[i])
                 elif j is None:
                     old = q[i][cells[i]][actions[i]]
-                    q[i][cells[i]][actions[i]] = old + ALPHA * (rewards[i] + GAMMA * value(after, new, reached, i) - old)
+                    share = value(after, new, reached, i)
+                    q[i][cells[i]][actions[i]] = old + ALPHA * (rewards[i] + GAMMA * share - old)
                 else:
                     target = sum(rewards[m] + GAMMA * value(after, new, reached, m) for m in (i, j))
                     values = row(partner, cells, i)
@@ -172,7 +174,8 @@ def compiled(name, workers, episodes, t_critical):
         q_pairs = np.zeros((COMPILED_RUNS,) + sparse_maq.new_pair_tables(index, N_AGENTS).shape)
         call = lambda: sparse_maq.batch_pairs(*world, index, DISTANCE, *learning, *schedule, states, q, q_pairs, log)  # noqa: E731
     else:
-        q_aug, marked = (np.stack([table] * COMPILED_RUNS) for table in cq.new_augmented_tables(g.n_cells, N_AGENTS))
+        tables = cq.new_augmented_tables(g.n_cells, N_AGENTS)
+        q_aug, marked = (np.stack([table] * COMPILED_RUNS) for table in tables)
         extra = (WINDOW, t_critical, episodes // SOLO_SHARE)
         call = lambda: cq.batch(*world, *learning, *extra, *schedule, states, q, q_aug, marked, log)  # noqa: E731
     start = time.perf_counter()

@@ -130,7 +130,8 @@ def test_two_agent_pairs_are_the_two_agent_learner_bit_for_bit():
     index = sparse_maq.coordination_index(g, 2)
     world, rest = (g.next_cell, g.is_goal, g.starts, 0), (0.05, 0.9, 0.9, 300, 100, 10_000)
     q1, q2 = np.zeros((2, 2, 25, 4)), np.zeros((2, 2, 25, 4))
-    joint, pairs = np.zeros((2,) + sparse_maq.new_joint_table(index).shape), np.zeros((2, 1) + sparse_maq.new_joint_table(index).shape)
+    shape = sparse_maq.new_joint_table(index).shape
+    joint, pairs = np.zeros((2,) + shape), np.zeros((2, 1) + shape)
     log1, log2 = np.zeros((2, 3, ep.N_COLUMNS)), np.zeros((2, 3, ep.N_COLUMNS))
     sparse_maq.batch(*world, index, *rest, run_states(4, 2), q1, joint, log1)
     sparse_maq.batch_pairs(*world, g.n_cols, index, 2, *rest, run_states(4, 2), q2, pairs, log2)

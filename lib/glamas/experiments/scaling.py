@@ -375,8 +375,8 @@ def measure(result: ScalingResult) -> dict:
             (m[f"collisions_two_observe_{n}"] - m[f"collisions_mmdp_{n}"] for n in both), default=math.nan)
     for method in set(RELATED_METHODS) & set(names):
         k = names.index(method)
-        m[f"collisions_{method}_max"] = max((m[f"collisions_{method}_{n}"] for n, ok in zip(result.agents, result.ran[k])
-                                             if ok), default=math.nan)
+        ran_at = [n for n, ok in zip(result.agents, result.ran[k]) if ok]
+        m[f"collisions_{method}_max"] = max((m[f"collisions_{method}_{n}"] for n in ran_at), default=math.nan)
     if {"cq", "two_observe"} <= set(names):
         ratio = params[names.index("cq")] / params[names.index("two_observe")]
         m["parameters_cq_over_two_observe_min"] = float(ratio.min())
