@@ -8,23 +8,26 @@ timed in this process and compared per environment step (one joint move with its
 compiled kernel is timed after a warm-up call, on one thread and on all threads.
 """
 
-import math
 import random
+import sys
 import time
+from pathlib import Path
 
 import numba
 
-from glamas.experiments import scaling as sc
-from glamas.gridworld import load_map
-from glamas.learners import episode as ep
-from glamas.paths import MAPS
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from bench_gridworld import (ALPHA, EXPLOIT, FEEDBACK, GAMMA, epsilon_greedy, gla_probs,  # noqa: E402,F401
+                             gla_update, q_update)
+
+from glamas.experiments import scaling as sc  # noqa: E402
+from glamas.gridworld import load_map  # noqa: E402
+from glamas.learners import episode as ep  # noqa: E402
+from glamas.paths import MAPS  # noqa: E402
 
 N_AGENTS = 4
 REFERENCE_EPISODES = 300
 COMPILED_EPISODES, COMPILED_RUNS = 3_000, 4
-ALPHA, GAMMA, EXPLOIT, MAX_STEPS = 0.05, 0.9, 0.9, 1_000
-GLA_RATE, T, L = 0.01, 0.5, 1.0
-FEEDBACK = ((1.0, 0.0), (0.0, 1.0))
+MAX_STEPS = 1_000  # the scaling study's step cap (bench_gridworld's pieces use the chapter's rates)
 
 
 class World:
@@ -67,33 +70,6 @@ class World:
             if reached[i]:
                 rewards[i] += 100.0
         return new, rewards, reached
-
-
-def epsilon_greedy(row, rnd):
-    if rnd.random() < EXPLOIT:
-        best = max(row)
-        return rnd.choice([a for a, v in enumerate(row) if v == best])
-    return rnd.randrange(4)
-
-
-def q_update(q, s, a, r, s_next, terminal):
-    target = r if terminal else r + GAMMA * max(q[s_next])
-    q[s][a] = (1 - ALPHA) * q[s][a] + ALPHA * target
-
-
-def gla_probs(u, x):
-    z = [sum(x[k] * max(-L, min(L, u[j][k])) for k in range(2)) / T for j in range(2)]
-    top = max(z)
-    e = [math.exp(v - top) for v in z]
-    return [v / sum(e) for v in e]
-
-
-def gla_update(u, x, action, beta, probs):
-    for j in range(2):
-        indicator = 1.0 if j == action else 0.0
-        for k in range(2):
-            h = max(-L, min(L, u[j][k]))
-            u[j][k] += GLA_RATE * beta * x[k] / T * (indicator - probs[j]) + GLA_RATE * (h - u[j][k])
 
 
 def nearest(world, cells, done, i):
