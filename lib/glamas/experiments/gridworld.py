@@ -15,6 +15,7 @@ import numpy as np
 
 from glamas import claims as chapter
 from glamas import cli, gla, runs
+from glamas.experiments import checks
 from glamas.gridworld import BOUNCE_MODES, GridMap, dp, load_map
 from glamas.learners import episode as ep
 from glamas.learners import independent, joint_state, mmdp, two_observe
@@ -79,10 +80,7 @@ class GridworldConfig:
     in the chapter, replacing the GLAs by the fixed rule "coordinate when delta < d"."""
 
     def __post_init__(self):
-        _check_int(self, "episodes", 1)
-        _check_int(self, "runs", 1)
-        _check_int(self, "bin_size", 1)
-        _check_int(self, "max_steps", 1)
+        checks.whole_numbers(self, {"episodes": 1, "runs": 1, "bin_size": 1, "max_steps": 1})
         if self.episodes % self.bin_size:
             raise ValueError(f"bin_size ({self.bin_size}) must divide episodes ({self.episodes}); "
                              "choose a bin size such as 500 that divides the episode count")
@@ -108,7 +106,7 @@ class GridworldConfig:
             raise ValueError("coordination_penalty_per_cell must be a number >= 0, "
                              f"got {self.coordination_penalty_per_cell!r}")
         if self.rule_distance is not None:
-            _check_int(self, "rule_distance", 0)
+            checks.whole_numbers(self, {"rule_distance": 0})
         gridmap = self.gridmap()
         if gridmap.n_agents != 2:
             raise ValueError(f"the learners are written for two agents; map {self.map_file!r} has {gridmap.n_agents}")
@@ -125,12 +123,6 @@ class GridworldConfig:
     @property
     def n_bins(self) -> int:
         return self.episodes // self.bin_size
-
-
-def _check_int(config, name, minimum):
-    value = getattr(config, name)
-    if not isinstance(value, (int, np.integer)) or isinstance(value, bool) or value < minimum:
-        raise ValueError(f"{name} must be a whole number >= {minimum}, got {value!r}")
 
 
 def _check_unit(config, name):

@@ -17,6 +17,7 @@ import numpy as np
 
 from glamas import claims as chapter
 from glamas import cli, runs
+from glamas.experiments import checks
 from glamas.experiments import gridworld as gw
 from glamas.gridworld import BOUNCE_MODES, rules
 from glamas.learners import cq, sparse_maq
@@ -63,10 +64,7 @@ class RelatedWorkConfig:
         if len(set(learners)) != len(learners) or not set(learners) <= set(RELATED_LEARNERS):
             raise ValueError(f"learners must be distinct names from {RELATED_LEARNERS}, got {self.learners!r}")
         object.__setattr__(self, "learners", learners)
-        for name, minimum in (("coordination_distance", 1), ("cq_window", 2), ("cq_solo_episodes", 1)):
-            value = getattr(self, name)
-            if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < minimum:
-                raise ValueError(f"{name} must be a whole number >= {minimum}, got {value!r}")
+        checks.whole_numbers(self, {"coordination_distance": 1, "cq_window": 2, "cq_solo_episodes": 1})
         if not (isinstance(self.cq_significance, float) and 0.0 < self.cq_significance < 1.0):
             raise ValueError(f"cq_significance must be a number in (0, 1) such as 0.05, got {self.cq_significance!r}")
         # two agents: GridworldConfig already rejects other maps

@@ -26,6 +26,7 @@ import numpy as np
 
 from glamas import claims as chapter
 from glamas import cli, runs
+from glamas.experiments import checks
 from glamas.experiments.gridworld import GridworldConfig, convergence_episode, final
 from glamas.gridworld import BOUNCE_MODES, GridMap, load_map, rules
 from glamas.learners import episode as ep
@@ -95,11 +96,8 @@ class ScalingConfig:
     """CQ-learning: episodes each agent first learns alone, not counted in ``episodes``."""
 
     def __post_init__(self):
-        for name, minimum in (("episodes", 1), ("runs", 1), ("bin_size", 1), ("coordination_distance", 1),
-                              ("cq_window", 2), ("cq_solo_episodes", 1)):
-            value = getattr(self, name)
-            if not isinstance(value, (int, np.integer)) or isinstance(value, bool) or value < minimum:
-                raise ValueError(f"{name} must be a whole number >= {minimum}, got {value!r}")
+        checks.whole_numbers(self, {"episodes": 1, "runs": 1, "bin_size": 1, "coordination_distance": 1,
+                                    "cq_window": 2, "cq_solo_episodes": 1})
         if not (isinstance(self.cq_significance, float) and 0.0 < self.cq_significance < 1.0):
             raise ValueError(f"cq_significance must be a number in (0, 1) such as 0.05, got {self.cq_significance!r}")
         if self.episodes % self.bin_size:

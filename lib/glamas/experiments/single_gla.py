@@ -12,6 +12,7 @@ import numpy as np
 from numba import njit, prange
 
 from glamas import gla, lineworld, rng
+from glamas.experiments import checks
 from glamas.plotting import plot_mean_band
 from glamas.runs import run_batches
 
@@ -48,10 +49,7 @@ class SingleGLAConfig:
     """Expected rewards are averages over the midpoints of an eval_grid x eval_grid grid."""
 
     def __post_init__(self):
-        for name in ("iterations", "runs", "record_points", "eval_grid"):
-            value = getattr(self, name)
-            if not isinstance(value, (int, np.integer)) or isinstance(value, bool) or value < 1:
-                raise ValueError(f"{name} must be a whole number >= 1, got {value!r}")
+        checks.whole_numbers(self, {"iterations": 1, "runs": 1, "record_points": 1, "eval_grid": 1})
         if self.record_points > self.iterations:
             raise ValueError(f"record_points ({self.record_points}) cannot exceed iterations "
                              f"({self.iterations}); lower record_points or raise iterations")
