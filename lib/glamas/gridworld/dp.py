@@ -16,6 +16,7 @@ import numpy as np
 from numba import njit
 
 from glamas.gridworld import rules
+from glamas.gridworld.joint import joint_index, split_index
 from glamas.gridworld.maps import GridMap
 from glamas.gridworld.rules import N_ACTIONS
 
@@ -124,7 +125,7 @@ def _tabulate(next_cell, is_goal, blocked, starts, bounce, next_state, reward, a
     new_cells, rewards = np.empty(n, np.int64), np.empty(n)
     bumped, collided, reached = np.empty(n, np.bool_), np.empty(n, np.bool_), np.empty(n, np.bool_)
     for s in range(next_state.shape[0]):
-        _digits(s, n_cells, cells)
+        split_index(s, n_cells, cells)
         valid[s] = _is_valid(cells, is_goal, blocked)
         all_done = True
         for i in range(n):
@@ -137,7 +138,7 @@ def _tabulate(next_cell, is_goal, blocked, starts, bounce, next_state, reward, a
                 agent_bumped[s, ja, :] = False
                 agent_reached[s, ja, :] = False
                 continue
-            _digits(ja, N_ACTIONS, actions)
+            split_index(ja, N_ACTIONS, actions)
             collisions[s, ja] = rules.step(next_cell, is_goal, starts, bounce, cells, done, actions,
                                            new_cells, rewards, bumped, collided, reached)
             all_done_after = True
@@ -147,23 +148,7 @@ def _tabulate(next_cell, is_goal, blocked, starts, bounce, next_state, reward, a
                 agent_bumped[s, ja, i] = bumped[i]
                 agent_reached[s, ja, i] = reached[i]
             reward[s, ja] = rules.shared_reward(rewards, reached, all_done_after)
-            next_state[s, ja] = _number(new_cells, n_cells)
-
-
-@njit(cache=True)
-def _digits(number, base, out):
-    """Write ``number``'s base-``base`` digits into ``out``, most significant first."""
-    for i in range(out.shape[0] - 1, -1, -1):
-        out[i] = number % base
-        number //= base
-
-
-@njit(cache=True)
-def _number(digits, base):
-    number = 0
-    for i in range(digits.shape[0]):
-        number = number * base + digits[i]
-    return number
+            next_state[s, ja] = joint_index(new_cells, n_cells)
 
 
 @njit(cache=True)

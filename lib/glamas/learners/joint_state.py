@@ -5,6 +5,7 @@ import numpy as np
 from numba import njit, prange
 
 from glamas.gridworld import rules
+from glamas.gridworld.joint import joint_index
 from glamas.learners import episode as ep
 from glamas.qlearning import epsilon_greedy, q_update
 
@@ -12,15 +13,6 @@ from glamas.qlearning import epsilon_greedy, q_update
 def new_tables(n_cells: int, n_agents: int) -> np.ndarray:
     """Q initial tables: one (joint cells x 4 actions) table per agent."""
     return np.zeros((n_agents, n_cells ** n_agents, 4))
-
-
-@njit(cache=True)
-def joint_index(cells, n_cells):
-    """The joint state as a mixed-radix number (agent 0 most significant)."""
-    s = 0
-    for i in range(cells.shape[0]):
-        s = s * n_cells + cells[i]
-    return s
 
 
 @njit(cache=True)

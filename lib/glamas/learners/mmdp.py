@@ -5,8 +5,8 @@ import numpy as np
 from numba import njit, prange
 
 from glamas.gridworld import rules
+from glamas.gridworld.joint import joint_index, split_index
 from glamas.learners import episode as ep
-from glamas.learners.joint_state import joint_index
 from glamas.qlearning import epsilon_greedy, q_update
 
 
@@ -18,9 +18,7 @@ def new_tables(n_cells: int, n_agents: int) -> np.ndarray:
 @njit(cache=True)
 def split_joint_action(joint, actions):
     """Each agent's component of a joint action (agent 0 most significant, base 4)."""
-    for i in range(actions.shape[0] - 1, -1, -1):
-        actions[i] = joint % 4
-        joint //= 4
+    split_index(joint, rules.N_ACTIONS, actions)
 
 
 @njit(cache=True)

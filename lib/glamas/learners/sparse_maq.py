@@ -36,8 +36,8 @@ import numpy as np
 from numba import njit, prange
 
 from glamas.gridworld import rules
+from glamas.gridworld.joint import joint_index
 from glamas.learners import episode as ep
-from glamas.learners.joint_state import joint_index
 from glamas.learners.mmdp import split_joint_action
 from glamas.qlearning import epsilon_greedy, q_update, row_max
 
