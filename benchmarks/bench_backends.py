@@ -1,4 +1,5 @@
-"""The run backends on one sweep: numba threads, local processes (joblib) and a local Dask cluster.
+"""The run backends on one sweep: local processes (joblib, the default), threads and a local
+Dask cluster.
 
 The sweep is the Section 5.3 gridworld experiment (all four learners) at a reduced scale. Each
 backend runs it twice in this process: the first time includes starting the workers (and their
@@ -31,11 +32,11 @@ def main():
     from distributed import LocalCluster
 
     print(f"gridworld sweep: {SWEEP.runs} runs x {SWEEP.episodes} episodes x {len(SWEEP.learners)} learners")
-    _timed(None)  # compiles (or loads) the kernels
-    baseline, reference = _timed(None)
+    _timed(runs.Threads())  # compiles (or loads) the kernels
+    baseline, reference = _timed(runs.Threads())
     print(f"threads (all cores): {baseline:6.2f} s")
     with LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as cluster:
-        for name, workers in [("threads, 1", 1), ("processes, 2", runs.Processes(2)),
+        for name, workers in [("threads, 1", runs.Threads(1)), ("processes, 2 (default)", None),
                               ("dask LocalCluster, 2 processes", runs.Dask(cluster.scheduler_address))]:
             first, result = _timed(workers)
             steady, again = _timed(workers)

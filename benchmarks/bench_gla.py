@@ -10,8 +10,7 @@ import math
 import random
 import time
 
-import numba
-
+from glamas import runs
 from glamas.experiments import single_gla
 
 REFERENCE_ITERATIONS = 20_000
@@ -59,18 +58,19 @@ def reference_run(iterations, learning_rate=0.01, temperature=0.5, K=1.0, L=1.0,
 
 def _time_compiled(workers):
     start = time.perf_counter()
-    single_gla.run(COMPILED, seed=0, workers=workers)
+    single_gla.run(COMPILED, seed=0, workers=runs.Threads(workers))
     return (time.perf_counter() - start) / (COMPILED.runs * COMPILED.iterations)
 
 
 def main():
-    single_gla.run(single_gla.SingleGLAConfig(runs=2, iterations=1000, record_points=10), seed=0)  # compile
+    single_gla.run(single_gla.SingleGLAConfig(runs=2, iterations=1000, record_points=10), seed=0,
+                   workers=runs.Threads(1))  # compiles (or loads) the kernel in this process
     start = time.perf_counter()
     reference_run(REFERENCE_ITERATIONS)
     python_per_iteration = (time.perf_counter() - start) / REFERENCE_ITERATIONS
     print(f"plain Python : {python_per_iteration * 1e9:10.0f} ns per iteration "
           f"(1 run x {REFERENCE_ITERATIONS:,} iterations, scaled per iteration)")
-    for workers in sorted({1, numba.config.NUMBA_NUM_THREADS}):
+    for workers in sorted({1, runs.cores()}):
         compiled = _time_compiled(workers)
         print(f"compiled, {workers} thread(s): {compiled * 1e9:7.0f} ns per iteration "
               f"({COMPILED.runs} runs x {COMPILED.iterations:,} iterations)  "

@@ -11,8 +11,7 @@ import math
 import random
 import time
 
-import numba
-
+from glamas import runs
 from glamas.experiments import gridworld as gw
 from glamas.learners import episode as ep
 
@@ -119,7 +118,7 @@ def reference_run(world, episodes, two_observe, seed=0):
 def _time_compiled(learner, workers):
     config = gw.GridworldConfig(learners=(learner,), episodes=COMPILED_EPISODES, runs=COMPILED_RUNS)
     start = time.perf_counter()
-    result = gw.run(config, seed=0, workers=workers)
+    result = gw.run(config, seed=0, workers=runs.Threads(workers))
     elapsed = time.perf_counter() - start
     steps = result.curves(learner, ep.LENGTH).sum() * config.bin_size
     return elapsed / steps, steps
@@ -128,13 +127,14 @@ def _time_compiled(learner, workers):
 def main():
     world = World()
     for learner in ("independent", "two_observe"):
-        gw.run(gw.GridworldConfig(learners=(learner,), episodes=100, runs=2, bin_size=100), seed=0)  # compile
+        gw.run(gw.GridworldConfig(learners=(learner,), episodes=100, runs=2, bin_size=100), seed=0,
+               workers=runs.Threads(1))  # compiles (or loads) the kernel in this process
         start = time.perf_counter()
         steps = reference_run(world, REFERENCE_EPISODES, learner == "two_observe")
         python = (time.perf_counter() - start) / steps
         print(f"{learner}: plain Python {python * 1e9:8.0f} ns per step "
               f"(1 run x {REFERENCE_EPISODES:,} episodes = {steps:,} steps, scaled per step)")
-        for workers in sorted({1, numba.config.NUMBA_NUM_THREADS}):
+        for workers in sorted({1, runs.cores()}):
             compiled, n = _time_compiled(learner, workers)
             print(f"{learner}: compiled, {workers} thread(s) {compiled * 1e9:6.0f} ns per step "
                   f"({COMPILED_RUNS} runs x {COMPILED_EPISODES:,} episodes = {n:,.0f} steps)  "

@@ -13,12 +13,12 @@ import sys
 import time
 from pathlib import Path
 
-import numba
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from bench_gridworld import (ALPHA, EXPLOIT, FEEDBACK, GAMMA, epsilon_greedy, gla_probs,  # noqa: E402,F401
                              gla_update, q_update)
 
+from glamas import runs  # noqa: E402
 from glamas.experiments import scaling as sc  # noqa: E402
 from glamas.gridworld import load_map  # noqa: E402
 from glamas.learners import episode as ep  # noqa: E402
@@ -131,7 +131,7 @@ def _time_compiled(workers, episodes):
     config = sc.ScalingConfig(agents=(N_AGENTS,), methods=("two_observe",), episodes=episodes,
                               runs=COMPILED_RUNS, bin_size=100)
     start = time.perf_counter()
-    _, log = sc.train(config, config.gridmap(N_AGENTS), "two_observe", 0, workers)
+    _, log = sc.train(config, config.gridmap(N_AGENTS), "two_observe", 0, runs.Threads(workers))
     elapsed = time.perf_counter() - start
     return elapsed, log[..., ep.column(N_AGENTS, ep.LENGTH)].sum() * config.bin_size
 
@@ -144,7 +144,7 @@ def main():
     python = (time.perf_counter() - start) / steps
     print(f"2observe, {N_AGENTS} agents: plain Python {python * 1e9:8.0f} ns per step "
           f"(1 run x {REFERENCE_EPISODES:,} episodes = {steps:,} steps, scaled per step)")
-    for workers in sorted({1, numba.config.NUMBA_NUM_THREADS}):
+    for workers in sorted({1, runs.cores()}):
         elapsed, n = _time_compiled(workers, COMPILED_EPISODES)
         compiled = elapsed / n
         print(f"2observe, {N_AGENTS} agents: compiled, {workers} thread(s) {compiled * 1e9:6.0f} ns per step "

@@ -16,7 +16,6 @@ import time
 from collections import deque
 from pathlib import Path
 
-import numba
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
@@ -25,7 +24,7 @@ from bench_gridworld import ALPHA, EXPLOIT, GAMMA, MAX_STEPS, World, epsilon_gre
 from glamas.gridworld import BOUNCE_PREVIOUS, tunnel_to_goal  # noqa: E402
 from glamas.learners import cq, sparse_maq  # noqa: E402
 from glamas.learners import episode as ep  # noqa: E402
-from glamas.rng import run_states  # noqa: E402
+from glamas import runs  # noqa: E402
 
 REFERENCE_EPISODES = 2_000
 COMPILED_EPISODES, COMPILED_RUNS = 20_000, 4
@@ -134,21 +133,22 @@ def cq_reference(world, episodes, t_critical, seed=0):
 def compiled(name, workers):
     """Seconds per environment step of the compiled batch kernel, and the steps it took."""
     g = tunnel_to_goal()
-    numba.set_num_threads(workers)
     world = (g.next_cell, g.is_goal, g.starts, BOUNCE_PREVIOUS)
     learning = (ALPHA, GAMMA, EXPLOIT)
     schedule = (COMPILED_EPISODES, COMPILED_EPISODES // 100, MAX_STEPS)
     q = np.zeros((COMPILED_RUNS, 2, 25, 4))
     log = np.zeros((COMPILED_RUNS, 100, ep.N_COLUMNS))
-    states = run_states(0, COMPILED_RUNS)
+    threads = runs.Threads(workers)
     if name == "sparse_maq":
         index = sparse_maq.coordination_index(g, 2)
         q_joint = np.zeros((COMPILED_RUNS,) + sparse_maq.new_joint_table(index).shape)
-        call = lambda: sparse_maq.batch(*world, index, *learning, *schedule, states, q, q_joint, log)  # noqa: E731
+        call = lambda: runs.run_batches(sparse_maq.batch, (*world, index, *learning, *schedule),  # noqa: E731
+                                        (q, q_joint, log), 0, workers=threads)
     else:
         q_aug, marked = (np.stack([table] * COMPILED_RUNS) for table in cq.new_augmented_tables(25, 2))
         extra = (WINDOW, cq.t_critical_values(2 * WINDOW - 2, SIGNIFICANCE), COMPILED_EPISODES // SOLO_SHARE)
-        call = lambda: cq.batch(*world, g.n_cols, *learning, *extra, *schedule, states, q, q_aug, marked, log)  # noqa: E731
+        call = lambda: runs.run_batches(cq.batch, (*world, g.n_cols, *learning, *extra, *schedule),  # noqa: E731
+                                        (q, q_aug, marked, log), 0, workers=threads)
     start = time.perf_counter()
     call()
     elapsed = time.perf_counter() - start
@@ -169,7 +169,7 @@ def main():
         python = (time.perf_counter() - start) / steps
         print(f"{name}: plain Python {python * 1e9:8.0f} ns per step "
               f"(1 run x {REFERENCE_EPISODES:,} episodes = {steps:,} steps, scaled per step)")
-        for workers in sorted({1, numba.config.NUMBA_NUM_THREADS}):
+        for workers in sorted({1, runs.cores()}):
             seconds, n = compiled(name, workers)
             print(f"{name}: compiled, {workers} thread(s) {seconds * 1e9:6.0f} ns per step "
                   f"({COMPILED_RUNS} runs x {COMPILED_EPISODES:,} episodes = {n:,.0f} steps)  "

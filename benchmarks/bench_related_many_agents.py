@@ -18,7 +18,6 @@ import time
 from collections import deque
 from pathlib import Path
 
-import numba
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
@@ -30,7 +29,7 @@ from glamas.experiments import scaling as sc  # noqa: E402
 from glamas.gridworld import BOUNCE_PREVIOUS  # noqa: E402
 from glamas.learners import cq, sparse_maq  # noqa: E402
 from glamas.learners import episode as ep  # noqa: E402
-from glamas.rng import run_states  # noqa: E402
+from glamas import runs  # noqa: E402
 
 REFERENCE_EPISODES = 300
 COMPILED_EPISODES, COMPILED_RUNS = 3_000, 4
@@ -161,23 +160,24 @@ def cq_reference(world, episodes, t_critical, seed=0):
 
 def compiled(name, workers, episodes, t_critical):
     """Seconds per environment step of the compiled batch kernel, and the steps it took."""
-    numba.set_num_threads(workers)
     g = sc.ScalingConfig(agents=(N_AGENTS,)).gridmap(N_AGENTS)
     world = (g.next_cell, g.is_goal, g.starts, BOUNCE_PREVIOUS, g.n_cols)
     learning = (ALPHA, GAMMA, EXPLOIT)
     schedule = (episodes, episodes // 100, MAX_STEPS)
     q = np.zeros((COMPILED_RUNS, N_AGENTS, g.n_cells, 4))
     log = np.zeros((COMPILED_RUNS, 100, ep.n_columns(N_AGENTS)))
-    states = run_states(0, COMPILED_RUNS)
+    threads = runs.Threads(workers)
     if name == "sparse_maq":
         index = sparse_maq.pair_coordination_index(g, DISTANCE)
         q_pairs = np.zeros((COMPILED_RUNS,) + sparse_maq.new_pair_tables(index, N_AGENTS).shape)
-        call = lambda: sparse_maq.batch_pairs(*world, index, DISTANCE, *learning, *schedule, states, q, q_pairs, log)  # noqa: E731
+        call = lambda: runs.run_batches(sparse_maq.batch_pairs, (*world, index, DISTANCE, *learning, *schedule),  # noqa: E731
+                                        (q, q_pairs, log), 0, workers=threads)
     else:
         tables = cq.new_augmented_tables(g.n_cells, N_AGENTS)
         q_aug, marked = (np.stack([table] * COMPILED_RUNS) for table in tables)
         extra = (WINDOW, t_critical, episodes // SOLO_SHARE)
-        call = lambda: cq.batch(*world, *learning, *extra, *schedule, states, q, q_aug, marked, log)  # noqa: E731
+        call = lambda: runs.run_batches(cq.batch, (*world, *learning, *extra, *schedule), (q, q_aug, marked, log), 0,  # noqa: E731
+                                        workers=threads)
     start = time.perf_counter()
     call()
     elapsed = time.perf_counter() - start
@@ -199,7 +199,7 @@ def main():
         python = (time.perf_counter() - start) / steps
         print(f"{name}, {N_AGENTS} agents: plain Python {python * 1e9:8.0f} ns per step "
               f"(1 run x {REFERENCE_EPISODES:,} episodes = {steps:,} steps, scaled per step)")
-        for workers in sorted({1, numba.config.NUMBA_NUM_THREADS}):
+        for workers in sorted({1, runs.cores()}):
             seconds, n = compiled(name, workers, COMPILED_EPISODES, critical)
             print(f"{name}, {N_AGENTS} agents: compiled, {workers} thread(s) {seconds * 1e9:6.0f} ns per step "
                   f"({COMPILED_RUNS} runs x {COMPILED_EPISODES:,} episodes = {n:,.0f} steps)  "

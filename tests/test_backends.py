@@ -1,4 +1,5 @@
-"""Run backends: threads, local processes (joblib) and a Dask cluster give bit-identical results."""
+"""Run backends: local processes (joblib, the default), threads and a Dask cluster give
+bit-identical results."""
 
 import dataclasses
 import functools
@@ -6,10 +7,11 @@ import sys
 
 import numpy as np
 import pytest
-from numba import njit, prange
+from numba import njit
 
 from glamas import cli, rng, runs
-from glamas.experiments import gridworld, single_gla
+from glamas.experiments import and_network, gridworld, single_gla
+from glamas.learners import cq, group_observe, independent, joint_state, mmdp, sparse_maq, two_observe
 
 SINGLE = single_gla.SingleGLAConfig(iterations=600, runs=7, record_points=6)
 GRID = gridworld.GridworldConfig(episodes=40, runs=3, bin_size=10, q_initial=0.5, max_steps=200)
@@ -38,9 +40,9 @@ def dask_scheduler():
 
 @pytest.fixture(scope="module")
 def reference():
-    """Both experiments as run today: numba threads in this process."""
-    return {"single": single_gla.run(SINGLE, seed=11, workers=1),
-            "grid": gridworld.run(GRID, seed=2, workers=1)}
+    """Both experiments on one thread in this process."""
+    return {"single": single_gla.run(SINGLE, seed=11, workers=runs.Threads(1)),
+            "grid": gridworld.run(GRID, seed=2, workers=runs.Threads(1))}
 
 
 def test_chunk_states_are_the_slices_of_the_whole_spawn():
@@ -54,14 +56,14 @@ def test_chunk_states_are_the_slices_of_the_whole_spawn():
         rng.chunk_states(-1, 0, 2)
 
 
-@pytest.mark.parametrize("workers", [2, runs.Threads(2), runs.Processes(2), runs.Processes(1)],
-                         ids=["threads-2", "Threads(2)", "processes-2", "processes-1"])
-def test_local_backends_give_the_threads_results_bit_for_bit(reference, workers):
+@pytest.mark.parametrize("workers", [None, 2, runs.Processes(2), runs.Processes(1), runs.Threads(2)],
+                         ids=["default", "int-2", "Processes(2)", "Processes(1)", "Threads(2)"])
+def test_local_backends_give_the_one_thread_results_bit_for_bit(reference, workers):
     _assert_identical(single_gla.run(SINGLE, seed=11, workers=workers), reference["single"])
     _assert_identical(gridworld.run(GRID, seed=2, workers=workers), reference["grid"])
 
 
-def test_a_dask_cluster_gives_the_threads_results_bit_for_bit(reference, dask_scheduler):
+def test_a_dask_cluster_gives_the_one_thread_results_bit_for_bit(reference, dask_scheduler):
     backend = runs.Dask(dask_scheduler)
     _assert_identical(single_gla.run(SINGLE, seed=11, workers=backend), reference["single"])
     _assert_identical(gridworld.run(GRID, seed=2, workers=backend), reference["grid"])
@@ -89,16 +91,31 @@ def test_a_job_runs_any_slice_of_the_sweep_on_its_own(reference):
     assert not initial[1].any()  # the job fills copies, not the arrays it was given
 
 
+BATCH_KERNELS = [single_gla._learn_batch, and_network._learn_batch, independent.batch, joint_state.batch,
+                 mmdp.batch, two_observe.batch, group_observe.batch, sparse_maq.batch, sparse_maq.batch_pairs,
+                 cq.batch]
+
+
+@pytest.mark.parametrize("kernel", BATCH_KERNELS, ids=lambda k: f"{k.py_func.__module__}.{k.__name__}")
+def test_batch_kernels_release_the_gil_so_threads_run_them_at_once(kernel):
+    assert kernel.targetoptions.get("nogil") is True
+
+
+def test_jobs_are_about_four_per_local_worker():
+    assert runs.chunk_size(100, runs.Processes(2)) == 13 and runs.chunk_size(100, runs.Threads(1)) == 25
+    assert runs.chunk_size(3, runs.Processes(2)) == 1 and runs.chunk_size(100, runs.Dask("tcp://h:1")) == 8
+
+
 def test_a_kernel_that_workers_cannot_import_is_rejected():
-    @njit(parallel=True)
+    @njit(nogil=True)
     def local_kernel(states, out):
-        for r in prange(states.shape[0]):
+        for r in range(states.shape[0]):
             out[r] = rng.uniform(states[r])
 
     with pytest.raises(ValueError, match="local_kernel is not a module-level function of an importable module"):
         runs.run_batches(local_kernel, (), (np.zeros(3),), 0, workers=runs.Processes(1))
     out = np.zeros(3)
-    runs.run_batches(local_kernel, (), (out,), 0)  # threads need no import
+    runs.run_batches(local_kernel, (), (out,), 0, workers=runs.Threads())  # threads need no import
     assert out.all()
 
 
@@ -110,7 +127,10 @@ def test_a_kernel_that_workers_cannot_import_is_rejected():
     (lambda: runs.Processes(0), r"Processes\(workers=...\) must be a whole number >= 1"),
     (lambda: runs.Dask(""), r"Dask\(scheduler=...\) must be the scheduler's address"),
     (lambda: runs.Dask("tcp://h:8786", timeout=0), r"Dask\(timeout=...\) must be a positive number"),
-    (lambda: single_gla.run(SINGLE, workers="dask"), "workers must be a thread count, None .* or a backend"),
+    (lambda: single_gla.run(SINGLE, workers="dask"), "workers must be a process count, None .* or a backend"),
+    (lambda: single_gla.run(SINGLE, workers=True), "workers must be a process count, None .* or a backend"),
+    (lambda: runs.run_batches(single_gla._learn_batch, (), (np.zeros(2),), 0, chunk=0),
+     "chunk must be a whole number of runs >= 1 or None, got 0"),
 ])
 def test_bad_backend_choices_are_rejected(call, message):
     with pytest.raises(ValueError, match=message):
@@ -118,7 +138,7 @@ def test_bad_backend_choices_are_rejected(call, message):
 
 
 def test_backend_choices_map_to_backends():
-    assert runs.backend() is None and runs.backend("threads", workers=2) == 2
+    assert runs.backend() == runs.Processes() and runs.backend("threads", workers=2) == runs.Threads(2)
     assert runs.backend("processes", workers=2) == runs.Processes(2)
     assert runs.backend(None, scheduler="tcp://h:8786") == runs.Dask("tcp://h:8786")
 
@@ -141,7 +161,8 @@ def _parse(argv):
 
 
 def test_command_line_backends(dask_scheduler):
-    assert _parse([]).workers is None and _parse(["--workers", "2"]).workers == 2
+    assert _parse([]).workers == runs.Processes() and _parse(["--workers", "2"]).workers == runs.Processes(2)
+    assert _parse(["--backend", "threads", "--workers", "2"]).workers == runs.Threads(2)
     assert _parse(["--backend", "processes", "--workers", "2"]).workers == runs.Processes(2)
     assert _parse(["--scheduler", dask_scheduler]).workers == runs.Dask(dask_scheduler)
     assert _parse(["--backend", "dask", "--scheduler", dask_scheduler]).workers == runs.Dask(dask_scheduler)

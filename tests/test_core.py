@@ -5,19 +5,19 @@ import os
 
 import numpy as np
 import pytest
-from numba import njit, prange
+from numba import njit
 
 from glamas import claims, cli, plotting, results, rng, runs
 
 
-@njit(parallel=True, cache=True)
+@njit(cache=True, nogil=True)
 def _draws_batch(n_draws, states, out):
-    for r in prange(states.shape[0]):
+    for r in range(states.shape[0]):
         for t in range(n_draws):
             out[r, t] = rng.uniform(states[r])
 
 
-def _draws(seed, n_runs, workers, chunk=8):
+def _draws(seed, n_runs, workers, chunk=None):
     out = np.zeros((n_runs, 50))
     runs.run_batches(_draws_batch, (50,), (out,), seed, workers=workers, chunk=chunk)
     return out
@@ -27,6 +27,7 @@ def test_same_seed_same_results_for_one_and_two_workers_and_any_chunking():
     one = _draws(7, 10, workers=1)
     assert np.array_equal(one, _draws(7, 10, workers=2))
     assert np.array_equal(one, _draws(7, 10, workers=2, chunk=3))
+    assert np.array_equal(one, _draws(7, 10, workers=runs.Threads(2), chunk=1))
     assert not np.array_equal(one, _draws(8, 10, workers=1))
     assert not np.array_equal(one[0], one[1])  # runs get different streams
 
@@ -52,10 +53,10 @@ def test_bad_seeds_and_run_counts_are_rejected(seed, n_runs, message):
 
 
 def test_bad_worker_counts_are_rejected():
-    with pytest.raises(ValueError, match="workers must be an integer from 1 to"):
-        runs.set_workers(0)
-    with pytest.raises(ValueError, match="workers must be an integer from 1 to"):
-        runs.set_workers(10_000)
+    with pytest.raises(ValueError, match=r"Threads\(workers=...\) must be a whole number >= 1"):
+        runs.Threads(0)
+    with pytest.raises(ValueError, match=r"Processes\(workers=...\) must be a whole number >= 1"):
+        runs.Processes(2.0)
 
 
 @dataclasses.dataclass(frozen=True)

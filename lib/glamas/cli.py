@@ -46,10 +46,11 @@ def figure_parser(description: str, *, runs: int, iterations: int | None, seed: 
                             help=f"learning iterations per run (default {iterations})")
     parser.add_argument("--seed", type=_seed, default=seed, help=f"master seed (default {seed})")
     parser.add_argument("--workers", type=_positive_int, default=None,
-                        help="threads (or processes) for the runs (default: all cores); results do not depend on it")
+                        help="worker processes (threads with --backend threads) for the runs "
+                             "(default: one per core); results do not depend on it")
     parser.add_argument("--backend", choices=runners.BACKENDS, default=None,
-                        help="who runs the runs: numba threads here (default), local processes, or a "
-                             "Dask cluster; results are bit-identical")
+                        help="who runs the runs: local processes (default), threads in this "
+                             "process, or a Dask cluster; results are bit-identical")
     parser.add_argument("--scheduler", metavar="ADDRESS", default=None,
                         help="address of a Dask scheduler (e.g. tcp://HOST:8786); implies --backend dask")
     parser.add_argument("--out", type=Path, default=DEFAULT_OUT,
@@ -66,8 +67,8 @@ def figure_parser(description: str, *, runs: int, iterations: int | None, seed: 
 def parse(parser: argparse.ArgumentParser, argv=None) -> argparse.Namespace:
     """Parse ``argv``; reject an --out that exists and is not a directory.
 
-    ``args.workers`` becomes what the experiments' ``run(..., workers=)`` takes: the thread
-    count (or None) for the threads backend, else a :mod:`glamas.runs` backend.
+    ``args.workers`` becomes what the experiments' ``run(..., workers=)`` takes: a
+    :mod:`glamas.runs` backend.
     """
     args = parser.parse_args(argv)
     if "backend" in args:

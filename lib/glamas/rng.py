@@ -2,7 +2,7 @@
 
 Every run owns a xoshiro256** state (four uint64 words) seeded from its own
 ``numpy.random.SeedSequence`` child. A kernel only ever touches its own run's
-state, so results do not depend on how many threads execute the runs.
+state, so results do not depend on how many workers execute the runs.
 """
 
 import numpy as np

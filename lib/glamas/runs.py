@@ -1,34 +1,37 @@
-"""Independent runs in parallel: one generator state per run, chunks of runs mapped to a backend.
+"""Independent runs in parallel: one generator state per run, chunks of runs mapped to workers.
 
-Batch kernels have the form ``batch(*inputs, states, *outputs)`` and loop ``prange`` over
-``states``; run ``r`` reads only ``states[r]`` and writes only ``outputs[...][r]``, so the
-results are the same for any number of workers and any chunking.
+Batch kernels have the form ``batch(*inputs, states, *outputs)``: compiled with
+``@njit(cache=True, nogil=True)``, they loop over ``states`` and run ``r`` reads only
+``states[r]`` and writes only ``outputs[...][r]``. A job is one chunk of runs, and the
+``workers`` argument of :func:`run_batches` (and of every experiment's ``run``) picks who runs
+the jobs: local processes by default (joblib; an int or None is their number, see
+:class:`Processes`), threads in this process (:class:`Threads`), or a Dask distributed cluster
+(:class:`Dask`, optional extra ``dask``). A job derives its runs' generator states from the
+master seed and its run indices (:func:`glamas.rng.chunk_states`), so every backend, number of
+workers and chunking gives bit-identical results.
 
-The ``workers`` argument of :func:`run_batches` (and of every experiment's ``run``) picks who
-runs the chunks: an int or None means numba threads in this process (:class:`Threads`, the
-default); :class:`Processes` sends each chunk as a job to local processes (joblib);
-:class:`Dask` sends them to a Dask distributed cluster (optional extra ``dask``). A job gets
-the kernel's name, its inputs, the seed and its run indices; it derives its runs' states with
-:func:`glamas.rng.chunk_states` and returns its output slices, which the caller writes back.
-So every backend gives bit-identical results.
-
-Threads stay the default: on one machine processes only add their start-up (benchmarks/
-bench_backends.py), since the numba threads already use every core.
+On one machine threads do the same work without the processes' start-up, which costs about a
+second per script (benchmarks/bench_backends.py). Processes are the default because a job that
+imports its kernel by name and returns its outputs is what carries over to a cluster unchanged.
 """
 
 import importlib
 import os
-import threading
+from concurrent.futures import ThreadPoolExecutor, as_completed
 from dataclasses import dataclass
 
-import numba
 import numpy as np
 from tqdm import tqdm  # not tqdm.auto: it warns in notebooks without ipywidgets
 
-from glamas.rng import check_seed, chunk_states, run_states
+from glamas.rng import check_seed, chunk_states
 
 BACKENDS = ("threads", "processes", "dask")
 DASK_INSTALL = "pip install -e '.[dask]' in the glamas repository (or: pip install -r requirements-extras.txt)"
+
+
+def _check_count(backend: str, workers) -> None:
+    if workers is not None and (isinstance(workers, bool) or not isinstance(workers, int) or workers < 1):
+        raise ValueError(f"{backend}(workers=...) must be a whole number >= 1 or None, got {workers!r}")
 
 
 class BackendError(RuntimeError):
@@ -37,30 +40,33 @@ class BackendError(RuntimeError):
 
 @dataclass(frozen=True)
 class Threads:
-    """Numba threads in this process (what an int or None ``workers`` means)."""
+    """Threads in this process, each running one job at a time."""
 
     workers: int | None = None
-    """Threads (None: every core numba may use)."""
+    """Threads (None: one per core)."""
+
+    def __post_init__(self):
+        _check_count("Threads", self.workers)
 
 
 @dataclass(frozen=True)
 class Processes:
-    """Local worker processes (joblib's loky backend); each job runs one chunk of runs."""
+    """Local worker processes (joblib's loky backend), each running one job at a time; the
+    default, what an int or None ``workers`` means. One process is this one: joblib runs a
+    single worker's jobs in the calling process."""
 
     workers: int | None = None
-    """Processes (None: one per core). Each uses its share of the cores as numba threads."""
+    """Processes (None: one per core)."""
 
     def __post_init__(self):
-        if self.workers is not None and (isinstance(self.workers, bool) or not isinstance(self.workers, int)
-                                         or self.workers < 1):
-            raise ValueError(f"Processes(workers=...) must be a whole number >= 1 or None, got {self.workers!r}")
+        _check_count("Processes", self.workers)
 
 
 @dataclass(frozen=True)
 class Dask:
     """A running Dask distributed scheduler; each job runs one chunk of runs on one of its workers.
 
-    The workers need glamas installed (same version); each runs a job on all its numba threads.
+    The workers need glamas installed (same version); each of their threads runs one job at a time.
     """
 
     scheduler: str
@@ -80,12 +86,11 @@ def backend(name: str | None = None, workers: int | None = None, scheduler: str 
             timeout: float = 10.0):
     """The ``workers`` value for ``run`` from command-line style choices.
 
-    ``name`` is one of BACKENDS (None: 'dask' if a scheduler is given, else 'threads');
-    a ``scheduler`` address implies 'dask' (``timeout``: seconds to wait for it). Threads keep
-    the plain ``workers`` (int or None).
+    ``name`` is one of BACKENDS (None: 'dask' if a scheduler is given, else 'processes');
+    a ``scheduler`` address implies 'dask' (``timeout``: seconds to wait for it).
     """
     if name is None:
-        name = "threads" if scheduler is None else "dask"
+        name = "processes" if scheduler is None else "dask"
     if name not in BACKENDS:
         raise ValueError(f"backend must be one of {', '.join(BACKENDS)}, got {name!r}")
     if name == "dask":
@@ -100,7 +105,7 @@ def backend(name: str | None = None, workers: int | None = None, scheduler: str 
     if scheduler is not None:
         raise ValueError(f"--scheduler means the dask backend, not {name!r}: drop --backend {name} "
                          "or the --scheduler address")
-    return workers if name == "threads" else Processes(workers)
+    return Threads(workers) if name == "threads" else Processes(workers)
 
 
 def require_dask():
@@ -112,78 +117,76 @@ def require_dask():
                            f"{DASK_INSTALL}") from None
 
 
-def set_workers(workers: int | None) -> int:
-    """Use ``workers`` threads for the batch kernels (None: all cores); returns the number used."""
-    available = numba.config.NUMBA_NUM_THREADS
-    if workers is None:
-        workers = available
-    if not isinstance(workers, int) or not 1 <= workers <= available:
-        raise ValueError(f"workers must be an integer from 1 to {available} (the cores numba may use), got {workers!r}")
-    numba.set_num_threads(workers)
-    return workers
+def cores() -> int:
+    """The cores this process may run on (what a backend's workers=None means)."""
+    return len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count() or 1
 
 
 def run_batches(batch, inputs: tuple, outputs: tuple, seed: int, *, workers=None,
-                progress: str | None = None, chunk: int = 8) -> None:
+                progress: str | None = None, chunk: int | None = None) -> None:
     """Fill ``outputs`` (arrays whose first axis is the run) by calling ``batch`` on chunks of runs.
 
-    ``workers``: an int or None (threads, see :func:`set_workers`), or a :class:`Threads`,
-    :class:`Processes` or :class:`Dask` backend. ``progress`` names a progress bar (None: no
-    bar). A chunk of runs is the unit of the bar and, outside threads, one job.
+    ``workers``: a :class:`Processes`, :class:`Threads` or :class:`Dask` backend, or an int or
+    None for ``Processes(workers)``. ``progress`` names a progress bar (None: no bar). A chunk
+    of runs is one job; ``chunk`` runs per job (None: see :func:`chunk_size`).
     """
     n_runs = outputs[0].shape[0]
-    if isinstance(workers, Threads):
-        workers = workers.workers
-    if workers is None or isinstance(workers, int):
-        _run_in_threads(batch, inputs, outputs, seed, workers, progress, chunk)
-        return
-    if not isinstance(workers, (Processes, Dask)):
-        raise ValueError(f"workers must be a thread count, None (all cores) or a backend "
-                         f"(glamas.runs.Threads, Processes or Dask), got {workers!r}")
+    if workers is None or (isinstance(workers, int) and not isinstance(workers, bool)):
+        workers = Processes(workers)
+    if not isinstance(workers, (Processes, Threads, Dask)):
+        raise ValueError(f"workers must be a process count, None (one per core) or a backend "
+                         f"(glamas.runs.Processes, Threads or Dask), got {workers!r}")
     check_seed(seed)
-    kernel = _kernel_name(batch)
-    inputs = tuple(_for_transport(x) for x in inputs)
-    jobs = [(kernel, inputs, seed, start, min(start + chunk, n_runs),
-             tuple(out[start:start + chunk] for out in outputs)) for start in range(0, n_runs, chunk)]
-    run_jobs = _run_in_processes if isinstance(workers, Processes) else _run_on_dask
+    if chunk is not None and (isinstance(chunk, bool) or not isinstance(chunk, int) or chunk < 1):
+        raise ValueError(f"chunk must be a whole number of runs >= 1 or None, got {chunk!r}")
+    size = chunk_size(n_runs, workers) if chunk is None else chunk
+    bounds = [(start, min(start + size, n_runs)) for start in range(0, n_runs, size)]
+    initial = [tuple(out[start:stop] for out in outputs) for start, stop in bounds]
+    if isinstance(workers, Threads):
+        done = _run_in_threads(workers, [(batch, inputs, seed, start, stop, first)
+                                         for (start, stop), first in zip(bounds, initial)])
+    else:
+        kernel, inputs = _kernel_name(batch), tuple(_for_transport(x) for x in inputs)
+        jobs = [(kernel, inputs, seed, start, stop, first) for (start, stop), first in zip(bounds, initial)]
+        done = (_run_in_processes if isinstance(workers, Processes) else _run_on_dask)(workers, jobs)
     with tqdm(total=n_runs, desc=progress, unit="run", disable=progress is None) as bar:
-        for start, filled in run_jobs(workers, jobs):
+        for start, filled in done:
             for out, part in zip(outputs, filled):
                 out[start:start + part.shape[0]] = part
             bar.update(filled[0].shape[0])
 
 
-def _run_in_threads(batch, inputs, outputs, seed, workers, progress, chunk):
-    states = run_states(seed, outputs[0].shape[0])
-    set_workers(workers)
-    with tqdm(total=states.shape[0], desc=progress, unit="run", disable=progress is None) as bar:
-        for start in range(0, states.shape[0], chunk):
-            stop = min(start + chunk, states.shape[0])
-            batch(*inputs, states[start:stop], *(out[start:stop] for out in outputs))
-            bar.update(stop - start)
+def chunk_size(n_runs: int, backend) -> int:
+    """Runs per job: about four jobs per local worker, so that runs of unequal length even out
+    while a job stays long next to sending it; 8 runs on a cluster of unknown size."""
+    if isinstance(backend, Dask):
+        return 8
+    return max(1, -(-n_runs // (4 * (backend.workers or cores()))))
 
 
-_KERNEL_LOCK = threading.Lock()
-
-
-def run_chunk(kernel: str, inputs: tuple, seed: int, start: int, stop: int, initial: tuple,
-              threads: int | None = None) -> tuple[int, tuple]:
+def fill_chunk(batch, inputs: tuple, seed: int, start: int, stop: int, initial: tuple) -> tuple[int, tuple]:
     """One job: runs ``start`` to ``stop - 1`` of a sweep; returns ``(start, filled outputs)``.
 
-    ``kernel`` is 'module:name' of the batch kernel, ``initial`` the outputs' initial slices
-    (some kernels read them, e.g. initial Q values). ``threads``: numba threads (None: as set).
+    ``initial`` are the outputs' initial slices (some kernels read them, e.g. initial Q values).
+    The job fills copies: the caller's arrays stay untouched until it writes the result back,
+    and jobs running at once never write to one cache line (which would slow them down).
     """
-    batch = _resolve_kernel(kernel)
-    states = chunk_states(seed, start, stop)
-    inputs = tuple(_as_sent(x) for x in inputs)
-    outputs = tuple(np.array(x) for x in initial)  # copies: the caller's arrays stay untouched
-    # One parallel launch at a time per process: numba's workqueue threading layer aborts on
-    # concurrent launches (a Dask worker with several threads would make them).
-    with _KERNEL_LOCK:
-        if threads is not None:
-            numba.set_num_threads(min(threads, numba.config.NUMBA_NUM_THREADS))
-        batch(*inputs, states, *outputs)
+    outputs = tuple(np.array(x) for x in initial)
+    batch(*inputs, chunk_states(seed, start, stop), *outputs)
     return start, outputs
+
+
+def run_chunk(kernel: str, inputs: tuple, seed: int, start: int, stop: int,
+              initial: tuple) -> tuple[int, tuple]:
+    """:func:`fill_chunk` in a worker process: ``kernel`` is the batch kernel's 'module:name'."""
+    return fill_chunk(_resolve_kernel(kernel), tuple(_as_sent(x) for x in inputs), seed, start, stop, initial)
+
+
+def _run_in_threads(backend: Threads, jobs: list):
+    """Jobs on a pool of threads: the kernels release the GIL (nogil), so they run at once."""
+    with ThreadPoolExecutor(backend.workers or cores()) as pool:
+        for future in as_completed([pool.submit(fill_chunk, *job) for job in jobs]):
+            yield future.result()
 
 
 @dataclass(frozen=True)
@@ -234,11 +237,10 @@ def _resolve_kernel(name: str):
 def _run_in_processes(backend: Processes, jobs: list):
     from joblib import Parallel, delayed
 
-    n_processes = backend.workers or os.cpu_count() or 1
-    threads = max(1, numba.config.NUMBA_NUM_THREADS // n_processes)
     # max_nbytes=None: no memory-mapped (read-only) arguments.
-    parallel = Parallel(n_jobs=n_processes, backend="loky", return_as="generator_unordered", max_nbytes=None)
-    yield from parallel(delayed(run_chunk)(*job, threads) for job in jobs)
+    parallel = Parallel(n_jobs=backend.workers or cores(), backend="loky", return_as="generator_unordered",
+                        max_nbytes=None)
+    yield from parallel(delayed(run_chunk)(*job) for job in jobs)
 
 
 def connect(backend: Dask):

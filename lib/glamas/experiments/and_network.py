@@ -9,7 +9,7 @@ agent plays L only when both units output 1 (``glamas.gla.and_network``). Inside
 from dataclasses import dataclass, replace
 
 import numpy as np
-from numba import njit, prange
+from numba import njit
 
 from glamas import gla, lineworld, rng
 from glamas.experiments import checks
@@ -186,17 +186,17 @@ def learn(iterations, learning_rate, temperature, K, L, mode, init_scale, curvat
                                L, mode, inputs[agent], probs[agent], chosen[agent])
 
 
-@njit(parallel=True, cache=True)
+@njit(cache=True, nogil=True)
 def _learn_batch(iterations, learning_rate, temperature, K, L, mode, init_scale, curvature,
                  offset, reward_inside, reward_outside, reward_other, unit_actions, wiring,
                  output_table, radix, states, probes, params, prob_left):
-    for r in prange(states.shape[0]):
+    for r in range(states.shape[0]):
         learn(iterations, learning_rate, temperature, K, L, mode, init_scale, curvature, offset,
               reward_inside, reward_outside, reward_other, unit_actions, wiring, output_table,
               radix, states[r], probes[r], params[r], prob_left[r])
 
 
-def run(config: ANDNetworkConfig, seed: int = 0, workers: int | None = None,
+def run(config: ANDNetworkConfig, seed: int = 0, workers=None,
         progress: str | None = None) -> ANDNetworkResult:
     """All runs of experiment 2 for ``config``; identical for any number of workers."""
     c, p = config, config.gla_params()
@@ -292,7 +292,7 @@ DEFAULT_SWEEP = (0.5, 0.625, 0.75, 0.875, 1.0)
 
 
 def sweep(config: ANDNetworkConfig, rewards_outside=DEFAULT_SWEEP, seed: int = 0,
-          workers: int | None = None, progress: str | None = None) -> SweepResult:
+          workers=None, progress: str | None = None) -> SweepResult:
     """Run experiment 2 for each region II reward (same seed for each, so the runs share their
     initialisation and positions until their actions differ) and record which runs got stuck."""
     values = np.array(rewards_outside, dtype=np.float64)

@@ -9,7 +9,7 @@ GLA parameters; :func:`evaluate` turns those into exact expected rewards over th
 from dataclasses import dataclass, replace
 
 import numpy as np
-from numba import njit, prange
+from numba import njit
 
 from glamas import gla, lineworld, rng
 from glamas.experiments import checks
@@ -115,15 +115,15 @@ def learn(encoding, iterations, learning_rate, temperature, K, L, mode, init_sca
             window_end = (point + 1) * iterations // n_points
 
 
-@njit(parallel=True, cache=True)
+@njit(cache=True, nogil=True)
 def _learn_batch(encoding, iterations, learning_rate, temperature, K, L, mode, init_scale,
                  states, params, reward):
-    for r in prange(states.shape[0]):
+    for r in range(states.shape[0]):
         learn(encoding, iterations, learning_rate, temperature, K, L, mode, init_scale,
               states[r], params[r], reward[r])
 
 
-def run(config: SingleGLAConfig, seed: int = 0, workers: int | None = None,
+def run(config: SingleGLAConfig, seed: int = 0, workers=None,
         progress: str | None = None) -> SingleGLAResult:
     """All runs of experiment 1 for ``config``; identical for any number of workers."""
     encoding = lineworld.encoding_code(config.context)
@@ -275,7 +275,7 @@ def typical_run(result: SingleGLAResult) -> int:
     return int(np.argsort(team, kind="stable")[(team.shape[0] - 1) // 2])
 
 
-def compare_encodings(config: SingleGLAConfig, seed: int = 0, workers: int | None = None,
+def compare_encodings(config: SingleGLAConfig, seed: int = 0, workers=None,
                       progress: str | None = None) -> dict:
     """Fig. 6: the same experiment with each context encoding (same seed, so run r of every
     encoding sees the same positions until their actions differ)."""

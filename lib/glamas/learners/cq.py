@@ -33,7 +33,7 @@ other one, so this is the two-agent algorithm, unchanged.
 import math
 
 import numpy as np
-from numba import njit, prange
+from numba import njit
 
 from glamas.gridworld import rules
 from glamas.learners import episode as ep
@@ -245,10 +245,10 @@ def run(next_cell, is_goal, starts, bounce, n_cols, alpha, gamma, exploit, windo
         ep.end_episode(log, episode, bin_size, acc, t, done)
 
 
-@njit(parallel=True, cache=True)
+@njit(cache=True, nogil=True)
 def batch(next_cell, is_goal, starts, bounce, n_cols, alpha, gamma, exploit, window, t_critical, solo_episodes,
           n_episodes, bin_size, max_steps, states, q, q_aug, marked, log):
-    """:func:`run` for every run in parallel (glamas.runs batch-kernel form)."""
-    for r in prange(states.shape[0]):
+    """:func:`run` for each run of a chunk (glamas.runs batch-kernel form)."""
+    for r in range(states.shape[0]):
         run(next_cell, is_goal, starts, bounce, n_cols, alpha, gamma, exploit, window, t_critical, solo_episodes,
             n_episodes, bin_size, max_steps, q[r], q_aug[r], marked[r], log[r], states[r])

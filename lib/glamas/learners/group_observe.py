@@ -25,7 +25,7 @@ halved: for two agents, the steps on which both coordinated.
 """
 
 import numpy as np
-from numba import njit, prange
+from numba import njit
 
 from glamas import gla, rng
 from glamas.gridworld import rules
@@ -189,12 +189,12 @@ def run(next_cell, is_goal, starts, bounce, n_cols, alpha, gamma, exploit, gla_r
         ep.end_episode(log, episode, bin_size, acc, t, done)
 
 
-@njit(parallel=True, cache=True)
+@njit(cache=True, nogil=True)
 def batch(next_cell, is_goal, starts, bounce, n_cols, alpha, gamma, exploit, gla_rate, temperature,
           K, L, bounding, init_range, feedback_table, penalty_per_cell, rule_distance, n_episodes,
           bin_size, max_steps, states, q, u, coming_counts, log):
-    """:func:`run` for every run in parallel (glamas.runs batch-kernel form)."""
-    for r in prange(states.shape[0]):
+    """:func:`run` for each run of a chunk (glamas.runs batch-kernel form)."""
+    for r in range(states.shape[0]):
         run(next_cell, is_goal, starts, bounce, n_cols, alpha, gamma, exploit, gla_rate,
             temperature, K, L, bounding, init_range, feedback_table, penalty_per_cell, rule_distance,
             n_episodes, bin_size, max_steps, q[r], u[r], coming_counts[r], log[r], states[r])

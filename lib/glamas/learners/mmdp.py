@@ -2,7 +2,7 @@
 actions (625 x 16 on TunnelToGoal) that learns from the single shared reward."""
 
 import numpy as np
-from numba import njit, prange
+from numba import njit
 
 from glamas.gridworld import rules
 from glamas.gridworld.joint import joint_index, split_index
@@ -50,10 +50,10 @@ def run(next_cell, is_goal, starts, bounce, alpha, gamma, exploit, n_episodes, b
         ep.end_episode(log, episode, bin_size, acc, t, done)
 
 
-@njit(parallel=True, cache=True)
+@njit(cache=True, nogil=True)
 def batch(next_cell, is_goal, starts, bounce, alpha, gamma, exploit, n_episodes, bin_size,
           max_steps, states, q, log):
-    """:func:`run` for every run in parallel (glamas.runs batch-kernel form)."""
-    for r in prange(states.shape[0]):
+    """:func:`run` for each run of a chunk (glamas.runs batch-kernel form)."""
+    for r in range(states.shape[0]):
         run(next_cell, is_goal, starts, bounce, alpha, gamma, exploit, n_episodes, bin_size,
             max_steps, q[r], log[r], states[r])

@@ -33,7 +33,7 @@ arithmetic, bit for bit).
 """
 
 import numpy as np
-from numba import njit, prange
+from numba import njit
 
 from glamas.gridworld import rules
 from glamas.gridworld.joint import joint_index
@@ -168,11 +168,11 @@ def run(next_cell, is_goal, starts, bounce, index, alpha, gamma, exploit, n_epis
         ep.end_episode(log, episode, bin_size, acc, t, done)
 
 
-@njit(parallel=True, cache=True)
+@njit(cache=True, nogil=True)
 def batch(next_cell, is_goal, starts, bounce, index, alpha, gamma, exploit, n_episodes, bin_size,
           max_steps, states, q, q_joint, log):
-    """:func:`run` for every run in parallel (glamas.runs batch-kernel form)."""
-    for r in prange(states.shape[0]):
+    """:func:`run` for each run of a chunk (glamas.runs batch-kernel form)."""
+    for r in range(states.shape[0]):
         run(next_cell, is_goal, starts, bounce, index, alpha, gamma, exploit, n_episodes, bin_size,
             max_steps, q[r], q_joint[r], log[r], states[r])
 
@@ -308,10 +308,10 @@ def run_pairs(next_cell, is_goal, starts, bounce, n_cols, index, distance, alpha
         ep.end_episode(log, episode, bin_size, acc, t, done)
 
 
-@njit(parallel=True, cache=True)
+@njit(cache=True, nogil=True)
 def batch_pairs(next_cell, is_goal, starts, bounce, n_cols, index, distance, alpha, gamma, exploit, n_episodes,
                 bin_size, max_steps, states, q, q_pairs, log):
-    """:func:`run_pairs` for every run in parallel (glamas.runs batch-kernel form)."""
-    for r in prange(states.shape[0]):
+    """:func:`run_pairs` for each run of a chunk (glamas.runs batch-kernel form)."""
+    for r in range(states.shape[0]):
         run_pairs(next_cell, is_goal, starts, bounce, n_cols, index, distance, alpha, gamma, exploit, n_episodes,
                   bin_size, max_steps, q[r], q_pairs[r], log[r], states[r])
