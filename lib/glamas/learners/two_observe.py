@@ -33,8 +33,6 @@ def new_gla_parameters(n_agents: int) -> np.ndarray:
     return np.zeros((n_agents, 2, N_GLA_INPUTS))
 
 
-
-
 @njit(cache=True)
 def yield_at_random(preferred, actions, state):
     """Section 5.2's coordination: one agent (picked at random) keeps its preferred action, the
