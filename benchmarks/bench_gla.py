@@ -1,4 +1,4 @@
-"""Experiment 1's learning loop (Section 4.2, eq. 12-15, joint context): the compiled batch
+"""Experiment 1's learning loop (Section 4.2, eq. 12-15, joint context): the compiled run
 kernel against a plain-Python reference (lists, math, random) doing the same work.
 
 The reference runs fewer iterations; both are timed in this process and compared per

@@ -1,5 +1,5 @@
 """The gridworld learners of Section 5.3 (independent Q-learners and 2observe, Alg. 4): the
-compiled batch kernels against a plain-Python reference (lists, math, random) of the same episodes.
+compiled run kernels against a plain-Python reference (lists, math, random) of the same episodes.
 
 The reference implements the same rules, eq. 11, epsilon-greedy with random tie-breaking and, for
 2observe, the GLAs (eq. 13-15) and the coordination mechanism. It runs fewer episodes; both sides

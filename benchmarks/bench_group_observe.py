@@ -1,5 +1,5 @@
 """2observe for N agents (glamas.learners.group_observe) on the four-agent warehouse: the compiled
-batch kernel against a plain-Python reference (lists, math, random) of the same episodes.
+kernel against a plain-Python reference (lists, math, random) of the same episodes.
 
 The reference implements the same N-agent rules (collisions with bounce rounds), eq. 11,
 epsilon-greedy with random tie-breaking, the GLAs (eq. 13-15) on the distance to the nearest other

@@ -1,4 +1,4 @@
-"""The related-work learners (sparse tabular MAQ and CQ-learning): the compiled batch kernels
+"""The related-work learners (sparse tabular MAQ and CQ-learning): the compiled run kernels
 against a plain-Python reference (lists, math, random, collections.deque) of the same episodes.
 
 The reference implements the same rules (bench_gridworld.World), eq. 11, epsilon-greedy with
@@ -131,7 +131,7 @@ def cq_reference(world, episodes, t_critical, seed=0):
 
 
 def compiled(name, workers):
-    """Seconds per environment step of the compiled batch kernel, and the steps it took."""
+    """Seconds per environment step of the compiled run kernel, and the steps it took."""
     g = tunnel_to_goal()
     world = (g.next_cell, g.is_goal, g.starts, BOUNCE_PREVIOUS)
     learning = (ALPHA, GAMMA, EXPLOIT)
@@ -142,12 +142,12 @@ def compiled(name, workers):
     if name == "sparse_maq":
         index = sparse_maq.coordination_index(g, 2)
         q_joint = np.zeros((COMPILED_RUNS,) + sparse_maq.new_joint_table(index).shape)
-        call = lambda: runs.run_batches(sparse_maq.batch, (*world, index, *learning, *schedule),  # noqa: E731
+        call = lambda: runs.run_batches(sparse_maq.run, (*world, index, *learning, *schedule),  # noqa: E731
                                         (q, q_joint, log), 0, workers=threads)
     else:
         q_aug, marked = (np.stack([table] * COMPILED_RUNS) for table in cq.new_augmented_tables(25, 2))
         extra = (WINDOW, cq.t_critical_values(2 * WINDOW - 2, SIGNIFICANCE), COMPILED_EPISODES // SOLO_SHARE)
-        call = lambda: runs.run_batches(cq.batch, (*world, g.n_cols, *learning, *extra, *schedule),  # noqa: E731
+        call = lambda: runs.run_batches(cq.run, (*world, g.n_cols, *learning, *extra, *schedule),  # noqa: E731
                                         (q, q_aug, marked, log), 0, workers=threads)
     start = time.perf_counter()
     call()

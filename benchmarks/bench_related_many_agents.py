@@ -1,6 +1,6 @@
 """Sparse tabular MAQ with pairwise coordination and CQ-learning observing the nearest agent
-(glamas.learners.sparse_maq.batch_pairs, glamas.learners.cq) on the four-agent warehouse: the
-compiled batch kernels against a plain-Python reference (lists, math, random, collections.deque)
+(glamas.learners.sparse_maq.run_pairs, glamas.learners.cq) on the four-agent warehouse: the
+compiled run kernels against a plain-Python reference (lists, math, random, collections.deque)
 of the same episodes.
 
 The reference implements the same N-agent rules (bench_group_observe.World), eq. 11,
@@ -159,7 +159,7 @@ def cq_reference(world, episodes, t_critical, seed=0):
 
 
 def compiled(name, workers, episodes, t_critical):
-    """Seconds per environment step of the compiled batch kernel, and the steps it took."""
+    """Seconds per environment step of the compiled run kernel, and the steps it took."""
     g = sc.ScalingConfig(agents=(N_AGENTS,)).gridmap(N_AGENTS)
     world = (g.next_cell, g.is_goal, g.starts, BOUNCE_PREVIOUS, g.n_cols)
     learning = (ALPHA, GAMMA, EXPLOIT)
@@ -170,13 +170,13 @@ def compiled(name, workers, episodes, t_critical):
     if name == "sparse_maq":
         index = sparse_maq.pair_coordination_index(g, DISTANCE)
         q_pairs = np.zeros((COMPILED_RUNS,) + sparse_maq.new_pair_tables(index, N_AGENTS).shape)
-        call = lambda: runs.run_batches(sparse_maq.batch_pairs, (*world, index, DISTANCE, *learning, *schedule),  # noqa: E731
+        call = lambda: runs.run_batches(sparse_maq.run_pairs, (*world, index, DISTANCE, *learning, *schedule),  # noqa: E731
                                         (q, q_pairs, log), 0, workers=threads)
     else:
         tables = cq.new_augmented_tables(g.n_cells, N_AGENTS)
         q_aug, marked = (np.stack([table] * COMPILED_RUNS) for table in tables)
         extra = (WINDOW, t_critical, episodes // SOLO_SHARE)
-        call = lambda: runs.run_batches(cq.batch, (*world, *learning, *extra, *schedule), (q, q_aug, marked, log), 0,  # noqa: E731
+        call = lambda: runs.run_batches(cq.run, (*world, *learning, *extra, *schedule), (q, q_aug, marked, log), 0,  # noqa: E731
                                         workers=threads)
     start = time.perf_counter()
     call()

@@ -75,7 +75,7 @@ def test_job_size_does_not_change_results(reference):
     p = SINGLE.gla_params()
     inputs = (0, SINGLE.iterations, p.learning_rate, p.temperature, p.K, p.L, p.bounding_code, 0.0)
     assert SINGLE.context == "joint" and single_gla.lineworld.encoding_code("joint") == 0
-    runs.run_batches(single_gla._learn_batch, inputs, (params, reward), 11, workers=runs.Processes(2), chunk=3)
+    runs.run_batches(single_gla.learn, inputs, (params, reward), 11, workers=runs.Processes(2), chunk=3)
     assert np.array_equal(reward, reference["single"].reward)
     assert np.array_equal(params, reference["single"].params)
 
@@ -84,20 +84,19 @@ def test_a_job_runs_any_slice_of_the_sweep_on_its_own(reference):
     p = SINGLE.gla_params()
     inputs = (0, SINGLE.iterations, p.learning_rate, p.temperature, p.K, p.L, p.bounding_code, 0.0)
     initial = (np.zeros((2,) + reference["single"].params.shape[1:]), np.zeros((2, SINGLE.record_points)))
-    start, (params, reward) = runs.run_chunk("glamas.experiments.single_gla:_learn_batch", inputs, 11, 4, 6, initial)
+    start, (params, reward) = runs.run_chunk("glamas.experiments.single_gla:learn", inputs, 11, 4, 6, initial)
     assert start == 4
     assert np.array_equal(reward, reference["single"].reward[4:6])
     assert np.array_equal(params, reference["single"].params[4:6])
     assert not initial[1].any()  # the job fills copies, not the arrays it was given
 
 
-BATCH_KERNELS = [single_gla._learn_batch, and_network._learn_batch, independent.batch, joint_state.batch,
-                 mmdp.batch, two_observe.batch, group_observe.batch, sparse_maq.batch, sparse_maq.batch_pairs,
-                 cq.batch]
+RUN_KERNELS = [single_gla.learn, and_network.learn, independent.run, joint_state.run, mmdp.run, two_observe.run,
+               group_observe.run, sparse_maq.run, sparse_maq.run_pairs, cq.run]
 
 
-@pytest.mark.parametrize("kernel", BATCH_KERNELS, ids=lambda k: f"{k.py_func.__module__}.{k.__name__}")
-def test_batch_kernels_release_the_gil_so_threads_run_them_at_once(kernel):
+@pytest.mark.parametrize("kernel", RUN_KERNELS, ids=lambda k: f"{k.py_func.__module__}.{k.__name__}")
+def test_run_kernels_release_the_gil_so_threads_run_them_at_once(kernel):
     assert kernel.targetoptions.get("nogil") is True
 
 
@@ -108,13 +107,12 @@ def test_jobs_are_about_four_per_local_worker():
 
 def test_a_kernel_that_workers_cannot_import_is_rejected():
     @njit(nogil=True)
-    def local_kernel(states, out):
-        for r in range(states.shape[0]):
-            out[r] = rng.uniform(states[r])
+    def local_kernel(out, state):
+        out[0] = rng.uniform(state)
 
     with pytest.raises(ValueError, match="local_kernel is not a module-level function of an importable module"):
-        runs.run_batches(local_kernel, (), (np.zeros(3),), 0, workers=runs.Processes(1))
-    out = np.zeros(3)
+        runs.run_batches(local_kernel, (), (np.zeros((3, 1)),), 0, workers=runs.Processes(1))
+    out = np.zeros((3, 1))
     runs.run_batches(local_kernel, (), (out,), 0, workers=runs.Threads())  # threads need no import
     assert out.all()
 
@@ -129,8 +127,10 @@ def test_a_kernel_that_workers_cannot_import_is_rejected():
     (lambda: runs.Dask("tcp://h:8786", timeout=0), r"Dask\(timeout=...\) must be a positive number"),
     (lambda: single_gla.run(SINGLE, workers="dask"), "workers must be a process count, None .* or a backend"),
     (lambda: single_gla.run(SINGLE, workers=True), "workers must be a process count, None .* or a backend"),
-    (lambda: runs.run_batches(single_gla._learn_batch, (), (np.zeros(2),), 0, chunk=0),
+    (lambda: runs.run_batches(single_gla.learn, (), (np.zeros((2, 1)),), 0, chunk=0),
      "chunk must be a whole number of runs >= 1 or None, got 0"),
+    (lambda: runs.run_batches(single_gla.learn, (), (np.zeros((2, 1)), np.zeros(2)), 0),
+     r"every output needs an axis of runs and an array per run \(ndim >= 2\), got shapes \[\(2, 1\), \(2,\)\]"),
 ])
 def test_bad_backend_choices_are_rejected(call, message):
     with pytest.raises(ValueError, match=message):

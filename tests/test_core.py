@@ -11,15 +11,14 @@ from glamas import claims, cli, plotting, results, rng, runs
 
 
 @njit(cache=True, nogil=True)
-def _draws_batch(n_draws, states, out):
-    for r in range(states.shape[0]):
-        for t in range(n_draws):
-            out[r, t] = rng.uniform(states[r])
+def _draws_run(n_draws, out, state):
+    for t in range(n_draws):
+        out[t] = rng.uniform(state)
 
 
 def _draws(seed, n_runs, workers, chunk=None):
     out = np.zeros((n_runs, 50))
-    runs.run_batches(_draws_batch, (50,), (out,), seed, workers=workers, chunk=chunk)
+    runs.run_batches(_draws_run, (50,), (out,), seed, workers=workers, chunk=chunk)
     return out
 
 

@@ -154,7 +154,7 @@ def test_n_agent_2observe_is_the_two_agent_kernel_for_two_agents():
     out = []
     for module in (two_observe, group_observe):
         arrays = (np.zeros((2, 2, 25, 4)), np.zeros((2, 2, 2, 2)), np.zeros((2, 9, 2)), np.zeros((2, 3, 8)))
-        runs.run_batches(module.batch, inputs, arrays, 3, workers=1)
+        runs.run_batches(module.run, inputs, arrays, 3, workers=1)
         out.append(arrays)
     (q, u, coming, log), (q2, u2, coming2, log2) = out
     assert log[..., ep.COORDINATIONS].sum() > 0  # the comparison covers coordinated steps
@@ -198,7 +198,7 @@ def test_n_agent_kernels_run_on_the_warehouse():
             g = load_map(MAPS / "warehouse_3.txt")
         q = module.new_tables(g.n_cells, g.n_agents)[None]
         log = np.zeros((1, 2, ep.n_columns(g.n_agents)))
-        runs.run_batches(module.batch, (g.next_cell, g.is_goal, g.starts, 0, 0.05, 0.9, 0.9, 20, 10, 500),
+        runs.run_batches(module.run, (g.next_cell, g.is_goal, g.starts, 0, 0.05, 0.9, 0.9, 20, 10, 500),
                          (q, log), 2, workers=1)
         assert (log[0, :, :g.n_agents] >= 1).all() and np.abs(q).sum() > 0
 

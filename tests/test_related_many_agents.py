@@ -5,6 +5,7 @@ small runs, and the two learners in the scaling study."""
 import numpy as np
 import pytest
 
+from glamas import runs
 from glamas.experiments import scaling as sc
 from glamas.gridworld import load_map, tunnel_to_goal
 from glamas.gridworld.rules import E, N, S, W
@@ -133,8 +134,9 @@ def test_two_agent_pairs_are_the_two_agent_learner_bit_for_bit():
     shape = sparse_maq.new_joint_table(index).shape
     joint, pairs = np.zeros((2,) + shape), np.zeros((2, 1) + shape)
     log1, log2 = np.zeros((2, 3, ep.N_COLUMNS)), np.zeros((2, 3, ep.N_COLUMNS))
-    sparse_maq.batch(*world, index, *rest, run_states(4, 2), q1, joint, log1)
-    sparse_maq.batch_pairs(*world, g.n_cols, index, 2, *rest, run_states(4, 2), q2, pairs, log2)
+    runs.run_batches(sparse_maq.run, (*world, index, *rest), (q1, joint, log1), 4, workers=runs.Threads(1))
+    runs.run_batches(sparse_maq.run_pairs, (*world, g.n_cols, index, 2, *rest), (q2, pairs, log2), 4,
+                     workers=runs.Threads(1))
     assert np.array_equal(log1, log2) and np.array_equal(q1, q2) and np.array_equal(joint, pairs[:, 0])
     assert log1[:, :, ep.COORDINATIONS].sum() > 0
 
@@ -156,8 +158,9 @@ def test_cq_marks_with_many_agents_pair_an_agent_with_a_near_agent():
     n, c = g.n_agents, g.n_cells
     q, log = np.zeros((1, n, c, 4)), np.zeros((1, 4, ep.n_columns(n)))
     q_aug, marked = (table[None] for table in cq.new_augmented_tables(c, n))
-    cq.batch(g.next_cell, g.is_goal, g.starts, 0, g.n_cols, 0.05, 0.9, 0.9, 30, cq.t_critical_values(58, 0.05),
-             200, 400, 100, 1000, run_states(2, 1), q, q_aug, marked, log)
+    runs.run_batches(cq.run, (g.next_cell, g.is_goal, g.starts, 0, g.n_cols, 0.05, 0.9, 0.9, 30,
+                              cq.t_critical_values(58, 0.05), 200, 400, 100, 1000), (q, q_aug, marked, log), 2,
+                     workers=runs.Threads(1))
     own, other = np.nonzero(marked[0].any(axis=0))
     assert own.size > 0 and (log[0, :, ep.column(n, ep.COORDINATIONS)] > 0).any()
     distances = [abs(a // g.n_cols - b // g.n_cols) + abs(a % g.n_cols - b % g.n_cols) for a, b in zip(own, other)]

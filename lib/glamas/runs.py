@@ -1,8 +1,8 @@
 """Independent runs in parallel: one generator state per run, chunks of runs mapped to workers.
 
-Batch kernels have the form ``batch(*inputs, states, *outputs)``: compiled with
-``@njit(cache=True, nogil=True)``, they loop over ``states`` and run ``r`` reads only
-``states[r]`` and writes only ``outputs[...][r]``. A job is one chunk of runs, and the
+A run kernel is the compiled function of one run, ``kernel(*inputs, *outputs_of_the_run, state)``
+with ``@njit(cache=True, nogil=True)``: it reads the shared ``inputs`` and its own generator
+``state`` and writes only its run's slice of each output. A job is one chunk of runs, and the
 ``workers`` argument of :func:`run_batches` (and of every experiment's ``run``) picks who runs
 the jobs: local processes by default (joblib; an int or None is their number, see
 :class:`Processes`), threads in this process (:class:`Threads`), or a Dask distributed cluster
@@ -122,9 +122,10 @@ def cores() -> int:
     return len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count() or 1
 
 
-def run_batches(batch, inputs: tuple, outputs: tuple, seed: int, *, workers=None,
+def run_batches(kernel, inputs: tuple, outputs: tuple, seed: int, *, workers=None,
                 progress: str | None = None, chunk: int | None = None) -> None:
-    """Fill ``outputs`` (arrays whose first axis is the run) by calling ``batch`` on chunks of runs.
+    """Fill ``outputs`` (arrays whose first axis is the run) by calling the run ``kernel`` for
+    every run, in chunks of runs.
 
     ``workers``: a :class:`Processes`, :class:`Threads` or :class:`Dask` backend, or an int or
     None for ``Processes(workers)``. ``progress`` names a progress bar (None: no bar). A chunk
@@ -137,17 +138,20 @@ def run_batches(batch, inputs: tuple, outputs: tuple, seed: int, *, workers=None
         raise ValueError(f"workers must be a process count, None (one per core) or a backend "
                          f"(glamas.runs.Processes, Threads or Dask), got {workers!r}")
     check_seed(seed)
+    if any(out.ndim < 2 for out in outputs):
+        raise ValueError("every output needs an axis of runs and an array per run (ndim >= 2), got shapes "
+                         f"{[out.shape for out in outputs]}")
     if chunk is not None and (isinstance(chunk, bool) or not isinstance(chunk, int) or chunk < 1):
         raise ValueError(f"chunk must be a whole number of runs >= 1 or None, got {chunk!r}")
     size = chunk_size(n_runs, workers) if chunk is None else chunk
     bounds = [(start, min(start + size, n_runs)) for start in range(0, n_runs, size)]
     initial = [tuple(out[start:stop] for out in outputs) for start, stop in bounds]
     if isinstance(workers, Threads):
-        done = _run_in_threads(workers, [(batch, inputs, seed, start, stop, first)
+        done = _run_in_threads(workers, [(kernel, inputs, seed, start, stop, first)
                                          for (start, stop), first in zip(bounds, initial)])
     else:
-        kernel, inputs = _kernel_name(batch), tuple(_for_transport(x) for x in inputs)
-        jobs = [(kernel, inputs, seed, start, stop, first) for (start, stop), first in zip(bounds, initial)]
+        name, inputs = _kernel_name(kernel), tuple(_for_transport(x) for x in inputs)
+        jobs = [(name, inputs, seed, start, stop, first) for (start, stop), first in zip(bounds, initial)]
         done = (_run_in_processes if isinstance(workers, Processes) else _run_on_dask)(workers, jobs)
     with tqdm(total=n_runs, desc=progress, unit="run", disable=progress is None) as bar:
         for start, filled in done:
@@ -164,7 +168,7 @@ def chunk_size(n_runs: int, backend) -> int:
     return max(1, -(-n_runs // (4 * (backend.workers or cores()))))
 
 
-def fill_chunk(batch, inputs: tuple, seed: int, start: int, stop: int, initial: tuple) -> tuple[int, tuple]:
+def fill_chunk(kernel, inputs: tuple, seed: int, start: int, stop: int, initial: tuple) -> tuple[int, tuple]:
     """One job: runs ``start`` to ``stop - 1`` of a sweep; returns ``(start, filled outputs)``.
 
     ``initial`` are the outputs' initial slices (some kernels read them, e.g. initial Q values).
@@ -172,13 +176,14 @@ def fill_chunk(batch, inputs: tuple, seed: int, start: int, stop: int, initial: 
     and jobs running at once never write to one cache line (which would slow them down).
     """
     outputs = tuple(np.array(x) for x in initial)
-    batch(*inputs, chunk_states(seed, start, stop), *outputs)
+    for r, state in enumerate(chunk_states(seed, start, stop)):
+        kernel(*inputs, *(out[r] for out in outputs), state)
     return start, outputs
 
 
 def run_chunk(kernel: str, inputs: tuple, seed: int, start: int, stop: int,
               initial: tuple) -> tuple[int, tuple]:
-    """:func:`fill_chunk` in a worker process: ``kernel`` is the batch kernel's 'module:name'."""
+    """:func:`fill_chunk` in a worker process: ``kernel`` is the run kernel's 'module:name'."""
     return fill_chunk(_resolve_kernel(kernel), tuple(_as_sent(x) for x in inputs), seed, start, stop, initial)
 
 
@@ -211,16 +216,16 @@ def _as_sent(x):
     return x
 
 
-def _kernel_name(batch) -> str:
-    """'module:name' of a module-level batch kernel, which a worker process can import."""
-    function = getattr(batch, "py_func", batch)
+def _kernel_name(kernel) -> str:
+    """'module:name' of a module-level run kernel, which a worker process can import."""
+    function = getattr(kernel, "py_func", kernel)
     name = f"{function.__module__}:{function.__qualname__}"
     try:
-        importable = function.__module__ != "__main__" and _resolve_kernel(name) is batch
+        importable = function.__module__ != "__main__" and _resolve_kernel(name) is kernel
     except (ImportError, AttributeError):
         importable = False
     if not importable:
-        raise ValueError(f"the batch kernel {name} is not a module-level function of an importable "
+        raise ValueError(f"the run kernel {name} is not a module-level function of an importable "
                          "module, so worker processes cannot load it; define it at the top level of a "
                          "module, or use the threads backend")
     return name

@@ -137,10 +137,10 @@ def _probe_mean(params, probes, temperature, L, mode, inputs, probs, context, ou
         out[agent] = total / probes.shape[0]
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def learn(iterations, learning_rate, temperature, K, L, mode, init_scale, curvature, offset,
           reward_inside, reward_outside, reward_other, unit_actions, wiring, output_table, radix,
-          state, probes, params, prob_left):
+          probes, params, prob_left, state):
     """One run of experiment 2: both AND-network agents act (eq. 12, 15) and learn (eq. 13).
 
     ``probes`` (n, 2) is filled with uniform points of region I, ``params`` with the initial
@@ -186,16 +186,6 @@ def learn(iterations, learning_rate, temperature, K, L, mode, init_scale, curvat
                                L, mode, inputs[agent], probs[agent], chosen[agent])
 
 
-@njit(cache=True, nogil=True)
-def _learn_batch(iterations, learning_rate, temperature, K, L, mode, init_scale, curvature,
-                 offset, reward_inside, reward_outside, reward_other, unit_actions, wiring,
-                 output_table, radix, states, probes, params, prob_left):
-    for r in range(states.shape[0]):
-        learn(iterations, learning_rate, temperature, K, L, mode, init_scale, curvature, offset,
-              reward_inside, reward_outside, reward_other, unit_actions, wiring, output_table,
-              radix, states[r], probes[r], params[r], prob_left[r])
-
-
 def run(config: ANDNetworkConfig, seed: int = 0, workers=None,
         progress: str | None = None) -> ANDNetworkResult:
     """All runs of experiment 2 for ``config``; identical for any number of workers."""
@@ -209,7 +199,7 @@ def run(config: ANDNetworkConfig, seed: int = 0, workers=None,
               float(c.init_scale), float(c.parabola_curvature), float(c.parabola_offset),
               float(c.reward_inside), float(c.reward_outside), float(c.reward_other),
               unit_actions, wiring, output_table, radix)
-    run_batches(_learn_batch, inputs, (probes, params, prob_left), seed, workers=workers,
+    run_batches(learn, inputs, (probes, params, prob_left), seed, workers=workers,
                 progress=progress)
     n = c.record_points
     iteration = np.arange(n) * c.iterations // (n - 1) if n > 1 else np.array([0])

@@ -194,7 +194,7 @@ def run(config: GridworldConfig = GridworldConfig(), seed: int = 0, workers=None
         inputs = _kernel_inputs(name, config, gridmap)
         outputs = (q, u, coming, log[k]) if name == "two_observe" else (q, log[k])
         label = None if progress is None else f"{progress}: {name}"
-        runs.run_batches(_MODULES[name].batch, inputs, outputs, len(LEARNERS) * seed + LEARNERS.index(name), workers=workers, progress=label)
+        runs.run_batches(_MODULES[name].run, inputs, outputs, len(LEARNERS) * seed + LEARNERS.index(name), workers=workers, progress=label)
         shapes[k] = q.shape[1:]
     codes = np.array([LEARNERS.index(name) for name in config.learners], dtype=np.int64)
     episodes = np.arange(1, config.n_bins + 1, dtype=np.int64) * config.bin_size

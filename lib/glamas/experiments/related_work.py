@@ -118,7 +118,7 @@ def run(config: RelatedWorkConfig = RelatedWorkConfig(), seed: int = 0, workers=
         if name == "sparse_maq":
             index = sparse_maq.coordination_index(gridmap, config.coordination_distance)
             q_joint = np.full((base.runs,) + sparse_maq.new_joint_table(index).shape, base.q_initial)
-            runs.run_batches(sparse_maq.batch, world + (index,) + learning + schedule, (q, q_joint, log[j]),
+            runs.run_batches(sparse_maq.run, world + (index,) + learning + schedule, (q, q_joint, log[j]),
                              related_seed(seed, name), workers=workers, progress=label)
             joint[j] = q_joint[0].size / n_agents
         else:
@@ -126,7 +126,7 @@ def run(config: RelatedWorkConfig = RelatedWorkConfig(), seed: int = 0, workers=
             t_critical = cq.t_critical_values(2 * config.cq_window - 2, config.cq_significance)
             inputs = world + (gridmap.n_cols,) + learning + (config.cq_window, t_critical,
                                                              config.cq_solo_episodes) + schedule
-            runs.run_batches(cq.batch, inputs, (q, q_aug, marked, log[j]), related_seed(seed, name),
+            runs.run_batches(cq.run, inputs, (q, q_aug, marked, log[j]), related_seed(seed, name),
                              workers=workers, progress=label)
             joint[j] = marked.sum(axis=(2, 3)).mean(axis=1) * rules.N_ACTIONS
             samples[j] = n_cells * rules.N_ACTIONS * config.cq_window

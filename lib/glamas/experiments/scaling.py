@@ -285,7 +285,7 @@ def train(config: ScalingConfig, gridmap: GridMap, method: str, master_seed: int
         outputs = (q, u, coming, log)
     else:
         inputs, outputs = world + learning + schedule, (q, log)
-    runs.run_batches(_MODULES[method].batch, inputs, outputs, master_seed, workers=workers, progress=label)
+    runs.run_batches(_MODULES[method].run, inputs, outputs, master_seed, workers=workers, progress=label)
     return q, log
 
 
@@ -303,13 +303,13 @@ def train_related(config: ScalingConfig, gridmap: GridMap, method: str, master_s
     if method == "sparse_maq":
         index = sparse_maq.pair_coordination_index(gridmap, config.coordination_distance)
         q_pairs = np.full((config.runs,) + sparse_maq.new_pair_tables(index, n).shape, c.q_initial)
-        runs.run_batches(sparse_maq.batch_pairs, world + (index, config.coordination_distance) + learning + schedule,
+        runs.run_batches(sparse_maq.run_pairs, world + (index, config.coordination_distance) + learning + schedule,
                          (q, q_pairs, log), master_seed, workers=workers, progress=label)
         return q, float(q_pairs[0].size), log
     q_aug, marked = (np.stack([table] * config.runs) for table in cq.new_augmented_tables(gridmap.n_cells, n))
     t_critical = cq.t_critical_values(2 * config.cq_window - 2, config.cq_significance)
     inputs = world + learning + (config.cq_window, t_critical, config.cq_solo_episodes) + schedule
-    runs.run_batches(cq.batch, inputs, (q, q_aug, marked, log), master_seed, workers=workers, progress=label)
+    runs.run_batches(cq.run, inputs, (q, q_aug, marked, log), master_seed, workers=workers, progress=label)
     return q, float(marked.sum(axis=(1, 2, 3)).mean() * rules.N_ACTIONS), log
 
 

@@ -79,9 +79,9 @@ class SingleGLAResult:
         return {"iteration": self.iteration, "reward": self.reward, "params": self.params}
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def learn(encoding, iterations, learning_rate, temperature, K, L, mode, init_scale,
-          state, params, reward):
+          params, reward, state):
     """One run of experiment 1: the loop of Section 4.2 with eq. 12-15 for both agents.
 
     ``params`` (2, 2, n) is filled with the initial and then the learned parameters, ``reward``
@@ -115,14 +115,6 @@ def learn(encoding, iterations, learning_rate, temperature, K, L, mode, init_sca
             window_end = (point + 1) * iterations // n_points
 
 
-@njit(cache=True, nogil=True)
-def _learn_batch(encoding, iterations, learning_rate, temperature, K, L, mode, init_scale,
-                 states, params, reward):
-    for r in range(states.shape[0]):
-        learn(encoding, iterations, learning_rate, temperature, K, L, mode, init_scale,
-              states[r], params[r], reward[r])
-
-
 def run(config: SingleGLAConfig, seed: int = 0, workers=None,
         progress: str | None = None) -> SingleGLAResult:
     """All runs of experiment 1 for ``config``; identical for any number of workers."""
@@ -133,7 +125,7 @@ def run(config: SingleGLAConfig, seed: int = 0, workers=None,
     p = config.gla_params()
     inputs = (encoding, config.iterations, p.learning_rate, p.temperature, p.K, p.L,
               p.bounding_code, float(config.init_scale))
-    run_batches(_learn_batch, inputs, (params, reward), seed, workers=workers, progress=progress)
+    run_batches(learn, inputs, (params, reward), seed, workers=workers, progress=progress)
     points = np.arange(1, config.record_points + 1)
     return SingleGLAResult(config, points * config.iterations // config.record_points, reward, params)
 

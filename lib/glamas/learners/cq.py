@@ -192,7 +192,7 @@ def mark_if_conflict(q_aug, marked, q, s, other, r, baseline, recent, t_critical
     return True
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def run(next_cell, is_goal, starts, bounce, n_cols, alpha, gamma, exploit, window, t_critical, solo_episodes,
         n_episodes, bin_size, max_steps, q, q_aug, marked, log, state):
     """One run: ``solo_episodes`` episodes alone per agent, then ``n_episodes`` episodes together;
@@ -243,12 +243,3 @@ def run(next_cell, is_goal, starts, bounce, n_cols, alpha, gamma, exploit, windo
             t += 1
             ep.end_step(t, cells, done, new_cells, rewards, reached, collisions, acc)
         ep.end_episode(log, episode, bin_size, acc, t, done)
-
-
-@njit(cache=True, nogil=True)
-def batch(next_cell, is_goal, starts, bounce, n_cols, alpha, gamma, exploit, window, t_critical, solo_episodes,
-          n_episodes, bin_size, max_steps, states, q, q_aug, marked, log):
-    """:func:`run` for each run of a chunk (glamas.runs batch-kernel form)."""
-    for r in range(states.shape[0]):
-        run(next_cell, is_goal, starts, bounce, n_cols, alpha, gamma, exploit, window, t_critical, solo_episodes,
-            n_episodes, bin_size, max_steps, q[r], q_aug[r], marked[r], log[r], states[r])

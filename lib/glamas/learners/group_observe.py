@@ -34,7 +34,7 @@ from glamas.learners.independent import new_tables  # the same state-action spac
 from glamas.learners.two_observe import ACT_ALONE, COORDINATE, N_GLA_INPUTS, gla_feedback, new_gla_parameters
 from glamas.qlearning import epsilon_greedy, q_update
 
-__all__ = ["batch", "coordinate_group", "nearest_others", "new_coming_counts", "new_gla_parameters",
+__all__ = ["coordinate_group", "nearest_others", "new_coming_counts", "new_gla_parameters",
            "new_tables", "random_order", "run"]
 
 NOBODY = -1
@@ -117,7 +117,7 @@ def coordinate_group(next_cell, is_goal, cells, done, choices, preferred, action
     return count
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def run(next_cell, is_goal, starts, bounce, n_cols, alpha, gamma, exploit, gla_rate, temperature,
         K, L, bounding, init_range, feedback_table, penalty_per_cell, rule_distance, n_episodes,
         bin_size, max_steps, q, u, coming_counts, log, state):
@@ -187,14 +187,3 @@ def run(next_cell, is_goal, starts, bounce, n_cols, alpha, gamma, exploit, gla_r
             t += 1
             ep.end_step(t, cells, done, new_cells, rewards, reached, collisions, acc)
         ep.end_episode(log, episode, bin_size, acc, t, done)
-
-
-@njit(cache=True, nogil=True)
-def batch(next_cell, is_goal, starts, bounce, n_cols, alpha, gamma, exploit, gla_rate, temperature,
-          K, L, bounding, init_range, feedback_table, penalty_per_cell, rule_distance, n_episodes,
-          bin_size, max_steps, states, q, u, coming_counts, log):
-    """:func:`run` for each run of a chunk (glamas.runs batch-kernel form)."""
-    for r in range(states.shape[0]):
-        run(next_cell, is_goal, starts, bounce, n_cols, alpha, gamma, exploit, gla_rate,
-            temperature, K, L, bounding, init_range, feedback_table, penalty_per_cell, rule_distance,
-            n_episodes, bin_size, max_steps, q[r], u[r], coming_counts[r], log[r], states[r])

@@ -21,7 +21,7 @@ def split_joint_action(joint, actions):
     split_index(joint, rules.N_ACTIONS, actions)
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def run(next_cell, is_goal, starts, bounce, alpha, gamma, exploit, n_episodes, bin_size, max_steps,
         q, log, state):
     """One run of ``n_episodes`` episodes; learns in ``q[0]`` and writes the binned ``log``.
@@ -48,12 +48,3 @@ def run(next_cell, is_goal, starts, bounce, alpha, gamma, exploit, n_episodes, b
             t += 1
             ep.end_step(t, cells, done, new_cells, rewards, reached, collisions, acc)
         ep.end_episode(log, episode, bin_size, acc, t, done)
-
-
-@njit(cache=True, nogil=True)
-def batch(next_cell, is_goal, starts, bounce, alpha, gamma, exploit, n_episodes, bin_size,
-          max_steps, states, q, log):
-    """:func:`run` for each run of a chunk (glamas.runs batch-kernel form)."""
-    for r in range(states.shape[0]):
-        run(next_cell, is_goal, starts, bounce, alpha, gamma, exploit, n_episodes, bin_size,
-            max_steps, q[r], log[r], states[r])

@@ -131,7 +131,7 @@ def coordination_row(index, cells, n_cells):
     return index[joint_index(cells, n_cells)]
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def run(next_cell, is_goal, starts, bounce, index, alpha, gamma, exploit, n_episodes, bin_size,
         max_steps, q, q_joint, log, state):
     """One run of ``n_episodes`` episodes; learns in ``q`` and ``q_joint``, writes the binned
@@ -166,15 +166,6 @@ def run(next_cell, is_goal, starts, bounce, index, alpha, gamma, exploit, n_epis
             t += 1
             ep.end_step(t, cells, done, new_cells, rewards, reached, collisions, acc)
         ep.end_episode(log, episode, bin_size, acc, t, done)
-
-
-@njit(cache=True, nogil=True)
-def batch(next_cell, is_goal, starts, bounce, index, alpha, gamma, exploit, n_episodes, bin_size,
-          max_steps, states, q, q_joint, log):
-    """:func:`run` for each run of a chunk (glamas.runs batch-kernel form)."""
-    for r in range(states.shape[0]):
-        run(next_cell, is_goal, starts, bounce, index, alpha, gamma, exploit, n_episodes, bin_size,
-            max_steps, q[r], q_joint[r], log[r], states[r])
 
 
 # --- N agents: pairwise coordination (module docstring) ------------------------------------------
@@ -276,7 +267,7 @@ def learn_pairs(q, q_pairs, cells, done, actions, joint, rewards, new_cells, rea
             table[rows[i], joint[i]] += alpha * (target - table[rows[i], joint[i]])
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def run_pairs(next_cell, is_goal, starts, bounce, n_cols, index, distance, alpha, gamma, exploit, n_episodes,
               bin_size, max_steps, q, q_pairs, log, state):
     """One run of ``n_episodes`` episodes of N agents with pairwise coordination; learns in ``q``
@@ -306,12 +297,3 @@ def run_pairs(next_cell, is_goal, starts, bounce, n_cols, index, distance, alpha
             t += 1
             ep.end_step(t, cells, done, new_cells, rewards, reached, collisions, acc)
         ep.end_episode(log, episode, bin_size, acc, t, done)
-
-
-@njit(cache=True, nogil=True)
-def batch_pairs(next_cell, is_goal, starts, bounce, n_cols, index, distance, alpha, gamma, exploit, n_episodes,
-                bin_size, max_steps, states, q, q_pairs, log):
-    """:func:`run_pairs` for each run of a chunk (glamas.runs batch-kernel form)."""
-    for r in range(states.shape[0]):
-        run_pairs(next_cell, is_goal, starts, bounce, n_cols, index, distance, alpha, gamma, exploit, n_episodes,
-                  bin_size, max_steps, q[r], q_pairs[r], log[r], states[r])

@@ -69,7 +69,7 @@ def gla_feedback(table, penalty_per_cell, choice, coming, both, delta):
     return beta
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def run(next_cell, is_goal, starts, bounce, n_cols, alpha, gamma, exploit, gla_rate, temperature,
         K, L, bounding, init_range, feedback_table, penalty_per_cell, rule_distance, n_episodes,
         bin_size, max_steps, q, u, coming_counts, log, state):
@@ -128,14 +128,3 @@ def run(next_cell, is_goal, starts, bounce, n_cols, alpha, gamma, exploit, gla_r
             t += 1
             ep.end_step(t, cells, done, new_cells, rewards, reached, collisions, acc)
         ep.end_episode(log, episode, bin_size, acc, t, done)
-
-
-@njit(cache=True, nogil=True)
-def batch(next_cell, is_goal, starts, bounce, n_cols, alpha, gamma, exploit, gla_rate, temperature,
-          K, L, bounding, init_range, feedback_table, penalty_per_cell, rule_distance, n_episodes,
-          bin_size, max_steps, states, q, u, coming_counts, log):
-    """:func:`run` for each run of a chunk (glamas.runs batch-kernel form)."""
-    for r in range(states.shape[0]):
-        run(next_cell, is_goal, starts, bounce, n_cols, alpha, gamma, exploit, gla_rate,
-            temperature, K, L, bounding, init_range, feedback_table, penalty_per_cell, rule_distance,
-            n_episodes, bin_size, max_steps, q[r], u[r], coming_counts[r], log[r], states[r])
