@@ -15,7 +15,7 @@ import numpy as np
 from glamas import runs
 from glamas.experiments import gridworld
 
-SWEEP = gridworld.GridworldConfig(episodes=4_000, runs=16, bin_size=500)
+SWEEP = gridworld.GridworldConfig(episodes=4_000, runs=16)
 
 
 def _timed(workers):

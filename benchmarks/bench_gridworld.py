@@ -18,7 +18,7 @@ from glamas.learners import episode as ep
 REFERENCE_EPISODES = 2_000
 COMPILED_EPISODES, COMPILED_RUNS = 20_000, 4
 ALPHA, GAMMA, EXPLOIT, MAX_STEPS = 0.05, 0.9, 0.9, 10_000
-GLA_RATE, T, L = 0.01, 0.5, 1.0
+GLA_RATE, T, L = 0.01, 0.5, 8.0
 FEEDBACK = ((1.0, 0.0), (0.0, 1.0))
 
 
@@ -49,6 +49,10 @@ class World:
     def would_collide(self, cells, actions):
         a, b = self.next_cell[cells[0]][actions[0]], self.next_cell[cells[1]][actions[1]]
         return (a == b and not self.is_goal[a]) or (a == cells[1] and b == cells[0])
+
+    def could_collide(self, cells):
+        """2observe's default "need": some joint action of the two agents collides."""
+        return any(self.would_collide(cells, (a, b)) for a in range(4) for b in range(4))
 
 
 def epsilon_greedy(row, rnd):
@@ -96,6 +100,7 @@ def reference_run(world, episodes, two_observe, seed=0):
             actions = [0 if done[i] else epsilon_greedy(q[i][cells[i]], rnd) for i in range(2)]
             if observing:
                 coming = world.would_collide(cells, actions)
+                need = world.could_collide(cells)
                 both = choices[0] == 1 and choices[1] == 1
                 if both and coming:
                     yielder = rnd.randrange(2)
@@ -106,7 +111,7 @@ def reference_run(world, episodes, two_observe, seed=0):
                     q_update(q[i], cells[i], actions[i], rewards[i], new[i], reached[i])
             if observing:
                 for i in range(2):
-                    beta = FEEDBACK[choices[i]][1 if coming else 0] - (0.1 * delta if both and not coming else 0.0)
+                    beta = FEEDBACK[choices[i]][1 if need else 0] - (0.1 * delta if both and not need else 0.0)
                     gla_update(u[i], x, choices[i], beta, probs[i])
             t += 1
             done = [done[i] or reached[i] for i in range(2)]
@@ -120,14 +125,14 @@ def _time_compiled(learner, workers):
     start = time.perf_counter()
     result = gw.run(config, seed=0, workers=runs.Threads(workers))
     elapsed = time.perf_counter() - start
-    steps = result.curves(learner, ep.LENGTH).sum() * config.bin_size
+    steps = result.curves(learner, ep.LENGTH).sum(axis=0) @ result.widths()
     return elapsed / steps, steps
 
 
 def main():
     world = World()
     for learner in ("independent", "two_observe"):
-        gw.run(gw.GridworldConfig(learners=(learner,), episodes=100, runs=2, bin_size=100), seed=0,
+        gw.run(gw.GridworldConfig(learners=(learner,), episodes=100, runs=2), seed=0,
                workers=runs.Threads(1))  # compiles (or loads) the kernel in this process
         start = time.perf_counter()
         steps = reference_run(world, REFERENCE_EPISODES, learner == "two_observe")

@@ -49,6 +49,10 @@ class World:
         a, b = self.next_cell[cells[i]][actions[i]], self.next_cell[cells[j]][actions[j]]
         return (a == b and not self.is_goal[a]) or (a == cells[j] and b == cells[i])
 
+    def could_collide(self, cells, done, i, j):
+        """2observe's default "need": some joint action of agents i and j collides."""
+        return any(self.would_collide(cells, done, {i: a, j: b}, i, j) for a in range(4) for b in range(4))
+
     def step(self, cells, done, actions):
         n = len(cells)
         new = [c if d else self.next_cell[c][a] for c, d, a in zip(cells, done, actions)]
@@ -107,8 +111,8 @@ def reference_run(world, episodes, seed=0):
             probs = [gla_probs(u[i], xs[i]) for i in range(n)]
             choices = [0 if j is None or rnd.random() < probs[i][0] else 1 for i, (_, j) in enumerate(near)]
             preferred = [0 if done[i] else epsilon_greedy(q[i][cells[i]], rnd) for i in range(n)]
-            coming = [any(world.would_collide(cells, done, preferred, i, j) for j in range(n) if j != i)
-                      for i in range(n)]
+            need = [any(world.could_collide(cells, done, i, j) for j in range(n) if j != i)
+                    for i in range(n)]
             actions = coordinate(world, cells, done, choices, preferred, rnd)
             new, rewards, reached = world.step(cells, done, actions)
             for i in range(n):
@@ -117,7 +121,7 @@ def reference_run(world, episodes, seed=0):
             for i, (delta, j) in enumerate(near):
                 if j is not None:
                     both = choices[i] == 1 and choices[j] == 1
-                    beta = FEEDBACK[choices[i]][int(coming[i])] - (0.1 * delta if both and not coming[i] else 0.0)
+                    beta = FEEDBACK[choices[i]][int(need[i])] - (0.1 * delta if both and not need[i] else 0.0)
                     gla_update(u[i], xs[i], choices[i], beta, probs[i])
             t += 1
             done = [done[i] or reached[i] for i in range(n)]

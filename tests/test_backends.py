@@ -14,7 +14,7 @@ from glamas.experiments import and_network, gridworld, single_gla
 from glamas.learners import cq, group_observe, independent, joint_state, mmdp, sparse_maq, two_observe
 
 SINGLE = single_gla.SingleGLAConfig(iterations=600, runs=7, record_points=6)
-GRID = gridworld.GridworldConfig(episodes=40, runs=3, bin_size=10, q_initial=0.5, max_steps=200)
+GRID = gridworld.GridworldConfig(episodes=40, runs=3, bins=10, q_initial=0.5, max_steps=200)
 
 
 def _arrays(result) -> dict:

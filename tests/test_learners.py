@@ -4,14 +4,14 @@ import numpy as np
 import pytest
 
 from glamas.experiments import gridworld as gw
-from glamas.gridworld import tunnel_to_goal
+from glamas.gridworld import rules, tunnel_to_goal
 from glamas.gridworld.rules import E, N, S, W
 from glamas.learners import episode as ep
 from glamas.learners import independent, joint_state, mmdp, two_observe
 from glamas.learners.two_observe import ACT_ALONE, COORDINATE, first_level, gla_feedback
 from glamas.rng import run_states
 
-SMALL = gw.GridworldConfig(episodes=200, runs=2, bin_size=100)
+SMALL = gw.GridworldConfig(episodes=200, runs=2, bins=20)
 
 
 def test_table_shapes_follow_section_5_3():
@@ -66,7 +66,7 @@ def test_same_seed_same_results_for_one_and_two_workers(small_result):
 
 
 def test_a_learner_gets_the_same_streams_whatever_it_is_trained_with(small_result):
-    alone = gw.run(gw.GridworldConfig(episodes=200, runs=2, bin_size=100, learners=("mmdp",)), seed=5, workers=1)
+    alone = gw.run(gw.GridworldConfig(episodes=200, runs=2, bins=20, learners=("mmdp",)), seed=5, workers=1)
     assert np.array_equal(alone.log[0], small_result.log[2])
 
 
@@ -132,22 +132,77 @@ def test_gla_feedback_table_and_needless_coordination_penalty():
 
 
 def test_two_observe_counts_its_observed_steps_by_distance(small_result):
-    counts = small_result.coming_counts
+    counts = small_result.need_counts
     assert counts.shape == (2, 9, 2)  # deltas 0 .. 8 on the 5 x 5 map
     assert counts[:, 0].sum() == 0  # two acting agents never share a cell
-    assert counts[:, :, 1].sum() > 0  # the tunnel entrance makes collisions come
-    assert gw.collision_coming_probability(small_result).shape == (9,)
+    assert counts[:, 1:3, 1].sum() > 0  # in range at distances 1 and 2 (the default reading)
+    assert counts[:, 3:, 1].sum() == 0  # and never farther apart
+    assert gw.need_probability(small_result).shape == (9,)
 
 
 def test_fixed_rule_first_level_replaces_the_glas():
     def ruled(distance):
-        config = gw.GridworldConfig(episodes=200, runs=2, bin_size=100, learners=("two_observe",),
+        config = gw.GridworldConfig(episodes=200, runs=2, bins=2, learners=("two_observe",),
                                     rule_distance=distance)
         return gw.run(config, seed=2, workers=1)
     never, always = ruled(0), ruled(99)
     assert (never.curves("two_observe", ep.COORDINATIONS) == 0).all()
     # coordinating at every distance: every observed step is a coordination
-    observed = always.coming_counts.sum(axis=(1, 2))
-    assert np.allclose(always.curves("two_observe", ep.COORDINATIONS).sum(axis=1) * 100, observed)
+    observed = always.need_counts.sum(axis=(1, 2))
+    assert np.allclose(always.curves("two_observe", ep.COORDINATIONS) @ always.widths(), observed)
     # the GLAs do not learn under a fixed rule: the parameters keep their random initial values
     assert np.array_equal(never.gla_parameters, always.gla_parameters)
+
+
+# --- Fig. 10's readings of "need to coordinate" ------------------------------------------------
+
+
+def _collides_under_some_joint_action(g, a, b):
+    """From the rules themselves: does any of the 16 joint moves of agents on a and b collide?"""
+    cells, done = np.array([a, b]), np.zeros(2, np.bool_)
+    buffers = [np.empty(2, t) for t in (np.int64, np.float64, np.bool_, np.bool_, np.bool_)]
+    return any(rules.step(g.next_cell, g.is_goal, g.starts, 0, cells, done, np.array([x, y]), *buffers) > 0
+               for x in range(4) for y in range(4))
+
+
+def test_in_range_is_some_joint_action_colliding_under_the_rules():
+    g = tunnel_to_goal()
+    free = [c for c in range(g.n_cells) if not g.is_goal[c] and not g.blocked[c]]
+    for a in free:
+        for b in free:
+            if a != b:
+                expected = _collides_under_some_joint_action(g, a, b)
+                assert rules.could_collide(g.next_cell, g.is_goal, a, b) == expected, (a, b)
+                if rules.manhattan(g.n_cols, a, b) > 2:
+                    assert not expected  # one move each: never from farther than 2 cells
+
+
+def test_a_wall_takes_close_agents_out_of_range():
+    g = tunnel_to_goal()
+    # distance 1 across the wall above row 2, distance 2 across the goal between two walls
+    assert not rules.could_collide(g.next_cell, g.is_goal, g.cell(1, 1), g.cell(2, 1))
+    assert not rules.could_collide(g.next_cell, g.is_goal, g.cell(1, 0), g.cell(3, 0))
+    # the tunnel entrance from above and below, and two agents side by side
+    assert rules.could_collide(g.next_cell, g.is_goal, g.cell(1, 4), g.cell(3, 4))
+    assert rules.could_collide(g.next_cell, g.is_goal, g.cell(0, 0), g.cell(0, 1))
+
+
+@pytest.mark.parametrize("need, preferred, expected", [
+    ("in_range", (S, N), True), ("in_range", (N, S), True),  # in range whatever they choose
+    ("sampled", (S, N), True), ("sampled", (N, S), False),  # only if the preferred moves collide
+    ("outcome", (S, N), False),  # decided by the move, not before it
+])
+def test_need_before_the_move_under_each_reading(tunnel_entrance, need, preferred, expected):
+    g, cells, done, _ = tunnel_entrance
+    coming = rules.would_collide(g.next_cell, g.is_goal, cells, done, np.array(preferred), 0, 1)
+    assert two_observe.need_before_step(two_observe.NEEDS[need], g.next_cell, g.is_goal, cells, 0, 1,
+                                        coming) == expected
+
+
+def test_outcome_reading_feeds_back_the_collision_that_happened():
+    """Under 'outcome', coordinating is rewarded only on a step with a collision: when the
+    yielding agent's random move still collides, or when only one agent coordinated."""
+    table = np.array(gw.GridworldConfig(gla_need="outcome").gla_feedback)
+    assert gla_feedback(table, 0.1, COORDINATE, True, False, 2) == 1.0  # collided: coordinating was right
+    assert gla_feedback(table, 0.1, COORDINATE, False, True, 2) == pytest.approx(-0.2)  # avoided: "no need"
+    assert gla_feedback(table, 0.1, ACT_ALONE, False, False, 2) == 1.0

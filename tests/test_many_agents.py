@@ -146,20 +146,24 @@ def test_nearest_other_agent_ignores_agents_in_the_goal_and_breaks_ties_by_numbe
     assert nearest.tolist() == [group_observe.NOBODY] * 3
 
 
-def test_n_agent_2observe_is_the_two_agent_kernel_for_two_agents():
-    config = gw.GridworldConfig(episodes=300, runs=2, bin_size=100, learners=("two_observe",),
-                                gla_feedback=((1.0, 0.0), (1.0, 1.0)))
+@pytest.mark.parametrize("need", sorted(two_observe.NEEDS))
+@pytest.mark.parametrize("gla_L", [1.0, 8.0])
+def test_n_agent_2observe_is_the_two_agent_kernel_for_two_agents(need, gla_L):
+    config = gw.GridworldConfig(episodes=300, runs=2, bins=3, learners=("two_observe",),
+                                gla_feedback=((1.0, 0.0), (1.0, 1.0)), gla_need=need, gla_L=gla_L)
     g = config.gridmap()
     inputs = gw._kernel_inputs("two_observe", config, g)
     out = []
     for module in (two_observe, group_observe):
-        arrays = (np.zeros((2, 2, 25, 4)), np.zeros((2, 2, 2, 2)), np.zeros((2, 9, 2)), np.zeros((2, 3, 8)))
+        arrays = (np.zeros((2, 2, 25, 4)), np.zeros((2, 2, 2, 2)), np.zeros((2, 9, 2)),
+                  np.zeros((2, config.edges().size - 1, 8)))
         runs.run_batches(module.run, inputs, arrays, 3, workers=1)
         out.append(arrays)
-    (q, u, coming, log), (q2, u2, coming2, log2) = out
+    (q, u, needs, log), (q2, u2, needs2, log2) = out
     assert log[..., ep.COORDINATIONS].sum() > 0  # the comparison covers coordinated steps
+    assert needs[..., 1].sum() > 0  # and steps with need
     assert np.array_equal(q, q2) and np.array_equal(u, u2) and np.array_equal(log, log2)
-    assert np.array_equal(2 * coming, coming2)  # counted per observing agent
+    assert np.array_equal(2 * needs, needs2)  # counted per observing agent
 
 
 # --- the scaling study -----------------------------------------------------------------------
@@ -198,7 +202,7 @@ def test_n_agent_kernels_run_on_the_warehouse():
             g = load_map(MAPS / "warehouse_3.txt")
         q = module.new_tables(g.n_cells, g.n_agents)[None]
         log = np.zeros((1, 2, ep.n_columns(g.n_agents)))
-        runs.run_batches(module.run, (g.next_cell, g.is_goal, g.starts, 0, 0.05, 0.9, 0.9, 20, 10, 500),
+        runs.run_batches(module.run, (g.next_cell, g.is_goal, g.starts, 0, 0.05, 0.9, 0.9, 20, ep.uniform_edges(20, 10), 500),
                          (q, log), 2, workers=1)
         assert (log[0, :, :g.n_agents] >= 1).all() and np.abs(q).sum() > 0
 

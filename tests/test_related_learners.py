@@ -20,7 +20,7 @@ from glamas.paths import REPO
 
 ALPHA, GAMMA = 0.5, 0.9
 SMALL = rw.RelatedWorkConfig(gridworld=gw.GridworldConfig(learners=("independent", "mmdp"), episodes=400,
-                                                          runs=2, bin_size=100), cq_solo_episodes=50)
+                                                          runs=2, bins=20), cq_solo_episodes=50)
 
 
 # --- sparse tabular MAQ ------------------------------------------------------------------------

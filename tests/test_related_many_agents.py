@@ -129,7 +129,7 @@ def test_an_agent_entering_the_goal_has_no_future_term(tables):
 def test_two_agent_pairs_are_the_two_agent_learner_bit_for_bit():
     g = tunnel_to_goal()
     index = sparse_maq.coordination_index(g, 2)
-    world, rest = (g.next_cell, g.is_goal, g.starts, 0), (0.05, 0.9, 0.9, 300, 100, 10_000)
+    world, rest = (g.next_cell, g.is_goal, g.starts, 0), (0.05, 0.9, 0.9, 300, ep.uniform_edges(300, 100), 10_000)
     q1, q2 = np.zeros((2, 2, 25, 4)), np.zeros((2, 2, 25, 4))
     shape = sparse_maq.new_joint_table(index).shape
     joint, pairs = np.zeros((2,) + shape), np.zeros((2, 1) + shape)
@@ -159,7 +159,7 @@ def test_cq_marks_with_many_agents_pair_an_agent_with_a_near_agent():
     q, log = np.zeros((1, n, c, 4)), np.zeros((1, 4, ep.n_columns(n)))
     q_aug, marked = (table[None] for table in cq.new_augmented_tables(c, n))
     runs.run_batches(cq.run, (g.next_cell, g.is_goal, g.starts, 0, g.n_cols, 0.05, 0.9, 0.9, 30,
-                              cq.t_critical_values(58, 0.05), 200, 400, 100, 1000), (q, q_aug, marked, log), 2,
+                              cq.t_critical_values(58, 0.05), 200, 400, ep.uniform_edges(400, 100), 1000), (q, q_aug, marked, log), 2,
                      workers=runs.Threads(1))
     own, other = np.nonzero(marked[0].any(axis=0))
     assert own.size > 0 and (log[0, :, ep.column(n, ep.COORDINATIONS)] > 0).any()

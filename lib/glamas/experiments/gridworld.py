@@ -28,6 +28,8 @@ LABELS = {"independent": "independent Q-learners", "joint_state": "joint-state l
           "mmdp": "MMDP learner", "two_observe": "2observe",
           # the related-work learners of glamas.experiments.related_work, drawn by the same plots
           "sparse_maq": "sparse tabular MAQ", "cq": "CQ-learning"}
+DELTA_SCALES = ("cells", "unit")
+"""How 2observe's GLA context holds delta (GridworldConfig.gla_delta_scale)."""
 _MODULES = {"independent": independent, "joint_state": joint_state, "mmdp": mmdp,
             "two_observe": two_observe}
 
@@ -44,8 +46,9 @@ class GridworldConfig:
     """Episodes ("iterations": until both agents are in the goal) per run (Sec. 5.3)."""
     runs: int = 20
     """Independent runs averaged (not stated in the chapter)."""
-    bin_size: int = 500
-    """Episodes averaged into one point of the learning curves; must divide ``episodes``."""
+    bins: int = 200
+    """Points of the learning curves: blocks of episodes with log-spaced ends (the first blocks
+    one episode wide), so that learning in the first episodes is resolved (glamas.learners.episode)."""
     q_learning_rate: float = 0.05
     """alpha of eq. 11 for every Q-learner (Sec. 5.3)."""
     q_initial: float = 0.0
@@ -64,15 +67,24 @@ class GridworldConfig:
     """T of eq. 15 for 2observe's GLAs (not stated for this experiment; Sec. 4.2 uses 0.5)."""
     gla_K: float = 1.0
     """K of eq. 13 (not stated for this experiment; Sec. 4.2 uses 1)."""
-    gla_L: float = 1.0
-    """L of eq. 14 (not stated for this experiment; Sec. 4.2 uses 1)."""
+    gla_L: float = 8.0
+    """L of eq. 14 (not stated for this experiment). Sec. 4.2's L = 1 bounds parameters for inputs
+    in [-1, 1]; here delta runs to 8 (the largest distance on TunnelToGoal), and L = 1 x 8 lets
+    u.x draw a sharp boundary at any distance the map has."""
     gla_bounding: str = "clip"
     """h of eq. 14: 'clip' or 'printed' (see glamas.gla)."""
     gla_init_range: float = 1.0
     """GLA parameters start uniform in [-gla_init_range, gla_init_range] ("initialised randomly")."""
+    gla_delta_scale: str = "cells"
+    """The GLA context [delta, 1]: delta in 'cells', or 'unit' (divided by the map's largest
+    distance, into [0, 1] like Sec. 4's inputs)."""
+    gla_need: str = "in_range"
+    """What "need to coordinate" means in Fig. 10 (lost): 'in_range', the agents could collide this
+    step (Sec. 5.1: within each other's range of interference); 'sampled', their preferred actions
+    would collide; 'outcome', they collided (glamas.learners.two_observe)."""
     gla_feedback: tuple = ((1.0, 0.0), (0.0, 1.0))
-    """Fig. 10 (lost), reconstructed: feedback[choice][collision coming], choice 0 = act alone,
-    1 = coordinate; "collision coming" = the agents' preferred actions would collide."""
+    """Fig. 10 (lost), reconstructed: feedback[choice][need], choice 0 = act alone, 1 = coordinate:
+    1 for the right choice, 0 for the wrong one."""
     coordination_penalty_per_cell: float = 0.1
     """Added feedback -this * delta when both coordinated without need (Sec. 5.3's 0 - delta/10)."""
     rule_distance: int | None = None
@@ -80,10 +92,7 @@ class GridworldConfig:
     in the chapter, replacing the GLAs by the fixed rule "coordinate when delta < d"."""
 
     def __post_init__(self):
-        checks.whole_numbers(self, {"episodes": 1, "runs": 1, "bin_size": 1, "max_steps": 1})
-        if self.episodes % self.bin_size:
-            raise ValueError(f"bin_size ({self.bin_size}) must divide episodes ({self.episodes}); "
-                             "choose a bin size such as 500 that divides the episode count")
+        checks.whole_numbers(self, {"episodes": 1, "runs": 1, "bins": 1, "max_steps": 1})
         learners = tuple(self.learners)
         if not learners or len(set(learners)) != len(learners) or not set(learners) <= set(LEARNERS):
             raise ValueError(f"learners must be distinct names from {LEARNERS}, got {self.learners!r}")
@@ -100,11 +109,15 @@ class GridworldConfig:
         table = np.array(self.gla_feedback, dtype=float) if _is_table(self.gla_feedback) else None
         if table is None or table.shape != (2, 2) or not np.isfinite(table).all():
             raise ValueError("gla_feedback must be a 2x2 table of numbers, rows = (act alone, "
-                             f"coordinate), columns = (no collision coming, collision coming); got {self.gla_feedback!r}")
+                             f"coordinate), columns = (no need, need); got {self.gla_feedback!r}")
         object.__setattr__(self, "gla_feedback", tuple(tuple(float(v) for v in row) for row in table))
         if not (isinstance(self.coordination_penalty_per_cell, (int, float)) and self.coordination_penalty_per_cell >= 0):
             raise ValueError("coordination_penalty_per_cell must be a number >= 0, "
                              f"got {self.coordination_penalty_per_cell!r}")
+        if self.gla_need not in two_observe.NEEDS:
+            raise ValueError(f"gla_need must be one of {sorted(two_observe.NEEDS)}, got {self.gla_need!r}")
+        if self.gla_delta_scale not in DELTA_SCALES:
+            raise ValueError(f"gla_delta_scale must be one of {sorted(DELTA_SCALES)}, got {self.gla_delta_scale!r}")
         if self.rule_distance is not None:
             checks.whole_numbers(self, {"rule_distance": 0})
         gridmap = self.gridmap()
@@ -120,9 +133,19 @@ class GridworldConfig:
         return gla.GLAParams(learning_rate=self.gla_learning_rate, temperature=self.gla_temperature,
                              K=self.gla_K, L=self.gla_L, bounding=self.gla_bounding)
 
-    @property
-    def n_bins(self) -> int:
-        return self.episodes // self.bin_size
+    def edges(self) -> np.ndarray:
+        """The learning curves' block edges (glamas.learners.episode.log_edges)."""
+        return ep.log_edges(self.episodes, self.bins)
+
+    def delta_scale(self) -> float:
+        """What the GLA context multiplies delta by (``gla_delta_scale``) on this map."""
+        return delta_scale(self.gla_delta_scale, self.gridmap())
+
+
+def delta_scale(mode: str, gridmap: GridMap) -> float:
+    """The factor of delta in 2observe's GLA context: 1 for 'cells', one over the map's largest
+    Manhattan distance for 'unit'."""
+    return 1.0 if mode == "cells" else 1.0 / (gridmap.n_rows + gridmap.n_cols - 2)
 
 
 def _check_unit(config, name):
@@ -152,11 +175,15 @@ class GridworldResult:
     """int (n_learners, 3): (tables, states, actions) of each learner's final Q tables."""
     gla_parameters: np.ndarray
     """(runs, agents, 2 actions, 2 inputs): 2observe's final GLA parameters (zeros if not run)."""
-    coming_counts: np.ndarray
-    """(runs, deltas, 2): 2observe's observed steps per distance delta without / with a
-    collision coming (zeros if not run)."""
+    need_counts: np.ndarray
+    """(runs, deltas, 2): 2observe's observed steps per distance delta without / with need
+    (``gla_need``; zeros if not run)."""
     episodes: np.ndarray
     """int (bins,): the episode count at the end of each block (the curves' x axis)."""
+
+    def widths(self) -> np.ndarray:
+        """int (bins,): episodes per block."""
+        return np.diff(self.episodes, prepend=0)
 
     def names(self) -> list[str]:
         return [LEARNERS[k] for k in self.learners]
@@ -184,33 +211,34 @@ def run(config: GridworldConfig = GridworldConfig(), seed: int = 0, workers=None
     """
     gridmap = config.gridmap()
     n = len(config.learners)
-    log = np.zeros((n, config.runs, config.n_bins, ep.N_COLUMNS))
+    edges = config.edges()
+    log = np.zeros((n, config.runs, edges.size - 1, ep.N_COLUMNS))
     shapes = np.zeros((n, 3), dtype=np.int64)
     u = np.zeros((config.runs,) + two_observe.new_gla_parameters(gridmap.n_agents).shape)
-    coming = np.zeros((config.runs,) + two_observe.new_coming_counts(gridmap.n_rows, gridmap.n_cols).shape)
+    needs = np.zeros((config.runs,) + two_observe.new_need_counts(gridmap.n_rows, gridmap.n_cols).shape)
     for k, name in enumerate(config.learners):
         q = np.stack([_MODULES[name].new_tables(gridmap.n_cells, gridmap.n_agents)] * config.runs)
         q[:] = config.q_initial
         inputs = _kernel_inputs(name, config, gridmap)
-        outputs = (q, u, coming, log[k]) if name == "two_observe" else (q, log[k])
+        outputs = (q, u, needs, log[k]) if name == "two_observe" else (q, log[k])
         label = None if progress is None else f"{progress}: {name}"
         runs.run_batches(_MODULES[name].run, inputs, outputs, len(LEARNERS) * seed + LEARNERS.index(name), workers=workers, progress=label)
         shapes[k] = q.shape[1:]
     codes = np.array([LEARNERS.index(name) for name in config.learners], dtype=np.int64)
-    episodes = np.arange(1, config.n_bins + 1, dtype=np.int64) * config.bin_size
     return GridworldResult(learners=codes, log=log, table_shapes=shapes, gla_parameters=u,
-                           coming_counts=coming, episodes=episodes)
+                           need_counts=needs, episodes=edges[1:])
 
 
 def _kernel_inputs(name: str, config: GridworldConfig, gridmap: GridMap) -> tuple:
     world = (gridmap.next_cell, gridmap.is_goal, gridmap.starts, BOUNCE_MODES[config.bounce])
     learning = (config.q_learning_rate, config.discount, config.exploit_prob)
-    schedule = (config.episodes, config.bin_size, config.max_steps)
+    schedule = (config.episodes, config.edges(), config.max_steps)
     if name != "two_observe":
         return world + learning + schedule
     p = config.gla_params()
     automata = (p.learning_rate, p.temperature, p.K, p.L, p.bounding_code, float(config.gla_init_range),
                 np.array(config.gla_feedback), float(config.coordination_penalty_per_cell),
+                two_observe.NEEDS[config.gla_need], config.delta_scale(),
                 -1 if config.rule_distance is None else config.rule_distance)
     return world + (gridmap.n_cols,) + learning + automata + schedule
 
@@ -219,36 +247,71 @@ FINAL_FRACTION = 0.1
 """The "final" value of a curve is its mean over the last 10 % of the episodes."""
 CONVERGENCE_TOLERANCE = 0.05
 """A learner has converged once its mean steps curve stays within 5 % of its final value."""
+BOOTSTRAP_DRAWS = 2000
+"""Resamples of the runs behind the 95 % interval of a convergence ratio."""
 
 
-def final(curves: np.ndarray) -> float:
-    """Mean over runs and over the last FINAL_FRACTION of the blocks."""
-    n = max(1, int(round(curves.shape[1] * FINAL_FRACTION)))
-    return float(curves[:, -n:].mean())
+def final(curves: np.ndarray, episodes: np.ndarray) -> float:
+    """Mean over runs and over the last FINAL_FRACTION of the episodes: each block (ending at
+    ``episodes``) weighted by how many of its episodes lie in that last part."""
+    starts = np.concatenate([[0], episodes[:-1]])
+    cut = episodes[-1] * (1.0 - FINAL_FRACTION)
+    weights = np.clip(episodes - np.maximum(starts, cut), 0, None)
+    return float(curves.mean(axis=0) @ weights / weights.sum())
 
 
 def convergence_episode(curves: np.ndarray, episodes: np.ndarray) -> float:
     """The episode after which the run-mean curve stays within CONVERGENCE_TOLERANCE of its
     final value: the end of the last block outside it (0 if none is)."""
-    target = final(curves)
+    target = final(curves, episodes)
     outside = np.flatnonzero(np.abs(curves.mean(axis=0) - target) > CONVERGENCE_TOLERANCE * abs(target))
     return float(episodes[outside[-1]]) if outside.size else 0.0
+
+
+def convergence_ratio(curves: np.ndarray, baseline: np.ndarray, episodes: np.ndarray,
+                      seed: int = 0) -> tuple[float, float, float]:
+    """The ratio of the convergence episodes of ``curves`` and ``baseline`` (runs, blocks), with
+    a 95 % bootstrap interval: runs resampled with replacement, each learner on its own."""
+    draws = np.random.default_rng(seed)
+    ratios = np.empty(BOOTSTRAP_DRAWS)
+    for k in range(BOOTSTRAP_DRAWS):
+        a = curves[draws.integers(0, curves.shape[0], curves.shape[0])]
+        b = baseline[draws.integers(0, baseline.shape[0], baseline.shape[0])]
+        ratios[k] = convergence_episode(a, episodes) / max(convergence_episode(b, episodes), 1.0)
+    point = convergence_episode(curves, episodes) / max(convergence_episode(baseline, episodes), 1.0)
+    low, high = np.percentile(ratios, [2.5, 97.5])
+    return point, float(low), float(high)
+
+
+def _decided_ratio(m: dict, key: str, ratio: tuple[float, float, float]) -> None:
+    """Store ``ratio``'s point value under ``key`` when its interval excludes 1, else NaN with the
+    reason (the claim is then undecidable: the runs' spread cannot order the two learners)."""
+    point, low, high = ratio
+    m[f"{key}_low"], m[f"{key}_high"] = low, high
+    if low <= 1.0 <= high:
+        m[key] = math.nan
+        m[f"{key}:why_undecidable"] = (f"ratio {point:.2f}, but its 95 % interval over runs "
+                                       f"[{low:.2f}, {high:.2f}] contains 1")
+    else:
+        m[key] = point
 
 
 def measure(result: GridworldResult) -> dict:
     """The numbers the chapter's claims are about (data/chapter/section5.json), per learner and compared."""
     m = {}
+    x = result.episodes
     for name in result.names():
-        m[f"steps_{name}"] = final(result.steps(name))
-        m[f"reward_{name}"] = final(result.reward(name))
-        m[f"collisions_{name}"] = final(result.curves(name, ep.COLLISIONS))
-        m[f"coordinations_{name}"] = final(result.curves(name, ep.COORDINATIONS))
-        m[f"convergence_{name}"] = convergence_episode(result.steps(name), result.episodes)
-        m[f"capped_episodes_{name}"] = float(result.curves(name, ep.CAPPED).sum(axis=1).mean() * result.episodes[0])
+        m[f"steps_{name}"] = final(result.steps(name), x)
+        m[f"reward_{name}"] = final(result.reward(name), x)
+        m[f"collisions_{name}"] = final(result.curves(name, ep.COLLISIONS), x)
+        m[f"coordinations_{name}"] = final(result.curves(name, ep.COORDINATIONS), x)
+        m[f"convergence_{name}"] = convergence_episode(result.steps(name), x)
+        m[f"capped_episodes_{name}"] = float(result.curves(name, ep.CAPPED).mean(axis=0) @ result.widths())
     if {"two_observe", "independent", "mmdp"} <= set(result.names()):
         for base in ("independent", "mmdp"):
             m[f"steps_two_observe_minus_{base}"] = m["steps_two_observe"] - m[f"steps_{base}"]
-            m[f"convergence_two_observe_over_{base}"] = m["convergence_two_observe"] / m[f"convergence_{base}"]
+            _decided_ratio(m, f"convergence_two_observe_over_{base}",
+                           convergence_ratio(result.steps("two_observe"), result.steps(base), x))
         m["reward_two_observe_over_mmdp"] = m["reward_two_observe"] / m["reward_mmdp"]
         m["reward_two_observe_minus_independent"] = m["reward_two_observe"] - m["reward_independent"]
         m["collisions_independent_off_3"] = abs(m["collisions_independent"] - 3.0)
@@ -275,7 +338,7 @@ def with_learner(result: GridworldResult, other: GridworldResult, name: str) -> 
     k, j = result.names().index(name), other.names().index(name)
     log = result.log.copy()
     log[k] = other.log[j]
-    extra = {"gla_parameters": other.gla_parameters, "coming_counts": other.coming_counts} if name == "two_observe" else {}
+    extra = {"gla_parameters": other.gla_parameters, "need_counts": other.need_counts} if name == "two_observe" else {}
     return replace(result, log=log, **extra)
 
 
@@ -316,7 +379,7 @@ def coordination_probability(result: GridworldResult, config: GridworldConfig, d
     for r in range(u.shape[0]):
         for i in range(u.shape[1]):
             for d, delta in enumerate(deltas):
-                gla.boltzmann(u[r, i], np.array([float(delta), 1.0]), p.temperature, p.L,
+                gla.boltzmann(u[r, i], np.array([delta * config.delta_scale(), 1.0]), p.temperature, p.L,
                               p.bounding_code, probs)
                 out[r, i, d] = probs[two_observe.COORDINATE]
     return out
@@ -330,10 +393,10 @@ def optimum(config: GridworldConfig) -> dict:
             "collisions": float(episode.collisions)}
 
 
-def collision_coming_probability(result: GridworldResult) -> np.ndarray:
-    """P(collision coming | delta) over 2observe's observed steps, pooled over runs (NaN where a
-    distance never occurred): coordinating pays under the default feedback only where it is > 1/2."""
-    counts = result.coming_counts.sum(axis=0)
+def need_probability(result: GridworldResult) -> np.ndarray:
+    """P(need | delta) over 2observe's observed steps, pooled over runs (NaN where a distance
+    never occurred): under the symmetric table, coordinating pays where it is above 1/2."""
+    counts = result.need_counts.sum(axis=0)
     seen = counts.sum(axis=1)
     with np.errstate(invalid="ignore", divide="ignore"):
         return np.where(seen > 0, counts[:, 1] / seen, np.nan)
@@ -391,31 +454,37 @@ def plot_variants(ax, results: dict, metric: str, learner: str = "two_observe"):
     ax.legend(fontsize="small")
 
 
+NEED_LABELS = {"in_range": "could collide this step", "sampled": "preferred actions would collide",
+               "outcome": "collided this step"}
+"""What "need" means under each reading of Fig. 10, in words."""
+
+
 def plot_feedback_table(ax, config: GridworldConfig):
     """Fig. 10 (lost, reconstructed): the GLA feedback actually used."""
     f, c = config.gla_feedback, config.coordination_penalty_per_cell
     cells = [[f"{f[0][0]:g}", f"{f[0][1]:g}"],
              [f"{f[1][0]:g}  ({f[1][0]:g} - {c:g}·δ if both coordinate)", f"{f[1][1]:g}"]]
     ax.axis("off")
+    need = NEED_LABELS[config.gla_need]
     table = ax.table(cellText=cells, rowLabels=["act alone", "coordinate"],
-                     colLabels=["no collision coming", "collision coming"], loc="center", cellLoc="center")
+                     colLabels=[f"no need (not: {need})", f"need ({need})"], loc="center", cellLoc="center")
     table.scale(1, 2)
-    ax.set_title("2observe GLA feedback (Fig. 10, reconstructed)")
+    ax.set_title(f"2observe GLA feedback (Fig. 10, reconstructed; need = {config.gla_need})")
 
 
 def plot_coordination_probability(ax, result, config: GridworldConfig):
     """What 2observe's GLAs learned: P(coordinate | delta) of each final GLA (faint) and their
-    mean, against the "coordinate when closer than 2" rule of the later papers, with the observed
-    P(collision coming | delta) that the GLA's feedback depends on."""
-    deltas = np.arange(1, result.coming_counts.shape[1])  # two acting agents are never at distance 0
+    mean, against the rule "coordinate when the agents could collide this step" (delta <= 2 on a
+    4-connected grid), with the observed P(need | delta) that the GLA's feedback depends on."""
+    deltas = np.arange(1, result.need_counts.shape[1])  # two acting agents are never at distance 0
     p = coordination_probability(result, config, deltas)
     for curve in p.reshape(-1, deltas.size):
         ax.plot(deltas, curve, color="tab:blue", alpha=0.15, linewidth=0.8)
     ax.plot(deltas, p.mean(axis=(0, 1)), "o-", color="tab:blue", label="P(coordinate), learned (mean of the GLAs)")
-    ax.step(deltas, (deltas < 2).astype(float), where="mid", color="black", linestyle="--",
-            label="coordinate when delta < 2")
-    ax.plot(deltas, collision_coming_probability(result)[1:], "s:", color="tab:red",
-            label="P(collision coming), observed")
+    ax.step(deltas, (deltas <= 2).astype(float), where="mid", color="black", linestyle="--",
+            label="coordinate when delta <= 2 (could collide)")
+    ax.plot(deltas, need_probability(result)[1:], "s:", color="tab:red",
+            label=f"P(need | delta), observed ({config.gla_need})")
     ax.set_xlabel("delta (Manhattan distance between the agents)")
     ax.set_ylabel("probability")
     ax.set_ylim(-0.03, 1.03)
@@ -435,8 +504,7 @@ def figure_main(name: str, description: str, argv=None) -> list[Path]:
     result (from --results when this configuration already ran, else run it), draw, save."""
     parser = cli.figure_parser(description, runs=GridworldConfig.runs, iterations=GridworldConfig.episodes)
     args = cli.parse(parser, argv)
-    config = GridworldConfig(runs=args.runs, episodes=args.iterations,
-                             bin_size=math.gcd(args.iterations, GridworldConfig.bin_size))
+    config = GridworldConfig(runs=args.runs, episodes=args.iterations)
     fig, ax = new_figure(6.0, 2.2 if name == "fig10" else 4.0)
     if name == "fig10":
         plot_feedback_table(ax, config)

@@ -8,7 +8,6 @@ same seeds); the related-work learners draw their streams from master seeds of t
 adding them changes nothing of the chapter's experiment.
 """
 
-import math
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -104,14 +103,15 @@ def run(config: RelatedWorkConfig = RelatedWorkConfig(), seed: int = 0, workers=
     gridmap = base.gridmap()
     n_cells, n_agents = gridmap.n_cells, gridmap.n_agents
     n = len(config.learners)
-    log = np.zeros((n, base.runs, base.n_bins, ep.N_COLUMNS))
+    edges = base.edges()
+    log = np.zeros((n, base.runs, edges.size - 1, ep.N_COLUMNS))
     shapes = np.zeros((n, 3), dtype=np.int64)
     joint = np.zeros((n, base.runs))
     samples = np.zeros(n, dtype=np.int64)
     marked = np.zeros((base.runs, n_agents, n_cells, n_cells), dtype=np.bool_)
     world = (gridmap.next_cell, gridmap.is_goal, gridmap.starts, BOUNCE_MODES[base.bounce])
     learning = (base.q_learning_rate, base.discount, base.exploit_prob)
-    schedule = (base.episodes, base.bin_size, base.max_steps)
+    schedule = (base.episodes, edges, base.max_steps)
     for j, name in enumerate(config.learners):
         q = np.full((base.runs,) + _MODULES[name].new_tables(n_cells, n_agents).shape, base.q_initial)
         label = None if progress is None else f"{progress}: {name}"
@@ -140,7 +140,7 @@ def run(config: RelatedWorkConfig = RelatedWorkConfig(), seed: int = 0, workers=
         learners=np.concatenate([chapter_result.learners, codes]),
         log=np.concatenate([chapter_result.log, log]),
         table_shapes=np.concatenate([chapter_result.table_shapes, shapes]),
-        gla_parameters=chapter_result.gla_parameters, coming_counts=chapter_result.coming_counts,
+        gla_parameters=chapter_result.gla_parameters, need_counts=chapter_result.need_counts,
         episodes=chapter_result.episodes,
         local_entries=np.array(chapter_local + [float(n_cells * rules.N_ACTIONS)] * n),
         joint_entries=np.concatenate([np.array(chapter_joint).reshape(-1, base.runs), joint]),
@@ -278,8 +278,7 @@ def figure_main(name: str, description: str, argv=None) -> list[Path]:
     (from --results when this configuration already ran, else run it), draw, save."""
     parser = cli.figure_parser(description, runs=gw.GridworldConfig.runs, iterations=gw.GridworldConfig.episodes)
     args = cli.parse(parser, argv)
-    base = gw.GridworldConfig(learners=CHAPTER_LEARNERS, runs=args.runs, episodes=args.iterations,
-                              bin_size=math.gcd(args.iterations, gw.GridworldConfig.bin_size))
+    base = gw.GridworldConfig(learners=CHAPTER_LEARNERS, runs=args.runs, episodes=args.iterations)
     config = RelatedWorkConfig(gridworld=base)
     result = cli.load_or_run(args, RESULT_NAME, config, run, RelatedWorkResult)
     fig, ax = new_figure(6.0, 4.0)

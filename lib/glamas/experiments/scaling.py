@@ -27,10 +27,10 @@ import numpy as np
 from glamas import claims as chapter
 from glamas import cli, runs
 from glamas.experiments import checks
-from glamas.experiments.gridworld import GridworldConfig, convergence_episode, final
+from glamas.experiments.gridworld import GridworldConfig, convergence_episode, delta_scale, final
 from glamas.gridworld import BOUNCE_MODES, GridMap, load_map, rules
 from glamas.learners import episode as ep
-from glamas.learners import cq, group_observe, independent, joint_state, mmdp, sparse_maq
+from glamas.learners import cq, group_observe, independent, joint_state, mmdp, sparse_maq, two_observe
 from glamas.paths import MAPS
 from glamas.plotting import new_figure, plot_mean_band, save_figure
 
@@ -134,6 +134,10 @@ class ScalingConfig:
     @property
     def n_bins(self) -> int:
         return self.episodes // self.bin_size
+
+    def edges(self) -> np.ndarray:
+        """The learning curves' blocks: ``bin_size`` episodes each."""
+        return ep.uniform_edges(self.episodes, self.bin_size)
 
 
 def table_shape(method: str, n_cells: int, n_agents: int) -> tuple:
@@ -272,17 +276,18 @@ def train(config: ScalingConfig, gridmap: GridMap, method: str, master_seed: int
     log = np.zeros((config.runs, config.n_bins, ep.n_columns(n)))
     world = (gridmap.next_cell, gridmap.is_goal, gridmap.starts, BOUNCE_MODES[c.bounce])
     learning = (c.q_learning_rate, c.discount, c.exploit_prob)
-    schedule = (config.episodes, config.bin_size, c.max_steps)
+    schedule = (config.episodes, config.edges(), c.max_steps)
     if method in ("two_observe", "two_observe_rule"):
         p = c.gla_params()
         rule = config.rule_distance if method == "two_observe_rule" else (
             -1 if c.rule_distance is None else c.rule_distance)
         automata = (p.learning_rate, p.temperature, p.K, p.L, p.bounding_code, float(c.gla_init_range),
-                    np.array(c.gla_feedback), float(c.coordination_penalty_per_cell), rule)
+                    np.array(c.gla_feedback), float(c.coordination_penalty_per_cell),
+                    two_observe.NEEDS[c.gla_need], delta_scale(c.gla_delta_scale, gridmap), rule)
         inputs = world + (gridmap.n_cols,) + learning + automata + schedule
         u = np.zeros((config.runs,) + group_observe.new_gla_parameters(n).shape)
-        coming = np.zeros((config.runs,) + group_observe.new_coming_counts(gridmap.n_rows, gridmap.n_cols).shape)
-        outputs = (q, u, coming, log)
+        needs = np.zeros((config.runs,) + group_observe.new_need_counts(gridmap.n_rows, gridmap.n_cols).shape)
+        outputs = (q, u, needs, log)
     else:
         inputs, outputs = world + learning + schedule, (q, log)
     runs.run_batches(_MODULES[method].run, inputs, outputs, master_seed, workers=workers, progress=label)
@@ -299,7 +304,7 @@ def train_related(config: ScalingConfig, gridmap: GridMap, method: str, master_s
     log = np.zeros((config.runs, config.n_bins, ep.n_columns(n)))
     world = (gridmap.next_cell, gridmap.is_goal, gridmap.starts, BOUNCE_MODES[c.bounce], gridmap.n_cols)
     learning = (c.q_learning_rate, c.discount, c.exploit_prob)
-    schedule = (config.episodes, config.bin_size, c.max_steps)
+    schedule = (config.episodes, config.edges(), c.max_steps)
     if method == "sparse_maq":
         index = sparse_maq.pair_coordination_index(gridmap, config.coordination_distance)
         q_pairs = np.full((config.runs,) + sparse_maq.new_pair_tables(index, n).shape, c.q_initial)
@@ -350,11 +355,11 @@ def measure(result: ScalingResult) -> dict:
             m[f"parameters_{method}_{n}"] = float(params[k, j])
             if not result.ran[k, j]:
                 continue
-            m[f"steps_{method}_{n}"] = final(result.curves(method, n, STEPS))
-            m[f"reward_{method}_{n}"] = final(result.curves(method, n, REWARD))
-            m[f"collisions_{method}_{n}"] = final(result.curves(method, n, COLLISIONS))
-            m[f"coordinations_{method}_{n}"] = final(result.curves(method, n, COORDINATIONS))
-            m[f"capped_{method}_{n}"] = final(result.curves(method, n, CAPPED))
+            m[f"steps_{method}_{n}"] = final(result.curves(method, n, STEPS), result.episodes)
+            m[f"reward_{method}_{n}"] = final(result.curves(method, n, REWARD), result.episodes)
+            m[f"collisions_{method}_{n}"] = final(result.curves(method, n, COLLISIONS), result.episodes)
+            m[f"coordinations_{method}_{n}"] = final(result.curves(method, n, COORDINATIONS), result.episodes)
+            m[f"capped_{method}_{n}"] = final(result.curves(method, n, CAPPED), result.episodes)
             m[f"convergence_{method}_{n}"] = convergence_episode(result.curves(method, n, STEPS), result.episodes)
         fit = growth(ran_at, [params[k, list(result.agents).index(n)] for n in ran_at])
         m[f"growth_factor_{method}"] = fit["factor_per_agent"]

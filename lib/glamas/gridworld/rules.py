@@ -127,6 +127,27 @@ def would_collide(next_cell, is_goal, cells, done, actions, i, j):
 
 
 @njit(cache=True)
+def could_collide(next_cell, is_goal, a, b):
+    """Whether two acting agents on cells ``a`` and ``b`` could collide in this step: some joint
+    action of theirs makes them target the same non-goal cell (a bump targets its own cell) or
+    swap cells. On a 4-connected grid this needs a Manhattan distance of at most 2, and a wall
+    between them can rule it out.
+
+    This is 2observe's "within each other's range of interference" (Section 5.1), computed from
+    the rules and the map; it does not depend on what the agents then choose.
+    """
+    for action_a in range(N_ACTIONS):
+        target_a = next_cell[a, action_a]
+        for action_b in range(N_ACTIONS):
+            target_b = next_cell[b, action_b]
+            if target_a == target_b and not is_goal[target_a]:
+                return True
+            if target_a == b and target_b == a:
+                return True
+    return False
+
+
+@njit(cache=True)
 def shared_reward(rewards, reached, all_done_after):
     """The MMDP learner's single reward for one step (Section 5.3).
 

@@ -194,7 +194,7 @@ def mark_if_conflict(q_aug, marked, q, s, other, r, baseline, recent, t_critical
 
 @njit(cache=True, nogil=True)
 def run(next_cell, is_goal, starts, bounce, n_cols, alpha, gamma, exploit, window, t_critical, solo_episodes,
-        n_episodes, bin_size, max_steps, q, q_aug, marked, log, state):
+        n_episodes, edges, max_steps, q, q_aug, marked, log, state):
     """One run: ``solo_episodes`` episodes alone per agent, then ``n_episodes`` episodes together;
     learns in ``q``, ``q_aug`` and ``marked``, writes the binned ``log`` of the joint episodes
     (COORDINATIONS: steps on which an agent acted on a marked joint state)."""
@@ -242,4 +242,4 @@ def run(next_cell, is_goal, starts, bounce, n_cols, alpha, gamma, exploit, windo
                                      summary[k, s, a], t_critical)
             t += 1
             ep.end_step(t, cells, done, new_cells, rewards, reached, collisions, acc)
-        ep.end_episode(log, episode, bin_size, acc, t, done)
+        ep.end_episode(log, episode, edges, acc, t, done)

@@ -2,8 +2,11 @@
 
 An episode (the chapter's "iteration", Section 5.3) starts with every agent on its start cell
 and ends when all agents are in the goal, or at the step cap. The per-episode measurements are
-averaged over blocks of ``bin_size`` episodes straight into ``log`` (one row per block), so a
-200,000-episode run stays small.
+averaged over blocks of episodes straight into ``log`` (one row per block), so a 200,000-episode
+run stays small. The blocks are given by their ``edges`` (block k holds the episodes
+``edges[k] <= episode < edges[k + 1]``): :func:`uniform_edges` for blocks of one size,
+:func:`log_edges` for blocks that start one episode wide and widen geometrically, so that the
+first episodes, where learning happens, are resolved as well as the last ones.
 
 The constants below are the columns for two agents (the chapter's case). With N agents a row has
 N steps columns, then N reward columns, then length, collisions, coordinations and capped
@@ -22,6 +25,18 @@ COORDINATIONS = 6  # steps on which both agents chose to coordinate (2observe on
 CAPPED = 7  # 1 when the episode hit the step cap
 N_COLUMNS = 8
 N_AGENTS = 2
+
+
+def uniform_edges(n_episodes: int, block: int) -> np.ndarray:
+    """Edges of blocks of ``block`` episodes (``block`` must divide ``n_episodes``)."""
+    return np.arange(0, n_episodes + 1, block, dtype=np.int64)
+
+
+def log_edges(n_episodes: int, blocks: int) -> np.ndarray:
+    """Edges of at most ``blocks`` blocks whose ends are log-spaced from episode 1 to
+    ``n_episodes`` (rounded; the first blocks one episode wide)."""
+    ends = np.unique(np.round(np.geomspace(1, n_episodes, blocks)).astype(np.int64))
+    return np.concatenate([np.zeros(1, np.int64), ends])
 
 
 @njit(cache=True)
@@ -84,14 +99,16 @@ def end_step(t, cells, done, new_cells, rewards, reached, collisions, acc):
 
 
 @njit(cache=True)
-def end_episode(log, episode, bin_size, acc, t, done):
-    """Close the episode after ``t`` steps and add its measurements to its block's mean."""
+def end_episode(log, episode, edges, acc, t, done):
+    """Close the episode after ``t`` steps and add its measurements to its block's mean (the
+    block of ``episode`` between its ``edges``)."""
     n = done.shape[0]
     acc[column(n, LENGTH)] = t
     for i in range(n):
         if not done[i]:
             acc[STEPS + i] = t
             acc[column(n, CAPPED)] = 1.0
-    row = episode // bin_size
+    row = np.searchsorted(edges, episode, side="right") - 1
+    width = edges[row + 1] - edges[row]
     for k in range(acc.shape[0]):
-        log[row, k] += acc[k] / bin_size
+        log[row, k] += acc[k] / width

@@ -13,14 +13,16 @@ three. For two agents this is the chapter's rule ("one agent, picked at random, 
 the other takes a random other action") and draws the very same random numbers as
 :func:`glamas.learners.two_observe.yield_at_random`.
 
-GLA feedback per agent i (Fig. 10, reconstructed: :func:`two_observe.gla_feedback`): "collision
-coming" means i's preferred action would collide with some other acting agent's preferred action;
-"both coordinated" means i and its nearest other agent both chose to coordinate (then the penalty
-``-penalty_per_cell * delta`` applies when no collision was coming for i).
+GLA feedback per agent i (Fig. 10, reconstructed: :func:`two_observe.gla_feedback`), with "need"
+read per agent (:data:`two_observe.NEEDS`): ``in_range``, i could collide with some other acting
+agent in this step; ``sampled``, i's preferred action would collide with some other acting agent's
+preferred action; ``outcome``, i collided in this step. "Both coordinated" means i and its nearest
+other agent both chose to coordinate (then the penalty ``-penalty_per_cell * delta`` applies when
+i had no need).
 
-With two agents, :func:`run` reproduces :func:`two_observe.run` exactly (same random numbers,
-same log, same GLA parameters); only ``coming_counts`` counts each observing agent, so twice per
-step. The log's coordinations column counts agent-steps coordinating with their nearest agent,
+With two agents, :func:`run` reproduces :func:`two_observe.run` exactly under every reading (same
+random numbers, same log, same GLA parameters); only ``need_counts`` counts each observing agent,
+so twice per step. The log's coordinations column counts agent-steps coordinating with their nearest agent,
 halved: for two agents, the steps on which both coordinated.
 """
 
@@ -31,19 +33,20 @@ from glamas import gla, rng
 from glamas.gridworld import rules
 from glamas.learners import episode as ep
 from glamas.learners.independent import new_tables  # the same state-action space as two agents
-from glamas.learners.two_observe import ACT_ALONE, COORDINATE, N_GLA_INPUTS, gla_feedback, new_gla_parameters
+from glamas.learners.two_observe import (ACT_ALONE, COORDINATE, N_GLA_INPUTS, NEED_IN_RANGE, NEED_OUTCOME,
+                                         NEED_SAMPLED, gla_feedback, new_gla_parameters)
 from glamas.qlearning import epsilon_greedy, q_update
 
-__all__ = ["coordinate_group", "nearest_others", "new_coming_counts", "new_gla_parameters",
+__all__ = ["coordinate_group", "nearest_others", "new_need_counts", "new_gla_parameters",
            "new_tables", "random_order", "run"]
 
 NOBODY = -1
 """``nearest`` of an agent that has no other acting agent to observe."""
 
 
-def new_coming_counts(n_rows: int, n_cols: int) -> np.ndarray:
-    """Room for the count of observing agent-steps per distance delta without / with a collision
-    coming for that agent, shape (deltas, 2)."""
+def new_need_counts(n_rows: int, n_cols: int) -> np.ndarray:
+    """Room for the count of observing agent-steps per distance delta without / with need for
+    that agent, shape (deltas, 2)."""
     return np.zeros((n_rows + n_cols - 1, 2))
 
 
@@ -84,6 +87,25 @@ def collision_coming(next_cell, is_goal, cells, done, preferred, i):
 
 
 @njit(cache=True)
+def in_range_of_any(next_cell, is_goal, cells, done, i):
+    """Whether acting agent i could collide with some other acting agent in this step."""
+    for j in range(cells.shape[0]):
+        if j != i and not done[j] and rules.could_collide(next_cell, is_goal, cells[i], cells[j]):
+            return True
+    return False
+
+
+@njit(cache=True)
+def need_of(need, next_cell, is_goal, cells, done, coming, collided, i):
+    """Agent i's need under reading ``need`` (module docstring); ``collided`` is the step's."""
+    if need == NEED_IN_RANGE:
+        return in_range_of_any(next_cell, is_goal, cells, done, i)
+    if need == NEED_SAMPLED:
+        return coming[i]
+    return need == NEED_OUTCOME and collided[i]
+
+
+@njit(cache=True)
 def coordinate_group(next_cell, is_goal, cells, done, choices, preferred, actions, order, kept, state):
     """Section 5.2's coordination for a group (module docstring): fill ``actions`` from the
     ``preferred`` ones; return how many coordinating agents were in a coming collision.
@@ -119,10 +141,10 @@ def coordinate_group(next_cell, is_goal, cells, done, choices, preferred, action
 
 @njit(cache=True, nogil=True)
 def run(next_cell, is_goal, starts, bounce, n_cols, alpha, gamma, exploit, gla_rate, temperature,
-        K, L, bounding, init_range, feedback_table, penalty_per_cell, rule_distance, n_episodes,
-        bin_size, max_steps, q, u, coming_counts, log, state):
+        K, L, bounding, init_range, feedback_table, penalty_per_cell, need, delta_scale,
+        rule_distance, n_episodes, edges, max_steps, q, u, need_counts, log, state):
     """One run of ``n_episodes`` episodes of Alg. 4 for N agents; learns in ``q`` and ``u``,
-    writes ``log`` (N-agent layout of glamas.learners.episode) and ``coming_counts``.
+    writes ``log`` (N-agent layout of glamas.learners.episode) and ``need_counts``.
 
     ``rule_distance`` >= 0 replaces the GLAs by the fixed rule "coordinate when delta <
     rule_distance" (a diagnostic; -1: the GLAs learn, as in Alg. 4).
@@ -136,6 +158,7 @@ def run(next_cell, is_goal, starts, bounce, n_cols, alpha, gamma, exploit, gla_r
     nearest = np.empty(n_agents, np.int64)
     deltas = np.empty(n_agents, np.int64)
     coming = np.empty(n_agents, np.bool_)
+    needed = np.empty(n_agents, np.bool_)
     order = np.empty(n_agents, np.int64)
     kept = np.empty(n_agents, np.bool_)
     probs = np.empty((n_agents, 2))
@@ -153,7 +176,7 @@ def run(next_cell, is_goal, starts, bounce, n_cols, alpha, gamma, exploit, gla_r
                 choices[i] = ACT_ALONE
                 if nearest[i] == NOBODY:
                     continue
-                x[i, 0] = deltas[i]
+                x[i, 0] = deltas[i] * delta_scale
                 if learn_first_level:
                     choices[i] = gla.act(u[i], x[i], temperature, L, bounding, probs[i], state)
                 elif deltas[i] < rule_distance:
@@ -166,13 +189,15 @@ def run(next_cell, is_goal, starts, bounce, n_cols, alpha, gamma, exploit, gla_r
             coordinate_group(next_cell, is_goal, cells, done, choices, preferred, actions, order, kept, state)
             paired = 0
             for i in range(n_agents):
-                if nearest[i] != NOBODY:
-                    coming_counts[deltas[i], 1 if coming[i] else 0] += 1
-                    if choices[i] == COORDINATE and choices[nearest[i]] == COORDINATE:
-                        paired += 1
+                if nearest[i] != NOBODY and choices[i] == COORDINATE and choices[nearest[i]] == COORDINATE:
+                    paired += 1
             acc[coordinations_column] += paired / 2
             collisions = rules.step(next_cell, is_goal, starts, bounce, cells, done, actions,
                                     new_cells, rewards, bumped, collided, reached)
+            for i in range(n_agents):
+                if nearest[i] != NOBODY:
+                    needed[i] = need_of(need, next_cell, is_goal, cells, done, coming, collided, i)
+                    need_counts[deltas[i], 1 if needed[i] else 0] += 1
             for i in range(n_agents):
                 if not done[i]:
                     q_update(q[i], cells[i], actions[i], rewards[i], new_cells[i], reached[i],
@@ -182,8 +207,8 @@ def run(next_cell, is_goal, starts, bounce, n_cols, alpha, gamma, exploit, gla_r
                     if nearest[i] == NOBODY:
                         continue
                     both = choices[i] == COORDINATE and choices[nearest[i]] == COORDINATE
-                    beta = gla_feedback(feedback_table, penalty_per_cell, choices[i], coming[i], both, deltas[i])
+                    beta = gla_feedback(feedback_table, penalty_per_cell, choices[i], needed[i], both, deltas[i])
                     gla.update(u[i], x[i], choices[i], beta, gla_rate, temperature, K, L, bounding, probs[i])
             t += 1
             ep.end_step(t, cells, done, new_cells, rewards, reached, collisions, acc)
-        ep.end_episode(log, episode, bin_size, acc, t, done)
+        ep.end_episode(log, episode, edges, acc, t, done)

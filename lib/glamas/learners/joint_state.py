@@ -16,7 +16,7 @@ def new_tables(n_cells: int, n_agents: int) -> np.ndarray:
 
 
 @njit(cache=True, nogil=True)
-def run(next_cell, is_goal, starts, bounce, alpha, gamma, exploit, n_episodes, bin_size, max_steps,
+def run(next_cell, is_goal, starts, bounce, alpha, gamma, exploit, n_episodes, edges, max_steps,
         q, log, state):
     """One run of ``n_episodes`` episodes; learns in ``q`` and writes the binned ``log``."""
     n_agents, n_cells = starts.shape[0], next_cell.shape[0]
@@ -37,4 +37,4 @@ def run(next_cell, is_goal, starts, bounce, alpha, gamma, exploit, n_episodes, b
                     q_update(q[i], s, actions[i], rewards[i], s_next, reached[i], alpha, gamma)
             t += 1
             ep.end_step(t, cells, done, new_cells, rewards, reached, collisions, acc)
-        ep.end_episode(log, episode, bin_size, acc, t, done)
+        ep.end_episode(log, episode, edges, acc, t, done)

@@ -22,7 +22,7 @@ def split_joint_action(joint, actions):
 
 
 @njit(cache=True, nogil=True)
-def run(next_cell, is_goal, starts, bounce, alpha, gamma, exploit, n_episodes, bin_size, max_steps,
+def run(next_cell, is_goal, starts, bounce, alpha, gamma, exploit, n_episodes, edges, max_steps,
         q, log, state):
     """One run of ``n_episodes`` episodes; learns in ``q[0]`` and writes the binned ``log``.
 
@@ -47,4 +47,4 @@ def run(next_cell, is_goal, starts, bounce, alpha, gamma, exploit, n_episodes, b
             q_update(table, s, joint, shared, joint_index(new_cells, n_cells), finished, alpha, gamma)
             t += 1
             ep.end_step(t, cells, done, new_cells, rewards, reached, collisions, acc)
-        ep.end_episode(log, episode, bin_size, acc, t, done)
+        ep.end_episode(log, episode, edges, acc, t, done)

@@ -132,7 +132,7 @@ def coordination_row(index, cells, n_cells):
 
 
 @njit(cache=True, nogil=True)
-def run(next_cell, is_goal, starts, bounce, index, alpha, gamma, exploit, n_episodes, bin_size,
+def run(next_cell, is_goal, starts, bounce, index, alpha, gamma, exploit, n_episodes, edges,
         max_steps, q, q_joint, log, state):
     """One run of ``n_episodes`` episodes; learns in ``q`` and ``q_joint``, writes the binned
     ``log`` (COORDINATIONS: steps taken in a coordination state, on a joint action)."""
@@ -165,7 +165,7 @@ def run(next_cell, is_goal, starts, bounce, index, alpha, gamma, exploit, n_epis
                 uncoordinated_to_uncoordinated(q, cells, done, actions, rewards, new_cells, reached, alpha, gamma)
             t += 1
             ep.end_step(t, cells, done, new_cells, rewards, reached, collisions, acc)
-        ep.end_episode(log, episode, bin_size, acc, t, done)
+        ep.end_episode(log, episode, edges, acc, t, done)
 
 
 # --- N agents: pairwise coordination (module docstring) ------------------------------------------
@@ -269,7 +269,7 @@ def learn_pairs(q, q_pairs, cells, done, actions, joint, rewards, new_cells, rea
 
 @njit(cache=True, nogil=True)
 def run_pairs(next_cell, is_goal, starts, bounce, n_cols, index, distance, alpha, gamma, exploit, n_episodes,
-              bin_size, max_steps, q, q_pairs, log, state):
+              edges, max_steps, q, q_pairs, log, state):
     """One run of ``n_episodes`` episodes of N agents with pairwise coordination; learns in ``q``
     and ``q_pairs``, writes the binned ``log`` (N-agent layout; COORDINATIONS: coordinating pairs
     summed over the steps)."""
@@ -296,4 +296,4 @@ def run_pairs(next_cell, is_goal, starts, bounce, n_cols, index, distance, alpha
                         partner_next, rows_next, alpha, gamma)
             t += 1
             ep.end_step(t, cells, done, new_cells, rewards, reached, collisions, acc)
-        ep.end_episode(log, episode, bin_size, acc, t, done)
+        ep.end_episode(log, episode, edges, acc, t, done)

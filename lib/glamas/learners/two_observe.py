@@ -2,6 +2,17 @@
 coordinate; the agents act on independent Q-learners over their own cells, and only when both
 chose to coordinate they check whether their preferred actions collide and, if so, one of them
 (picked at random) yields with a random other action (Section 5.2).
+
+The GLAs' feedback r_c (Fig. 10) is lost. It is rebuilt as ``table[choice, need]`` plus the
+chapter's ``0 - delta/10`` when both coordinated without need (Section 5.3), where "need" is one of
+three readings (``NEEDS``):
+
+* ``in_range`` (default): the agents could collide in this step, whatever they choose
+  (:func:`glamas.gridworld.rules.could_collide`). Section 5.1 has the GLA judge whether the agents
+  are within each other's range of interference, and the introduction asks for coordination only
+  when a collision is possible.
+* ``sampled``: the actions the agents' Q-learners prefer in this step would collide.
+* ``outcome``: a collision happened in this step.
 """
 
 import numpy as np
@@ -18,12 +29,18 @@ ACT_ALONE = 0
 COORDINATE = 1
 """GLA action: coordinate with the other agent this step."""
 N_GLA_INPUTS = 2
-"""The GLA context [delta, 1]: the agents' Manhattan distance and a bias input."""
+"""The GLA context [delta * delta_scale, 1]: the agents' Manhattan distance and a bias input."""
+
+NEED_IN_RANGE = 0
+NEED_SAMPLED = 1
+NEED_OUTCOME = 2
+NEEDS = {"in_range": NEED_IN_RANGE, "sampled": NEED_SAMPLED, "outcome": NEED_OUTCOME}
+"""The readings of Fig. 10's "need to coordinate" (module docstring), by name."""
 
 
-def new_coming_counts(n_rows: int, n_cols: int) -> np.ndarray:
+def new_need_counts(n_rows: int, n_cols: int) -> np.ndarray:
     """Room for the count of observed steps per distance delta (0 .. n_rows + n_cols - 2) without
-    and with a collision coming, shape (deltas, 2): what the GLA's feedback depends on."""
+    and with need, shape (deltas, 2): what the GLA's feedback depends on."""
     return np.zeros((n_rows + n_cols - 1, 2))
 
 
@@ -48,7 +65,8 @@ def first_level(next_cell, is_goal, cells, done, choices, preferred, actions, st
     """Alg. 4's if-branch for GLA ``choices`` and Q-preferred actions ``preferred``: fill
     ``actions``; return (collision coming, both coordinated).
 
-    "Collision coming" means the preferred actions would collide (rules.would_collide).
+    "Collision coming" means the preferred actions would collide (rules.would_collide): Section
+    5.2's check, made only when both chose to coordinate.
     """
     coming = rules.would_collide(next_cell, is_goal, cells, done, preferred, 0, 1)
     both = choices[0] == COORDINATE and choices[1] == COORDINATE
@@ -60,25 +78,36 @@ def first_level(next_cell, is_goal, cells, done, choices, preferred, actions, st
 
 
 @njit(cache=True)
-def gla_feedback(table, penalty_per_cell, choice, coming, both, delta):
-    """r_c of Alg. 4 (Fig. 10, reconstructed): table[choice, collision coming], minus
-    ``penalty_per_cell * delta`` when both coordinated without need (Section 5.3's 0 - delta/10)."""
-    beta = table[choice, 1 if coming else 0]
-    if both and not coming:
+def need_before_step(need, next_cell, is_goal, cells, i, j, coming):
+    """Agent i's need to coordinate with agent j under the readings decided before the move
+    (``in_range``, ``sampled``: ``coming`` is whether i's and j's preferred actions collide);
+    False for ``outcome``, which the move decides."""
+    if need == NEED_IN_RANGE:
+        return rules.could_collide(next_cell, is_goal, cells[i], cells[j])
+    return need == NEED_SAMPLED and coming
+
+
+@njit(cache=True)
+def gla_feedback(table, penalty_per_cell, choice, need, both, delta):
+    """r_c of Alg. 4 (Fig. 10, reconstructed): table[choice, need], minus ``penalty_per_cell *
+    delta`` when both coordinated without need (Section 5.3's 0 - delta/10)."""
+    beta = table[choice, 1 if need else 0]
+    if both and not need:
         beta -= penalty_per_cell * delta
     return beta
 
 
 @njit(cache=True, nogil=True)
 def run(next_cell, is_goal, starts, bounce, n_cols, alpha, gamma, exploit, gla_rate, temperature,
-        K, L, bounding, init_range, feedback_table, penalty_per_cell, rule_distance, n_episodes,
-        bin_size, max_steps, q, u, coming_counts, log, state):
+        K, L, bounding, init_range, feedback_table, penalty_per_cell, need, delta_scale,
+        rule_distance, n_episodes, edges, max_steps, q, u, need_counts, log, state):
     """One run of ``n_episodes`` episodes of Alg. 4; learns in ``q`` and ``u``, writes ``log``
-    and counts the observed steps per (delta, collision coming) in ``coming_counts``.
+    and counts the observed steps per (delta, need) in ``need_counts``.
 
-    When one agent is in the goal there is nobody to observe: the other acts on its Q alone and
-    the GLAs are not updated. ``rule_distance`` >= 0 replaces the GLAs by the fixed rule
-    "coordinate when delta < rule_distance" (a diagnostic; -1: the GLAs learn, as in Alg. 4).
+    ``need`` is a code of ``NEEDS``; the GLAs see ``[delta * delta_scale, 1]``. When one agent is
+    in the goal there is nobody to observe: the other acts on its Q alone and the GLAs are not
+    updated. ``rule_distance`` >= 0 replaces the GLAs by the fixed rule "coordinate when delta <
+    rule_distance" (a diagnostic; -1: the GLAs learn, as in Alg. 4).
     """
     learn_first_level = rule_distance < 0
     n_agents = starts.shape[0]
@@ -87,6 +116,7 @@ def run(next_cell, is_goal, starts, bounce, n_cols, alpha, gamma, exploit, gla_r
     preferred = np.empty(n_agents, np.int64)
     probs = np.empty((n_agents, 2))
     x = np.ones(N_GLA_INPUTS)
+    needed = False
     for i in range(n_agents):  # "initialised randomly" (Section 5.3)
         for j in range(2):
             for k in range(N_GLA_INPUTS):
@@ -98,7 +128,7 @@ def run(next_cell, is_goal, starts, bounce, n_cols, alpha, gamma, exploit, gla_r
             observing = not (done[0] or done[1])
             if observing:
                 delta = rules.manhattan(n_cols, cells[0], cells[1])
-                x[0] = delta
+                x[0] = delta * delta_scale
                 for i in range(n_agents):
                     if learn_first_level:
                         choices[i] = gla.act(u[i], x, temperature, L, bounding, probs[i], state)
@@ -108,7 +138,7 @@ def run(next_cell, is_goal, starts, bounce, n_cols, alpha, gamma, exploit, gla_r
                     preferred[i] = epsilon_greedy(q[i, cells[i]], exploit, state)
                 coming, both = first_level(next_cell, is_goal, cells, done, choices, preferred,
                                            actions, state)
-                coming_counts[delta, 1 if coming else 0] += 1
+                needed = need_before_step(need, next_cell, is_goal, cells, 0, 1, coming)
                 if both:
                     acc[ep.COORDINATIONS] += 1
             else:
@@ -117,14 +147,18 @@ def run(next_cell, is_goal, starts, bounce, n_cols, alpha, gamma, exploit, gla_r
                         actions[i] = epsilon_greedy(q[i, cells[i]], exploit, state)
             collisions = rules.step(next_cell, is_goal, starts, bounce, cells, done, actions,
                                     new_cells, rewards, bumped, collided, reached)
+            if observing:
+                if need == NEED_OUTCOME:
+                    needed = collisions > 0
+                need_counts[delta, 1 if needed else 0] += 1
             for i in range(n_agents):
                 if not done[i]:
                     q_update(q[i], cells[i], actions[i], rewards[i], new_cells[i], reached[i],
                              alpha, gamma)
             if observing and learn_first_level:
                 for i in range(n_agents):
-                    beta = gla_feedback(feedback_table, penalty_per_cell, choices[i], coming, both, delta)
+                    beta = gla_feedback(feedback_table, penalty_per_cell, choices[i], needed, both, delta)
                     gla.update(u[i], x, choices[i], beta, gla_rate, temperature, K, L, bounding, probs[i])
             t += 1
             ep.end_step(t, cells, done, new_cells, rewards, reached, collisions, acc)
-        ep.end_episode(log, episode, bin_size, acc, t, done)
+        ep.end_episode(log, episode, edges, acc, t, done)

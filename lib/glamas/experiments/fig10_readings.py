@@ -1,0 +1,206 @@
+"""Fig. 10 as an inverse problem: 2observe under several readings of its lost GLA feedback.
+
+The chapter's Fig. 10 (the GLAs' rewards) is lost; what survives is the text around it (Sections
+5.1-5.3, see :mod:`glamas.learners.two_observe`) and the outcome it reports (Fig. 11-12). Each
+reading below fixes what the text leaves open: what "need to coordinate" means, the table's
+values, and the GLA's box and context. Every reading is trained at the chapter's scale and judged
+by the same Section 5.3 claims against the same baselines (the independent, joint-state and MMDP
+learners of :mod:`glamas.experiments.gridworld`, which do not depend on the reading), so a reader
+sees which readings of the lost figure give the chapter's reported outcome and which do not.
+"""
+
+import math
+from dataclasses import dataclass, replace
+from pathlib import Path
+
+import matplotlib.pyplot as plt
+import numpy as np
+
+from glamas import cli
+from glamas.experiments import gridworld as gw
+from glamas.plotting import new_figure, save_figure
+
+READINGS = {
+    "in_range, L=8": {},
+    "in_range, L=1": {"gla_L": 1.0},
+    "in_range, unit delta, L=1": {"gla_delta_scale": "unit", "gla_L": 1.0},
+    "in_range, coordinating never wrong": {"gla_feedback": ((1.0, 0.0), (1.0, 1.0))},
+    "sampled, L=1": {"gla_need": "sampled", "gla_L": 1.0},
+    "sampled, L=8": {"gla_need": "sampled"},
+    "outcome, L=8": {"gla_need": "outcome"},
+    "no GLA: fixed rule delta <= 2": {"rule_distance": 3},
+}
+"""Each reading as its changes to the 2observe defaults of GridworldConfig (the first is the
+default: need = in range, L = 8, the symmetric 1/0 table). 'sampled, L=1' is the reading this
+repository used before the text's own "range of interference" was read into it. The last is not a
+reading but the reference: the first level replaced by the rule the readings aim at, "coordinate
+when the agents could collide this step" (delta <= 2 is that rule for an agent that sees only delta)."""
+
+DELTAS = np.arange(1, 9)
+"""The distances at which the learned P(coordinate | delta) is reported (TunnelToGoal: 1 to 8)."""
+
+
+@dataclass(frozen=True)
+class ReadingsConfig:
+    """The sensitivity study: 2observe's settings and which readings of Fig. 10 to train."""
+
+    gridworld: gw.GridworldConfig = gw.GridworldConfig(learners=("two_observe",))
+    """2observe's settings (the chapter's, and the default reading) that each reading changes."""
+    readings: tuple = tuple(READINGS)
+    """Names of the readings to train (keys of READINGS)."""
+
+    def __post_init__(self):
+        if not isinstance(self.gridworld, gw.GridworldConfig) or self.gridworld.learners != ("two_observe",):
+            raise ValueError("gridworld must be a GridworldConfig with learners=('two_observe',)")
+        readings = tuple(self.readings)
+        if not readings or len(set(readings)) != len(readings) or not set(readings) <= set(READINGS):
+            raise ValueError(f"readings must be distinct names from {list(READINGS)}, got {self.readings!r}")
+        object.__setattr__(self, "readings", readings)
+
+    def reading(self, name: str) -> gw.GridworldConfig:
+        """2observe's configuration under reading ``name``."""
+        return replace(self.gridworld, **READINGS[name])
+
+
+@dataclass(frozen=True)
+class ReadingsResult:
+    """2observe's learning curves and final GLAs under each reading (first axis: ``readings``)."""
+
+    log: np.ndarray
+    """(readings, runs, bins, columns): as GridworldResult.log for 2observe."""
+    gla_parameters: np.ndarray
+    """(readings, runs, agents, 2, 2): the final GLA parameters."""
+    need_counts: np.ndarray
+    """(readings, runs, deltas, 2): observed steps per distance without / with need."""
+    episodes: np.ndarray
+    """int (bins,): the episode count at the end of each block."""
+
+    def gridworld_result(self, k: int) -> gw.GridworldResult:
+        """Reading k's 2observe as a GridworldResult of one learner."""
+        return gw.GridworldResult(learners=np.array([gw.LEARNERS.index("two_observe")]), log=self.log[k:k + 1],
+                                  table_shapes=np.zeros((1, 3), np.int64), gla_parameters=self.gla_parameters[k],
+                                  need_counts=self.need_counts[k], episodes=self.episodes)
+
+
+def run(config: ReadingsConfig = ReadingsConfig(), seed: int = 0, workers=None, progress=None) -> ReadingsResult:
+    """Train 2observe under every reading of ``config``, each with the same seed (so the readings
+    share their random streams and differ only by what they read into Fig. 10)."""
+    parts = []
+    for name in config.readings:
+        label = None if progress is None else f"{progress}: {name}"
+        parts.append(gw.run(config.reading(name), seed=seed, workers=workers, progress=label))
+    return ReadingsResult(log=np.concatenate([p.log for p in parts]),
+                          gla_parameters=np.stack([p.gla_parameters for p in parts]),
+                          need_counts=np.stack([p.need_counts for p in parts]), episodes=parts[0].episodes)
+
+
+def with_baselines(result: ReadingsResult, k: int, baselines: gw.GridworldResult) -> gw.GridworldResult:
+    """``baselines`` (the four learners' result) with 2observe replaced by reading k's."""
+    return gw.with_learner(baselines, result.gridworld_result(k), "two_observe")
+
+
+def summary(result: ReadingsResult, config: ReadingsConfig, baselines: gw.GridworldResult | None = None) -> list[dict]:
+    """Per reading: final steps, reward, collisions and coordinations, the mean learned
+    P(coordinate | delta) at DELTAS and, given the ``baselines``, the Section 5.3 claim rows."""
+    rows = []
+    for k, name in enumerate(config.readings):
+        alone = result.gridworld_result(k)
+        m = gw.measure(alone)
+        p = _coordination(alone, config.reading(name))
+        row = {"reading": name, "steps": m["steps_two_observe"], "reward": m["reward_two_observe"],
+               "collisions": m["collisions_two_observe"], "coordinations": m["coordinations_two_observe"],
+               "p_coordinate": p}
+        if baselines is not None:
+            row["claims"] = gw.claim_rows(with_baselines(result, k, baselines))
+        rows.append(row)
+    return rows
+
+
+def _coordination(result: gw.GridworldResult, config: gw.GridworldConfig) -> np.ndarray:
+    """P(coordinate | delta) at DELTAS: the final GLAs' mean, or the fixed rule's 0/1."""
+    if config.rule_distance is not None:
+        return (DELTAS < config.rule_distance).astype(float)
+    return gw.coordination_probability(result, config, DELTAS).mean(axis=(0, 1))
+
+
+def table(rows: list[dict]) -> str:
+    """The readings side by side: final values, learned P(coordinate | delta) and claim count."""
+    head = (f"{'reading':36s} {'steps':>6s} {'reward':>6s} {'collis.':>7s} {'coord.':>6s}  "
+            f"P(coordinate | delta = {', '.join(str(d) for d in DELTAS)})")
+    if "claims" in rows[0]:
+        head += "   claims reproduced"
+    lines = [head]
+    for row in rows:
+        p = " ".join(f"{v:4.2f}" for v in row["p_coordinate"])
+        line = (f"{row['reading']:36s} {row['steps']:6.2f} {row['reward']:6.1f} {row['collisions']:7.3f} "
+                f"{row['coordinations']:6.2f}  {p}")
+        if "claims" in row:
+            line += f"   {sum(r['holds'] for r in row['claims'])} of {len(row['claims'])}"
+        lines.append(line)
+    return "\n".join(lines)
+
+
+def verdict_table(rows: list[dict]) -> str:
+    """Claim by reading: R reproduced, - not reproduced, ? undecidable."""
+    claims = [r["claim"].id for r in rows[0]["claims"]]
+    lines = [f"{'claim':40s} " + " ".join(f"{k + 1:>2d}" for k in range(len(rows)))]
+    for c, claim in enumerate(claims):
+        marks = [_mark(row["claims"][c]) for row in rows]
+        lines.append(f"{claim:40s} " + " ".join(f"{m:>2s}" for m in marks))
+    lines.append("readings: " + "; ".join(f"{k + 1} = {row['reading']}" for k, row in enumerate(rows)))
+    return "\n".join(lines)
+
+
+def _mark(row: dict) -> str:
+    if math.isnan(row["value"]):
+        return "?"
+    return "R" if row["holds"] else "-"
+
+
+def plot_coordination(ax, rows: list[dict]):
+    """The learned P(coordinate | delta) under each reading (mean of the final GLAs), against the
+    rule "coordinate when the agents could collide this step" (delta <= 2)."""
+    for k, row in enumerate(rows):
+        ax.plot(DELTAS, row["p_coordinate"], "o-", label=f"{k + 1}: {row['reading']}",
+                linewidth=2.5 if k == 0 else 1.2)
+    ax.step(DELTAS, (DELTAS <= 2).astype(float), where="mid", color="black", linestyle="--",
+            label="could collide (delta <= 2)")
+    ax.set_xlabel("delta (Manhattan distance between the agents)")
+    ax.set_ylabel("P(coordinate), learned")
+    ax.set_ylim(-0.03, 1.03)
+    ax.legend(fontsize="x-small")
+
+
+def plot_outcomes(ax, rows: list[dict]):
+    """Final collisions against final steps per reading, with the chapter's targets: zero
+    collisions, and fewer steps than the baselines."""
+    for k, row in enumerate(rows):
+        ax.plot(row["steps"], row["collisions"], "o", markersize=8 if k == 0 else 6)
+        ax.annotate(str(k + 1), (row["steps"], row["collisions"]), textcoords="offset points", xytext=(5, 4))
+    ax.set_xlabel("final steps to goal (mean of the agents)")
+    ax.set_ylabel("final collisions per episode")
+    ax.set_yscale("symlog", linthresh=0.1)
+
+
+# --- figure script (paper_figures/fig10_readings.py) -------------------------------------------
+
+RESULT_NAME = "fig10_readings"
+
+
+def figure_main(argv=None) -> list[Path]:
+    """Parse the command line, get the study's result (from --results when this configuration
+    already ran, else run it), draw the learned coordination and the outcomes per reading, save."""
+    parser = cli.figure_parser("Fig. 10 readings: 2observe under each reading of its lost GLA feedback",
+                               runs=gw.GridworldConfig.runs, iterations=gw.GridworldConfig.episodes)
+    args = cli.parse(parser, argv)
+    base = gw.GridworldConfig(learners=("two_observe",), runs=args.runs, episodes=args.iterations)
+    config = ReadingsConfig(gridworld=base)
+    result = cli.load_or_run(args, RESULT_NAME, config, run, ReadingsResult)
+    rows = summary(result, config)
+    fig, axes = new_figure(11.0, 4.0, ncols=2)
+    plot_coordination(axes[0], rows)
+    plot_outcomes(axes[1], rows)
+    written = save_figure(fig, args.out, RESULT_NAME)
+    plt.close(fig)
+    return written
+
