@@ -14,12 +14,12 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 from glamas import claims as chapter
-from glamas import cli, gla, runs
+from glamas import cli, gla, results, runs
 from glamas.experiments import checks
-from glamas.gridworld import BOUNCE_MODES, GridMap, dp, load_map
+from glamas.gridworld import BOUNCE_MODES, GridMap, dp, load_map, rules
 from glamas.learners import episode as ep
 from glamas.learners import independent, joint_state, mmdp, two_observe
-from glamas.paths import MAPS
+from glamas.paths import MAPS, RESULTS
 from glamas.plotting import new_figure, plot_mean_band, save_figure
 
 EXPERIMENT = "gridworld"
@@ -287,7 +287,7 @@ def _decided_ratio(m: dict, key: str, ratio: tuple[float, float, float]) -> None
     """Store ``ratio``'s point value under ``key`` when its interval excludes 1, else NaN with the
     reason (the claim is then undecidable: the runs' spread cannot order the two learners)."""
     point, low, high = ratio
-    m[f"{key}_low"], m[f"{key}_high"] = low, high
+    m[f"{key}_point"], m[f"{key}_low"], m[f"{key}_high"] = point, low, high
     if low <= 1.0 <= high:
         m[key] = math.nan
         m[f"{key}:why_undecidable"] = (f"ratio {point:.2f}, but its 95 % interval over runs "
@@ -342,6 +342,13 @@ def with_learner(result: GridworldResult, other: GridworldResult, name: str) -> 
     return replace(result, log=log, **extra)
 
 
+def matches_committed(result: GridworldResult, config: GridworldConfig, seed: int = 0) -> bool:
+    """Whether ``result`` equals, array for array, the committed result of ``config`` and ``seed``
+    (data/results/gridworld.npz, its configuration checked)."""
+    stored = results.load(RESULTS / f"{RESULT_NAME}.npz", config, seed=seed)
+    return all(np.array_equal(getattr(result, name), stored[name]) for name in stored)
+
+
 def claim_rows(result: GridworldResult) -> list[dict]:
     """The chapter's Section 5.3 claims with their verdicts, computed from ``result``."""
     return chapter.verdicts(chapter.load(EXPERIMENT), measure(result))
@@ -391,6 +398,34 @@ def optimum(config: GridworldConfig) -> dict:
     episode = dp.optimal_rollout(config.gridmap(), config.discount, config.bounce)
     return {"steps": float(episode.steps_to_goal.mean()), "reward": float(episode.returns.mean()),
             "collisions": float(episode.collisions)}
+
+
+def in_range_share(gridmap: GridMap) -> np.ndarray:
+    """Per distance delta (0 .. rows + cols - 2): the share of ordered pairs of distinct usable
+    cells at that distance from which two agents could collide in one step (NaN where no pair is)."""
+    usable = np.flatnonzero(~(gridmap.is_goal | gridmap.blocked))
+    pairs = np.zeros((gridmap.n_rows + gridmap.n_cols - 1, 2))
+    for a in usable:
+        for b in usable:
+            if a != b:
+                delta = rules.manhattan(gridmap.n_cols, a, b)
+                pairs[delta, int(rules.could_collide(gridmap.next_cell, gridmap.is_goal, a, b))] += 1
+    with np.errstate(invalid="ignore"):
+        return pairs[:, 1] / pairs.sum(axis=1)
+
+
+def convergence_report(result: GridworldResult) -> str:
+    """2observe's convergence ratios against each baseline, with their 95 % intervals and verdicts."""
+    m = measure(result)
+    lines = [f"{'':28s} {'episodes':>9s}"]
+    for name in result.names():
+        lines.append(f"{LABELS[name]:28s} {m[f'convergence_{name}']:9.0f}")
+    for base in ("independent", "mmdp"):
+        key = f"convergence_two_observe_over_{base}"
+        decided = "undecidable" if np.isnan(m[key]) else ("faster" if m[key] < 1 else "slower")
+        lines.append(f"2observe / {LABELS[base]}: ratio {m[f'{key}_point']:.3f}, 95 % interval over runs "
+                     f"[{m[f'{key}_low']:.3f}, {m[f'{key}_high']:.3f}]: {decided}")
+    return "\n".join(lines)
 
 
 def need_probability(result: GridworldResult) -> np.ndarray:
@@ -454,9 +489,10 @@ def plot_variants(ax, results: dict, metric: str, learner: str = "two_observe"):
     ax.legend(fontsize="small")
 
 
-NEED_LABELS = {"in_range": "could collide this step", "sampled": "preferred actions would collide",
-               "outcome": "collided this step"}
-"""What "need" means under each reading of Fig. 10, in words."""
+NEED_LABELS = {"in_range": ("cannot collide this step", "could collide this step"),
+               "sampled": ("preferred actions would not collide", "preferred actions would collide"),
+               "outcome": ("no collision this step", "collided this step")}
+"""What "no need" and "need" mean under each reading of Fig. 10, in words."""
 
 
 def plot_feedback_table(ax, config: GridworldConfig):
@@ -465,11 +501,11 @@ def plot_feedback_table(ax, config: GridworldConfig):
     cells = [[f"{f[0][0]:g}", f"{f[0][1]:g}"],
              [f"{f[1][0]:g}  ({f[1][0]:g} - {c:g}·δ if both coordinate)", f"{f[1][1]:g}"]]
     ax.axis("off")
-    need = NEED_LABELS[config.gla_need]
+    no_need, need = NEED_LABELS[config.gla_need]
     table = ax.table(cellText=cells, rowLabels=["act alone", "coordinate"],
-                     colLabels=[f"no need (not: {need})", f"need ({need})"], loc="center", cellLoc="center")
+                     colLabels=[f"no need ({no_need})", f"need ({need})"], loc="center", cellLoc="center")
     table.scale(1, 2)
-    ax.set_title(f"2observe GLA feedback (Fig. 10, reconstructed; need = {config.gla_need})")
+    ax.set_title(f"Fig. 10, reconstructed: 2observe's GLA feedback (need = {config.gla_need})", fontsize="medium")
 
 
 def plot_coordination_probability(ax, result, config: GridworldConfig):
