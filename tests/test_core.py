@@ -98,7 +98,7 @@ def test_missing_and_corrupted_result_files_give_clear_errors(tmp_path):
 def test_result_files_holding_objects_are_not_unpickled(tmp_path):
     path = tmp_path / "pickled.npz"
     np.savez(path, __config__=np.array(results.config_json(_Config())), evil=np.array([{}], dtype=object))
-    with pytest.raises(ValueError, match="allow_pickle"):
+    with pytest.raises(results.ResultFileError, match="not a readable glamas result file.*allow_pickle"):
         results.load(path, _Config())
 
 
