@@ -67,6 +67,7 @@ class ANDNetworkConfig:
     this (neither has a usable approximation of the parabola)."""
 
     def __post_init__(self):
+        checks.field_types(self)
         checks.whole_numbers(self, {"iterations": 1, "runs": 1, "record_points": 1, "probe_points": 1,
                                     "eval_grid": 1})
         if self.record_points > self.iterations:

@@ -80,6 +80,7 @@ class GridworldConfig:
     in the chapter, replacing the GLAs by the fixed rule "coordinate when delta < d"."""
 
     def __post_init__(self):
+        checks.field_types(self)
         checks.whole_numbers(self, {"episodes": 1, "runs": 1, "bin_size": 1, "max_steps": 1})
         if self.episodes % self.bin_size:
             raise ValueError(f"bin_size ({self.bin_size}) must divide episodes ({self.episodes}); "

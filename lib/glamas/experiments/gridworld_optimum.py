@@ -8,6 +8,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from glamas.experiments import checks
 from glamas.gridworld import GridMap, dp, draw, load_map, rules
 from glamas.paths import MAPS
 
@@ -29,6 +30,7 @@ class GridworldOptimumConfig:
     """Steps the selfish shortest-path agents are followed (they may never arrive)."""
 
     def __post_init__(self):
+        checks.field_types(self)
         if not (MAPS / f"{self.map_name}.txt").is_file():
             known = sorted(p.stem for p in MAPS.glob("*.txt"))
             raise ValueError(f"map_name {self.map_name!r} is not a map in {MAPS}; known maps: {known}")

@@ -49,6 +49,7 @@ class SingleGLAConfig:
     """Expected rewards are averages over the midpoints of an eval_grid x eval_grid grid."""
 
     def __post_init__(self):
+        checks.field_types(self)
         checks.whole_numbers(self, {"iterations": 1, "runs": 1, "record_points": 1, "eval_grid": 1})
         if self.record_points > self.iterations:
             raise ValueError(f"record_points ({self.record_points}) cannot exceed iterations "
