@@ -156,7 +156,7 @@ def test_load_or_run_reuses_a_result_of_the_same_configuration(tmp_path):
     again = cli.load_or_run(args, "exp", _Config(), run, _Result)
     assert calls == [4] and np.array_equal(first.curve, again.curve)
     for flags in ([], ["--rerun"]):
-        with pytest.raises(SystemExit, match="different configuration.*not overwritten"):
+        with pytest.raises(results.ResultFileError, match="different configuration.*not overwritten"):
             cli.load_or_run(_parse(["--results", str(tmp_path), "--seed", "5"] + flags), "exp", _Config(), run, _Result)
     assert calls == [4]  # refused before running
     replaced = cli.load_or_run(_parse(["--results", str(tmp_path), "--seed", "5", "--force"]), "exp", _Config(), run, _Result)
