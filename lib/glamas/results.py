@@ -71,12 +71,12 @@ def check_writable(path, config, *, seed: int | None = None) -> None:
         return
     try:
         existing = _read_text(path, _CONFIG_KEY)
-    except ResultFileError:
-        existing = None
+    except ResultFileError as error:
+        raise ResultFileError(f"{error}; it was not overwritten (--force replaces it)") from None
     if existing != config_json(config, seed):
         raise ResultFileError(
-            f"{path} holds results of a different configuration (or is unreadable) and was not "
-            "overwritten; remove it, choose another results directory, or force the overwrite (--force)"
+            f"{path} holds results of a different configuration and was not overwritten; remove "
+            "it, choose another results directory, or force the overwrite (--force)"
         )
 
 

@@ -184,7 +184,8 @@ def check_finite(kernel, start: int, filled: tuple) -> None:
         finite = np.isfinite(part.reshape(part.shape[0], -1)).all(axis=1)
         if not finite.all():
             run = start + int(np.argmin(finite))
-            name = getattr(getattr(kernel, "py_func", kernel), "__qualname__", str(kernel))
+            function = getattr(kernel, "py_func", kernel)
+            name = f"{getattr(function, '__module__', '?')}.{getattr(function, '__qualname__', function)}"
             raise NonFiniteError(f"run {run} of {name} produced NaN or infinite values in its output {k}: "
                                  "a learning rate, K, reward or penalty is too large for the learning to stay "
                                  "finite; lower it")
