@@ -2,10 +2,11 @@
 
 numba's on-disk cache (``cache=True``) keys a kernel on its own file only: after an edit to a
 function it calls in *another* file, it would serve the old machine code. :func:`refresh_kernel_cache`
-keeps a stamp file with the hash of every ``lib/glamas/**/*.py`` in ``lib/glamas/__pycache__``;
-when the sources no longer match it, the cached kernels (``*.nbi`` index and ``*.nbc`` data files
-in the package's ``__pycache__`` directories) are deleted and the stamp rewritten. glamas calls it
-on import, under a file lock, so that worker processes importing at once do it once.
+keeps a stamp file with the hash of every ``lib/glamas/**/*.py`` beside the cache
+(``lib/glamas/__pycache__``, or numba's directory for the package under ``NUMBA_CACHE_DIR``);
+when the sources no longer match it, the cached kernels (``*.nbi`` index and ``*.nbc`` data files)
+are deleted and the stamp rewritten. glamas calls it on import, under a file lock, so that worker
+processes importing at once do it once.
 """
 
 import fcntl
@@ -13,7 +14,7 @@ import hashlib
 import os
 from pathlib import Path
 
-PACKAGE = Path(__file__).resolve().parent
+PACKAGE = Path(os.path.abspath(os.path.dirname(__file__)))  # as numba names the cached files' sources
 STAMP_NAME = "glamas-sources.sha256"
 _LOCK_NAME = "glamas-sources.lock"
 _CACHE_SUFFIXES = (".nbi", ".nbc")
@@ -37,17 +38,17 @@ def source_hash(package: Path = PACKAGE) -> str:
 
 def refresh_kernel_cache(package: Path = PACKAGE) -> bool:
     """Delete numba's cached kernels of ``package`` if its sources changed since the stamp was
-    written; returns whether it did. A package directory that cannot be written (an installed,
-    read-only copy) has nothing of ours to refresh and is left alone."""
-    cache = package / "__pycache__"
+    written; returns whether it did. A cache directory that cannot be written (an installed,
+    read-only copy) is left alone."""
+    home = cache_directory(package)
     try:
-        cache.mkdir(exist_ok=True)
-        lock = os.open(cache / _LOCK_NAME, os.O_RDWR | os.O_CREAT, 0o666)
+        home.mkdir(parents=True, exist_ok=True)
+        lock = os.open(home / _LOCK_NAME, os.O_RDWR | os.O_CREAT, 0o666)
     except OSError:
         return False
     try:
         fcntl.flock(lock, fcntl.LOCK_EX)  # one importer checks and deletes; the others then find the new stamp
-        return _refresh_locked(package, cache / STAMP_NAME)
+        return _refresh_locked(package, home / STAMP_NAME)
     finally:
         os.close(lock)  # releases the lock
 
@@ -67,7 +68,17 @@ def _refresh_locked(package: Path, stamp: Path) -> bool:
     return True
 
 
+def cache_directory(directory: Path) -> Path:
+    """Where numba caches the kernels of the sources in ``directory``: its ``__pycache__``, or
+    under ``NUMBA_CACHE_DIR`` the subdirectory numba names after the directory and its path's SHA-1."""
+    root = os.environ.get("NUMBA_CACHE_DIR")
+    if not root:
+        return directory / "__pycache__"
+    return Path(root) / f"{directory.name}_{hashlib.sha1(str(directory).encode()).hexdigest()}"
+
+
 def cached_kernels(package: Path = PACKAGE) -> list[Path]:
-    """numba's cache files (index and data) in the package's ``__pycache__`` directories."""
-    return [path for cache in package.rglob("__pycache__") for path in cache.iterdir()
+    """numba's cache files (index and data) of the package's sources."""
+    directories = {cache_directory(path.parent) for path in source_files(package)}
+    return [path for directory in directories if directory.is_dir() for path in directory.iterdir()
             if path.suffix in _CACHE_SUFFIXES]
