@@ -44,11 +44,11 @@ def check(config, copies: int = 1) -> int:
 
 def estimate(config) -> int:
     """Bytes of the arrays a run of ``config`` allocates (0 for a config without an estimate)."""
-    from glamas.experiments import and_network, gridworld, related_work, scaling, single_gla
+    from glamas.experiments import and_network, gridworld, gridworld_optimum, related_work, scaling, single_gla
 
     estimators = {single_gla.SingleGLAConfig: _single_gla, and_network.ANDNetworkConfig: _and_network,
                   gridworld.GridworldConfig: _gridworld, related_work.RelatedWorkConfig: _related_work,
-                  scaling.ScalingConfig: _scaling}
+                  scaling.ScalingConfig: _scaling, gridworld_optimum.GridworldOptimumConfig: _gridworld_optimum}
     estimator = estimators.get(type(config))
     return 0 if estimator is None else int(estimator(config))
 
@@ -95,6 +95,17 @@ def _scaling(config) -> int:
                if (needed := scaling.memory_needed(config, method, n)) <= budget]
     logs = len(config.methods) * len(config.agents) * config.runs * config.n_bins * scaling.N_METRICS
     return max(fitting, default=0) * WORKING_COPIES + logs * BYTES_PER_VALUE
+
+
+def _gridworld_optimum(config) -> int:
+    from glamas.gridworld import load_map
+    from glamas.paths import MAPS
+
+    gridmap = load_map(MAPS / f"{config.map_name}.txt")
+    n = gridmap.n_agents
+    # glamas.gridworld.dp's tables per joint state and action: next state, reward, collisions,
+    # each agent's reward (8 bytes) and bumped and reached flags (1 byte), and the Q values
+    return gridmap.n_cells ** n * 4 ** n * (4 * BYTES_PER_VALUE + n * (BYTES_PER_VALUE + 2))
 
 
 def _gib(n_bytes: float) -> str:
