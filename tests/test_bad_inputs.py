@@ -70,7 +70,7 @@ def test_reduced_run_with_default_paths_leaves_the_committed_outputs_alone():
     created = [cli.SCRATCH_OUT / "fig6.png", cli.SCRATCH_OUT / "fig6.pdf", cli.SCRATCH_RESULTS / "fig6.npz"]
     existed = {path: path.exists() for path in created}
     try:
-        done = _script("fig6", "--runs", 2, "--iterations", 200, *FAST)
+        done = _script("fig6", "--runs", 2, "--iterations", 200, "--force", *FAST)  # --force: whatever out/ held
         assert done.returncode == 0, done.stderr
         assert "writing to out/" in done.stderr
         assert all(path.is_file() for path in created)
@@ -229,8 +229,8 @@ def test_a_big_map_for_the_joint_learners_is_refused_before_allocating(tmp_path)
 
 
 def test_the_paper_scale_defaults_fit_the_memory_estimate():
-    for config in (single_gla.SingleGLAConfig(), and_network.ANDNetworkConfig(),
-                   gridworld.GridworldConfig(), scaling.ScalingConfig()):
+    for config in (single_gla.SingleGLAConfig(), and_network.ANDNetworkConfig(), gridworld.GridworldConfig(),
+                   scaling.ScalingConfig(), gridworld_optimum.GridworldOptimumConfig()):
         assert 0 < memory.estimate(config) < memory.available_bytes()
 
 
@@ -336,6 +336,16 @@ def test_cached_kernels_are_dropped_when_a_source_changes(tmp_path):
     assert not sources.refresh_kernel_cache(package) and all(path.exists() for path in cached)
     (package / "kernel.py").write_text("x = 2\n")
     assert sources.refresh_kernel_cache(package) and not any(path.exists() for path in cached)
+
+
+def test_a_numba_cache_directory_elsewhere_is_refreshed_too(tmp_path, monkeypatch):
+    monkeypatch.setenv("NUMBA_CACHE_DIR", str(tmp_path / "numba"))
+    package = _package(tmp_path)
+    sources.refresh_kernel_cache(package)
+    cached = sources.cache_directory(package) / "kernel.run-1.py311.nbi"
+    cached.write_bytes(b"old code")
+    (package / "kernel.py").write_text("x = 2\n")
+    assert sources.refresh_kernel_cache(package) and not cached.exists()
 
 
 def test_importers_at_once_refresh_the_kernel_cache_once(tmp_path):
