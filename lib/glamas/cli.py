@@ -16,7 +16,7 @@ from pathlib import Path
 
 from glamas import atomic, memory, plotting, results
 from glamas import runs as runners  # "runs" is the run count in figure_parser
-from glamas.experiments.checks import suspect_settings
+from glamas.experiments.checks import MAX_COUNT, suspect_settings
 from glamas.gridworld.maps import MapError
 from glamas.paths import REPO, RESULTS
 
@@ -27,8 +27,6 @@ SCRATCH_RESULTS = REPO / "out" / "results"
 """Where the result files of a run that is not at the paper-scale defaults go by default."""
 PAPER_SCALE_OPTIONS = ("runs", "iterations", "seed")
 """The options that change a result: at their defaults, a run reproduces the committed outputs."""
-MAX_COUNT = 2 ** 31 - 1
-"""Largest --runs or --iterations: counts stay far from the kernels' 64-bit integer range."""
 MAX_SEED = 2 ** 63 - 1
 WORKERS_PER_CORE = 4
 """More local workers than this per core only add start-up time and memory."""
@@ -165,13 +163,15 @@ def _check_workers(parser, workers: int | None) -> None:
 
 
 def _choose_directories(parser, args) -> None:
+    """Fill in the --out and --results not given, by the output policy (module docstring)."""
     paper_scale = all(getattr(args, option) == parser.get_default(option)
                       for option in PAPER_SCALE_OPTIONS if option in args)
-    if args.out is None:
-        args.out = DEFAULT_OUT if paper_scale else SCRATCH_OUT
-    if "results" in args and args.results is None:
-        args.results = RESULTS if paper_scale else SCRATCH_RESULTS
-    if not paper_scale and (args.out == SCRATCH_OUT or getattr(args, "results", None) == SCRATCH_RESULTS):
+    defaults = {"out": DEFAULT_OUT, "results": RESULTS} if paper_scale else \
+        {"out": SCRATCH_OUT, "results": SCRATCH_RESULTS}
+    unset = [option for option in defaults if getattr(args, option) is None]
+    for option in unset:
+        setattr(args, option, defaults[option])
+    if unset and not paper_scale:
         print(f"note: not the paper-scale --runs/--iterations/--seed: writing to "
               f"{SCRATCH_OUT.parent.relative_to(REPO)}/ (--out and --results choose)", file=sys.stderr)
 
