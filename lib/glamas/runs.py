@@ -287,7 +287,8 @@ def connect(backend: Dask):
     failure = f"cannot reach the Dask scheduler at {backend.scheduler} within {backend.timeout:g} s"
     advice = "check the address, or start a scheduler with `dask scheduler` and workers with `dask worker ADDRESS`"
     try:
-        asyncio.run(_probe(distributed, backend))
+        with ThreadPoolExecutor(1) as thread:  # its own event loop: the caller may be running one (Jupyter)
+            thread.submit(asyncio.run, _probe(distributed, backend)).result()
         return distributed.Client(backend.scheduler, timeout=backend.timeout, set_as_default=False)
     except (OSError, TimeoutError, asyncio.TimeoutError) as error:
         raise BackendError(f"{failure} ({str(error) or 'no answer'}); {advice}") from None
