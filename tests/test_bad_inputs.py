@@ -11,6 +11,7 @@ import dataclasses
 import hashlib
 import json
 import math
+import os
 import re
 import socket
 import struct
@@ -88,6 +89,13 @@ def test_unwritable_out_is_refused_before_computing(tmp_path):
     started = time.monotonic()
     _assert_user_error(_script("fig6", "--out", afile / "sub", *FAST), f"--out {afile / 'sub'} is not a writable directory")
     assert time.monotonic() - started < 20
+
+
+@pytest.mark.skipif(os.geteuid() == 0, reason="permissions do not stop root")
+def test_read_only_results_directory_is_refused_before_computing(tmp_path):
+    read_only = tmp_path / "read_only"
+    read_only.mkdir(mode=0o555)
+    _assert_user_error(_script("fig6", "--results", read_only, *FAST), f"--results {read_only} is not a writable directory")
 
 
 def test_results_that_is_a_file_is_refused(tmp_path):
