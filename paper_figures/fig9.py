@@ -11,7 +11,7 @@ import matplotlib
 
 matplotlib.use("Agg")
 
-from glamas import atomic, cli, memory, plotting  # noqa: E402
+from glamas import atomic, cli, plotting  # noqa: E402
 from glamas.cli import DEFAULT_OUT  # noqa: E402
 from glamas.experiments import gridworld_optimum  # noqa: E402
 from glamas.gridworld import draw, tunnel_to_goal  # noqa: E402
@@ -31,9 +31,7 @@ def main(argv=None):
     draw.draw_map(ax, tunnel_to_goal())
     written = plotting.save_figure(fig, args.out, "fig9")
 
-    config = gridworld_optimum.GridworldOptimumConfig()
-    memory.check(config)
-    result = gridworld_optimum.run(config)
+    result = gridworld_optimum.run(gridworld_optimum.GridworldOptimumConfig())
     fig, axes = plotting.new_figure(6.4, 3.9, ncols=2)
     gridworld_optimum.plot_episode(axes[0], result, "optimal")
     gridworld_optimum.plot_episode(axes[1], result, "selfish")

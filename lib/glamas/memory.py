@@ -38,7 +38,7 @@ def check(config, copies: int = 1) -> int:
     if needed > available:
         raise MemoryEstimateError(
             f"this run needs about {_gib(needed)} for its arrays, more than the {_gib(available)} of "
-            "memory available; lower --runs or --iterations (or use a smaller map)")
+            "memory available; use fewer runs or iterations (--runs, --iterations) or a smaller map")
     return needed
 
 
@@ -59,7 +59,8 @@ def _single_gla(config) -> int:
 
 
 def _and_network(config) -> int:
-    per_run = 2 * config.record_points + 2 * 2 * 2 * 3  # P(L) curve per agent, unit parameters
+    # P(L) curve and probe points per agent, (agents, units, unit actions, inputs) parameters
+    per_run = 2 * config.record_points + 2 * config.probe_points + 2 * 2 * 2 * 3
     return config.runs * per_run * BYTES_PER_VALUE * WORKING_COPIES
 
 

@@ -8,6 +8,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from glamas import memory
 from glamas.experiments import checks
 from glamas.gridworld import GridMap, dp, draw, load_map, rules
 from glamas.paths import MAPS
@@ -71,6 +72,7 @@ def run(config: GridworldOptimumConfig, seed: int = 0, workers=None, progress=No
 
     Deterministic: ``seed``, ``workers`` and ``progress`` are accepted for the common interface.
     """
+    memory.check(config)  # the joint tables grow as cells ** agents
     gridmap = load_map(MAPS / f"{config.map_name}.txt")
     mdp = dp.joint_mdp(gridmap, config.bounce)
     by_values = dp.value_iteration(mdp, config.gamma, config.epsilon)
