@@ -236,6 +236,11 @@ def test_a_big_map_for_the_joint_learners_is_refused_before_allocating(tmp_path)
         memory.check(config)
 
 
+def test_the_joint_optimum_of_a_six_agent_map_is_refused_before_allocating():
+    with pytest.raises(memory.MemoryEstimateError, match="this run needs about .* GiB"):
+        gridworld_optimum.run(gridworld_optimum.GridworldOptimumConfig(map_name="warehouse_6"))
+
+
 def test_the_paper_scale_defaults_fit_the_memory_estimate():
     for config in (single_gla.SingleGLAConfig(), and_network.ANDNetworkConfig(), gridworld.GridworldConfig(),
                    scaling.ScalingConfig(), gridworld_optimum.GridworldOptimumConfig()):
