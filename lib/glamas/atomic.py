@@ -46,7 +46,7 @@ def write(path, write_to) -> Path:
 def remove_leftovers(path) -> None:
     """Delete the temporary files that writers of ``path`` killed mid-write left behind."""
     path = Path(path)
-    for leftover in path.parent.glob(f"{path.name}.*.tmp"):
+    for leftover in path.parent.glob(f"{path.name}*.tmp"):  # also the older '<name>XXXX.tmp' form
         leftover.unlink(missing_ok=True)
 
 
