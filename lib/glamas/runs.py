@@ -272,11 +272,17 @@ def _resolve_kernel(name: str):
 
 def _run_in_processes(backend: Processes, jobs: list):
     from joblib import Parallel, delayed
+    from joblib.externals.loky.process_executor import TerminatedWorkerError
 
     # max_nbytes=None: no memory-mapped (read-only) arguments.
     parallel = Parallel(n_jobs=backend.workers or cores(), backend="loky", return_as="generator_unordered",
                         max_nbytes=None)
-    yield from parallel(delayed(run_chunk)(*job) for job in jobs)
+    try:
+        yield from parallel(delayed(run_chunk)(*job) for job in jobs)
+    except TerminatedWorkerError as error:
+        codes = next((line for line in str(error).splitlines() if "exit codes" in line), "").strip()
+        raise BackendError(f"a worker process died mid-run (killed, out of memory or crashed; {codes}); "
+                           "run again, with fewer --workers if memory is short") from None
 
 
 def connect(backend: Dask):
