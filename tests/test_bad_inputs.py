@@ -17,6 +17,7 @@ import socket
 import struct
 import subprocess
 import sys
+import threading
 import time
 import zipfile
 
@@ -203,6 +204,27 @@ def test_a_cluster_without_workers_is_reported_within_the_timeout():
         with pytest.raises(runs.BackendError, match="has had no worker for 1 s with 1 jobs left"):
             single_gla.run(SMALL_LINE, workers=runs.Dask(cluster.scheduler_address, timeout=1.0))
         assert time.monotonic() - started < 10
+
+
+def test_a_worker_process_killed_mid_run_is_reported_at_once():
+    psutil = pytest.importorskip("psutil")
+
+    def kill_a_worker():
+        deadline = time.monotonic() + 30
+        while time.monotonic() < deadline:
+            workers = [p for p in psutil.Process().children(recursive=True) if "popen_loky" in " ".join(p.cmdline())]
+            if workers:
+                time.sleep(0.5)  # let it start its job
+                workers[0].kill()
+                return
+            time.sleep(0.05)
+
+    killer = threading.Thread(target=kill_a_worker, daemon=True)
+    killer.start()
+    config = gridworld.GridworldConfig(runs=2, episodes=1_000_000, bin_size=500, learners=("mmdp",))
+    with pytest.raises(runs.BackendError, match=r"a worker process died mid-run .*SIGKILL"):
+        gridworld.run(config, workers=runs.Processes(2))
+    killer.join()
 
 
 # --- resources: estimated before allocating --------------------------------------------------
