@@ -81,8 +81,11 @@ def _related_work(config) -> int:
     base = config.gridworld
     gridmap = base.gridmap()
     cells, agents = gridmap.n_cells, gridmap.n_agents
-    # local tables, at most a joint table over every pair of cells (sparse MAQ, CQ), CQ's marks and windows
-    per_learner = agents * cells * 4 + agents * cells * cells * 4 * 4 + agents * cells * cells + cells * 4 * 2 * config.cq_window
+    local = agents * cells * 4
+    joint = agents * cells * cells * 4 * 4  # at most every joint state's values (sparse MAQ, CQ)
+    marks = agents * cells * cells  # CQ's marked joint states (bytes, counted as values: an upper bound)
+    windows = cells * 4 * 2 * config.cq_window  # CQ's baseline and recent rewards
+    per_learner = local + joint + marks + windows
     logs = base.n_bins * episode.N_COLUMNS
     related = base.runs * len(config.learners) * (per_learner * WORKING_COPIES + logs) * BYTES_PER_VALUE
     return _gridworld(base) + related
