@@ -98,7 +98,7 @@ def test_missing_and_corrupted_result_files_give_clear_errors(tmp_path):
 def test_result_files_holding_objects_are_not_unpickled(tmp_path):
     path = tmp_path / "pickled.npz"
     np.savez(path, __config__=np.array(results.config_json(_Config())), evil=np.array([{}], dtype=object))
-    with pytest.raises(ValueError, match="allow_pickle"):
+    with pytest.raises(results.ResultFileError, match="not a readable glamas result file.*allow_pickle"):
         results.load(path, _Config())
 
 
@@ -156,7 +156,7 @@ def test_load_or_run_reuses_a_result_of_the_same_configuration(tmp_path):
     again = cli.load_or_run(args, "exp", _Config(), run, _Result)
     assert calls == [4] and np.array_equal(first.curve, again.curve)
     for flags in ([], ["--rerun"]):
-        with pytest.raises(SystemExit, match="different configuration.*not overwritten"):
+        with pytest.raises(results.ResultFileError, match="different configuration.*not overwritten"):
             cli.load_or_run(_parse(["--results", str(tmp_path), "--seed", "5"] + flags), "exp", _Config(), run, _Result)
     assert calls == [4]  # refused before running
     replaced = cli.load_or_run(_parse(["--results", str(tmp_path), "--seed", "5", "--force"]), "exp", _Config(), run, _Result)

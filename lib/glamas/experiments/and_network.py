@@ -11,7 +11,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 from numba import njit
 
-from glamas import gla, lineworld, rng
+from glamas import gla, lineworld, memory, rng
 from glamas.experiments import checks
 from glamas.plotting import plot_mean_band
 from glamas.runs import run_batches
@@ -67,6 +67,7 @@ class ANDNetworkConfig:
     this (neither has a usable approximation of the parabola)."""
 
     def __post_init__(self):
+        checks.field_types(self)
         checks.whole_numbers(self, {"iterations": 1, "runs": 1, "record_points": 1, "probe_points": 1,
                                     "eval_grid": 1})
         if self.record_points > self.iterations:
@@ -189,6 +190,7 @@ def learn(iterations, learning_rate, temperature, K, L, mode, init_scale, curvat
 def run(config: ANDNetworkConfig, seed: int = 0, workers=None,
         progress: str | None = None) -> ANDNetworkResult:
     """All runs of experiment 2 for ``config``; identical for any number of workers."""
+    memory.check(config)
     c, p = config, config.gla_params()
     unit_actions, wiring, output_table, radix = NETWORK.arrays()
     shape = (c.runs, 2, NETWORK.n_units, int(unit_actions.max()), NETWORK.n_inputs)

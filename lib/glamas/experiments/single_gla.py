@@ -11,7 +11,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 from numba import njit
 
-from glamas import gla, lineworld, rng
+from glamas import gla, lineworld, memory, rng
 from glamas.experiments import checks
 from glamas.plotting import plot_mean_band
 from glamas.runs import run_batches
@@ -49,6 +49,7 @@ class SingleGLAConfig:
     """Expected rewards are averages over the midpoints of an eval_grid x eval_grid grid."""
 
     def __post_init__(self):
+        checks.field_types(self)
         checks.whole_numbers(self, {"iterations": 1, "runs": 1, "record_points": 1, "eval_grid": 1})
         if self.record_points > self.iterations:
             raise ValueError(f"record_points ({self.record_points}) cannot exceed iterations "
@@ -118,6 +119,7 @@ def learn(encoding, iterations, learning_rate, temperature, K, L, mode, init_sca
 def run(config: SingleGLAConfig, seed: int = 0, workers=None,
         progress: str | None = None) -> SingleGLAResult:
     """All runs of experiment 1 for ``config``; identical for any number of workers."""
+    memory.check(config)
     encoding = lineworld.encoding_code(config.context)
     n_inputs = lineworld.CONTEXT_LENGTH[encoding]
     params = np.zeros((config.runs, 2, 2, n_inputs))
