@@ -477,6 +477,18 @@ def plot_learned_lines(ax, result: SingleGLAResult, run_index: int, grid: int = 
     _square(ax)
 
 
+def learned_line(result: SingleGLAResult, run_index: int, agent: int) -> tuple[float, float]:
+    """(slope, intercept) of the agent's learned line (h(u_L) - h(u_R)).x = 0 (eq. 14-15) as
+    x2 = slope x1 + intercept, for the joint context; the agent prefers L above it when the x2
+    weight is positive."""
+    if result.config.context != "joint":
+        raise ValueError(f"learned lines live in the (x1, x2) plane: they need the joint context, "
+                         f"this result used {result.config.context!r}")
+    hu = _bounded(result.params[run_index, agent], result.config)
+    w = hu[0] - hu[1]
+    return float(-w[0] / w[1]), float(-w[2] / w[1])
+
+
 def plot_reward_curves(ax, results: dict):
     """Fig. 6: average feedback over iterations per context encoding, mean and 95 % band over runs."""
     for name, res in results.items():
