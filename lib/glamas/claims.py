@@ -125,7 +125,7 @@ def table(rows: list[dict]) -> str:
     lines = []
     for row in rows:
         c = row["claim"]
-        lines.append(f"[{row['verdict']}] {c.id} ({c.where}; {c.kind})\n    chapter:  {c.chapter}\n"
+        lines.append(f"[{row['verdict']}] {c.id} ({c.where})\n    chapter:  {c.chapter}\n"
                      f"    measured: {c.metric} = {row['value']:.{c.digits}f}  (claim: {c.op} {c.threshold:g})")
         if row["verdict"] == UNDECIDABLE and row.get("why_undecidable"):
             lines.append(f"    undecidable: {row['why_undecidable']}")
