@@ -210,14 +210,18 @@ def team_reward(params: np.ndarray, config: SingleGLAConfig) -> float:
 
 def evaluate(result: SingleGLAResult) -> Evaluation:
     """Exact-on-a-grid expected rewards of the learned policies (no sampling noise)."""
-    runs = result.params.shape[0]
-    agent_reward, line_reward, team = np.empty((runs, 2)), np.empty((runs, 2)), np.empty(runs)
-    for r in range(runs):
-        correct = _correct_on_grid(result.params[r], result.config)
-        agent_reward[r] = correct.mean(axis=1)
-        line_reward[r] = (correct > 0.5).mean(axis=1)
-        team[r] = (correct[0] * correct[1]).mean()
-    return Evaluation(agent_reward, line_reward, team)
+    return _evaluation(_correct_runs(result.params, result.config))
+
+
+def _evaluation(correct: np.ndarray) -> Evaluation:
+    """The expected rewards from every run's probabilities of playing each agent's part."""
+    return Evaluation(correct.mean(axis=2), (correct > 0.5).mean(axis=2),
+                      (correct[:, 0] * correct[:, 1]).mean(axis=1))
+
+
+def _correct_runs(params: np.ndarray, config: SingleGLAConfig) -> np.ndarray:
+    """(runs, 2 agents, grid points) :func:`_correct_on_grid` for every run's parameters."""
+    return np.stack([_correct_on_grid(u, config) for u in params])
 
 
 def best_line_reward(encoding_name: str, agent: int, grid: int = 200, angles: int = 720) -> float:
@@ -312,8 +316,7 @@ def best_response_gap(params: np.ndarray, config: SingleGLAConfig, grid: int = 1
     grid x grid grid where both lines play their parts, for A's best line (exhaustive search,
     :func:`best_line_shares`) minus for A's learned line. The search is over every run, so it
     uses a coarser grid and fewer directions than :func:`best_line_reward`."""
-    coarse = replace(config, eval_grid=grid)
-    correct = np.stack([_correct_on_grid(u, coarse) for u in params]) > 0.5
+    correct = _correct_runs(params, replace(config, eval_grid=grid)) > 0.5
     x1, x2 = lineworld.state_grid(grid)
     best = best_line_shares(lineworld.encoding_code(config.context), lineworld.AGENT_A, x1, x2,
                             correct[:, 1].astype(np.float64), angles)
@@ -326,9 +329,8 @@ def measure(result: SingleGLAResult) -> dict:
     (policy and learned line) against the best a single line can reach with this context; the
     team's expected and final average reward."""
     config = result.config
-    correct = np.stack([_correct_on_grid(params, config) for params in result.params])
-    agent_reward = correct.mean(axis=2)
-    line_reward = (correct > 0.5).mean(axis=2)
+    correct = _correct_runs(result.params, config)
+    ev = _evaluation(correct)
     x1, x2 = lineworld.state_grid(config.eval_grid)
     shares = region_shares(correct, x1, x2).mean(axis=0)
     line_best = [best_line_reward(config.context, agent, config.eval_grid) for agent in range(2)]
@@ -337,15 +339,15 @@ def measure(result: SingleGLAResult) -> dict:
         "region_2_share_RR": shares[1],
         "region_3_share_apart": shares[2],
         "agent_a_best_response_gap": best_response_gap(result.params, config).mean(),
-        "agent_a_reward": agent_reward[:, 0].mean(),
-        "agent_b_reward": agent_reward[:, 1].mean(),
-        "agent_a_line_reward": line_reward[:, 0].mean(),
-        "agent_b_line_reward": line_reward[:, 1].mean(),
+        "agent_a_reward": ev.agent_reward[:, 0].mean(),
+        "agent_b_reward": ev.agent_reward[:, 1].mean(),
+        "agent_a_line_reward": ev.line_reward[:, 0].mean(),
+        "agent_b_line_reward": ev.line_reward[:, 1].mean(),
         "best_line_a": line_best[0],
         "best_line_b": line_best[1],
-        "agent_a_line_gap": line_best[0] - line_reward[:, 0].mean(),
-        "agent_b_line_gap": line_best[1] - line_reward[:, 1].mean(),
-        "team_reward": (correct[:, 0] * correct[:, 1]).mean(),
+        "agent_a_line_gap": line_best[0] - ev.line_reward[:, 0].mean(),
+        "agent_b_line_gap": line_best[1] - ev.line_reward[:, 1].mean(),
+        "team_reward": ev.team_reward.mean(),
         "final_average_reward": _final(result.reward).mean(),
     }
 
