@@ -391,7 +391,8 @@ def measure_encodings(results: dict) -> dict:
         measured[key] = min(measured[f"joint_minus_absolute{label}_effect"],
                             measured[f"deictic_minus_absolute{label}_effect"])
     for key in [k for k in measured if k.endswith("_effect") and np.isnan(measured[k])]:
-        measured[key + claims.WHY_UNDECIDABLE] = "one run has no run-to-run spread to compare the difference with"
+        measured[key + claims.WHY_UNDECIDABLE] = ("no run-to-run spread to compare the difference with "
+                                                  "(fewer than two runs, or identical ones)")
     return measured
 
 
