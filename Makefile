@@ -9,7 +9,7 @@ EXTRAS := $(VENV)/.extras-installed
 FIGURES := $(sort $(wildcard paper_figures/*.py))
 NOTEBOOKS := $(sort $(wildcard notebooks/*.ipynb))
 
-.PHONY: figures test unit notebooks-check notebooks benchmark clean-env clean-cache
+.PHONY: figures test unit notebooks-check notebooks ledger benchmark clean-env clean-cache
 
 $(READY): requirements.txt pyproject.toml
 	@$(PYTHON) -c 'import sys; sys.exit(sys.version_info < (3, 11) and "glamas needs Python >= 3.11: set PYTHON=python3.11")'
@@ -39,6 +39,10 @@ notebooks-check: $(READY)
 ## notebooks: re-execute every notebook in place at paper scale (commit the outputs)
 notebooks: $(READY)
 	@for nb in $(NOTEBOOKS); do echo "== $$nb"; $(PY) -m jupyter nbconvert --to notebook --execute --inplace $$nb || exit 1; done
+
+## ledger: rewrite README.md's table of every claim's verdict from the committed results
+ledger: $(READY)
+	$(PY) -m glamas.ledger --write
 
 ## benchmark: compiled kernels against plain-Python references, and the time of `make figures`
 benchmark: $(READY)

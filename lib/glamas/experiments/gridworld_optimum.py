@@ -8,7 +8,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from glamas import memory
+from glamas import claims, memory
 from glamas.experiments import checks
 from glamas.gridworld import GridMap, dp, draw, load_map, rules
 from glamas.paths import MAPS
@@ -119,3 +119,8 @@ def plot_episode(ax, result: GridworldOptimumResult, which: str = "optimal"):
     steps = ", ".join("-" if s < 0 else str(s) for s in episodes[which].steps_to_goal)
     ax.set_title(f"{which}\nsteps to goal: {steps}; collisions: {episodes[which].collisions}", fontsize=9)
     ax.legend(loc="upper center", bbox_to_anchor=(0.5, 0.0), ncols=2, fontsize=8, frameon=False)
+
+
+def claim_rows(result: GridworldOptimumResult) -> list[dict]:
+    """The claims about the map (data/chapter/gridworld_optimum.json) with computed verdicts."""
+    return claims.verdicts(claims.load("gridworld_optimum"), measure(result))
