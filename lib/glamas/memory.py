@@ -70,7 +70,7 @@ def _gridworld(config) -> int:
 
     gridmap = config.gridmap()
     tables = sum(math.prod(scaling.table_shape(name, gridmap.n_cells, gridmap.n_agents)) for name in config.learners)
-    logs = len(config.learners) * config.n_bins * episode.N_COLUMNS
+    logs = len(config.learners) * config.bins * episode.N_COLUMNS
     two_observe = gridmap.n_agents * 4 + (gridmap.n_rows + gridmap.n_cols) * 2
     return config.runs * (tables * WORKING_COPIES + logs + two_observe) * BYTES_PER_VALUE
 
@@ -86,7 +86,7 @@ def _related_work(config) -> int:
     marks = agents * cells * cells  # CQ's marked joint states (bytes, counted as values: an upper bound)
     windows = cells * 4 * 2 * config.cq_window  # CQ's baseline and recent rewards
     per_learner = local + joint + marks + windows
-    logs = base.n_bins * episode.N_COLUMNS
+    logs = base.bins * episode.N_COLUMNS
     related = base.runs * len(config.learners) * (per_learner * WORKING_COPIES + logs) * BYTES_PER_VALUE
     return _gridworld(base) + related
 
