@@ -9,7 +9,7 @@ EXTRAS := $(VENV)/.extras-installed
 FIGURES := $(sort $(wildcard paper_figures/*.py))
 NOTEBOOKS := $(sort $(wildcard notebooks/*.ipynb))
 
-.PHONY: figures test unit notebooks-check notebooks ledger benchmark clean-env clean-cache
+.PHONY: figures test unit notebooks-check notebooks lab ledger benchmark clean-env clean-cache
 
 $(READY): requirements.txt pyproject.toml
 	@$(PYTHON) -c 'import sys; sys.exit(sys.version_info < (3, 11) and "glamas needs Python >= 3.11: set PYTHON=python3.11")'
@@ -40,6 +40,11 @@ notebooks-check: $(READY)
 notebooks: $(READY)
 	@for nb in $(NOTEBOOKS); do echo "== $$nb"; $(PY) -m jupyter nbconvert --to notebook --execute --inplace $$nb || exit 1; done
 
+## lab: open the notebooks in JupyterLab (installs the optional extra "lab" first)
+lab: $(READY)
+	$(PY) -m pip install --quiet -e '.[lab]'
+	$(PY) -m jupyter lab notebooks/
+
 ## ledger: rewrite README.md's table of every claim's verdict from the committed results
 ledger: $(READY)
 	$(PY) -m glamas.ledger --write
@@ -51,6 +56,6 @@ benchmark: $(READY)
 clean-env:
 	rm -rf $(VENV)
 
-## clean-cache: drop numba's compiled-kernel cache (after editing the library)
+## clean-cache: drop numba's compiled-kernel cache (glamas also drops it itself when its sources change)
 clean-cache:
 	find lib -name __pycache__ -type d -prune -exec rm -rf {} +
