@@ -111,7 +111,48 @@ def step(next_cell, is_goal, starts, bounce, cells, done, actions,
     return n_collisions
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
+def step_two(next_cell, is_goal, starts, bounce, cells, done, actions,
+             new_cells, rewards, bumped, collided, reached):
+    """:func:`step` for two agents (the chapter's case). Two agents collide at most once and
+    bounce to distinct cells, so the later rounds of :func:`step` never find anything.
+
+    Every array is read and written outside the branches, the rules applied to scalars in
+    between: inlined into a kernel, numba can then drop the reference counting of the arrays,
+    which would cost more than the step itself.
+    """
+    cell0, cell1, done0, done1 = cells[0], cells[1], done[0], done[1]
+    target0, target1 = next_cell[cell0, actions[0]], next_cell[cell1, actions[1]]  # a done agent's is ignored
+    start0, start1 = starts[0], starts[1]
+    new0 = cell0 if done0 else target0
+    new1 = cell1 if done1 else target1
+    bump0 = not done0 and new0 == cell0
+    bump1 = not done1 and new1 == cell1
+    target_is_goal = is_goal[new0]
+    same_target = new0 == new1 and not target_is_goal
+    hit = not done0 and not done1 and (same_target or (new0 == cell1 and new1 == cell0))
+    reward0 = BUMP_PENALTY if bump0 else 0.0
+    reward1 = BUMP_PENALTY if bump1 else 0.0
+    if hit:
+        reward0 += COLLISION_PENALTY
+        reward1 += COLLISION_PENALTY
+        new0, new1 = (cell0, cell1) if bounce == BOUNCE_PREVIOUS else (start0, start1)
+    goal0, goal1 = is_goal[new0], is_goal[new1]
+    arrived0 = not done0 and goal0
+    arrived1 = not done1 and goal1
+    if arrived0:
+        reward0 += GOAL_REWARD
+    if arrived1:
+        reward1 += GOAL_REWARD
+    new_cells[0], new_cells[1] = new0, new1
+    rewards[0], rewards[1] = reward0, reward1
+    bumped[0], bumped[1] = bump0, bump1
+    collided[0], collided[1] = hit, hit
+    reached[0], reached[1] = arrived0, arrived1
+    return 1 if hit else 0
+
+
+@njit(cache=True, inline="always")
 def would_collide(next_cell, is_goal, cells, done, actions, i, j):
     """Whether agents i and j would collide playing ``actions`` (same non-goal target or swap).
 
@@ -126,7 +167,7 @@ def would_collide(next_cell, is_goal, cells, done, actions, i, j):
     return target_i == cells[j] and target_j == cells[i]
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def could_collide(next_cell, is_goal, a, b):
     """Whether two acting agents on cells ``a`` and ``b`` could collide in this step: some joint
     action of theirs makes them target the same non-goal cell (a bump targets its own cell) or
@@ -147,7 +188,7 @@ def could_collide(next_cell, is_goal, a, b):
     return False
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def shared_reward(rewards, reached, all_done_after):
     """The MMDP learner's single reward for one step (Section 5.3).
 
@@ -167,7 +208,7 @@ def shared_reward(rewards, reached, all_done_after):
     return total
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def manhattan(n_cols, a, b):
     """Manhattan distance between cells a and b (cell = row * n_cols + col)."""
     return abs(a // n_cols - b // n_cols) + abs(a % n_cols - b % n_cols)

@@ -29,8 +29,12 @@ def run(next_cell, is_goal, starts, bounce, alpha, gamma, exploit, n_episodes, e
             for i in range(n_agents):
                 if not done[i]:
                     actions[i] = epsilon_greedy(q[i, s], exploit, state)
-            collisions = rules.step(next_cell, is_goal, starts, bounce, cells, done, actions,
-                                    new_cells, rewards, bumped, collided, reached)
+            if n_agents == 2:  # the chapter's case, on the rules' fast path
+                collisions = rules.step_two(next_cell, is_goal, starts, bounce, cells, done, actions,
+                                            new_cells, rewards, bumped, collided, reached)
+            else:
+                collisions = rules.step(next_cell, is_goal, starts, bounce, cells, done, actions,
+                                        new_cells, rewards, bumped, collided, reached)
             s_next = joint_index(new_cells, n_cells)
             for i in range(n_agents):
                 if not done[i]:

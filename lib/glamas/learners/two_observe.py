@@ -50,7 +50,7 @@ def new_gla_parameters(n_agents: int) -> np.ndarray:
     return np.zeros((n_agents, 2, N_GLA_INPUTS))
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def yield_at_random(preferred, actions, state):
     """Section 5.2's coordination: one agent (picked at random) keeps its preferred action, the
     other takes an action drawn uniformly from its other three."""
@@ -60,7 +60,7 @@ def yield_at_random(preferred, actions, state):
     actions[yielder] = other + 1 if other >= preferred[yielder] else other
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def first_level(next_cell, is_goal, cells, done, choices, preferred, actions, state):
     """Alg. 4's if-branch for GLA ``choices`` and Q-preferred actions ``preferred``: fill
     ``actions``; return (collision coming, both coordinated).
@@ -77,7 +77,7 @@ def first_level(next_cell, is_goal, cells, done, choices, preferred, actions, st
     return coming, both
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def need_before_step(need, next_cell, is_goal, cells, i, j, coming):
     """Agent i's need to coordinate with agent j under the readings decided before the move
     (``in_range``, ``sampled``: ``coming`` is whether i's and j's preferred actions collide);
@@ -87,7 +87,7 @@ def need_before_step(need, next_cell, is_goal, cells, i, j, coming):
     return need == NEED_SAMPLED and coming
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def gla_feedback(table, penalty_per_cell, choice, need, both, delta):
     """r_c of Alg. 4 (Fig. 10, reconstructed): table[choice, need], minus ``penalty_per_cell *
     delta`` when both coordinated without need (Section 5.3's 0 - delta/10)."""
@@ -145,8 +145,8 @@ def run(next_cell, is_goal, starts, bounce, n_cols, alpha, gamma, exploit, gla_r
                 for i in range(n_agents):
                     if not done[i]:
                         actions[i] = epsilon_greedy(q[i, cells[i]], exploit, state)
-            collisions = rules.step(next_cell, is_goal, starts, bounce, cells, done, actions,
-                                    new_cells, rewards, bumped, collided, reached)
+            collisions = rules.step_two(next_cell, is_goal, starts, bounce, cells, done, actions,
+                                        new_cells, rewards, bumped, collided, reached)
             if observing:
                 if need == NEED_OUTCOME:
                     needed = collisions > 0
