@@ -5,7 +5,8 @@ A GLA with ``r`` actions keeps one parameter vector ``u_i`` per action, stored a
 eq. 15 and learns with the bounded REINFORCE rule of eq. 13-14.
 
 The compiled functions take plain arrays and scalars so that simulation kernels can call them
-in their inner loops (inlined there: ``inline="always"``); :class:`GLA` and :class:`GLANetwork` are the checked, user-facing wrappers.
+in their inner loops (inlined there: ``inline="always"``); :class:`GLA` and :class:`GLANetwork`
+are the checked, user-facing wrappers.
 """
 
 from dataclasses import dataclass, field

@@ -76,7 +76,12 @@ def integer(state, n):
 @njit(cache=True, inline="always")
 def categorical(state, probs):
     """An index drawn with the given probabilities (which sum to one)."""
-    r = uniform(state)
+    return _first_above(probs, uniform(state))
+
+
+@njit(cache=True, inline="always")
+def _first_above(probs, r):
+    """The first index whose cumulative probability exceeds r (the last index if none does)."""
     acc = 0.0
     for i in range(probs.shape[0] - 1):
         acc += probs[i]

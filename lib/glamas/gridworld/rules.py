@@ -21,6 +21,7 @@ Precondition of :func:`step`: the acting agents are on distinct non-goal cells (
 start cells on, since the rules preserve it).
 """
 
+import numpy as np
 from numba import njit
 
 N, E, S, W = 0, 1, 2, 3
@@ -154,17 +155,18 @@ def step_two(next_cell, is_goal, starts, bounce, cells, done, actions,
 
 @njit(cache=True, inline="always")
 def would_collide(next_cell, is_goal, cells, done, actions, i, j):
-    """Whether agents i and j would collide playing ``actions`` (same non-goal target or swap).
+    """Whether agents i and j would collide playing ``actions`` (same non-goal target or swap);
+    never when one of them is done (its action, which must be one of the four, is ignored).
 
     Used by 2observe (Alg. 4) to check the agents' preferred actions; other agents are ignored.
     """
-    if done[i] or done[j]:
-        return False
-    target_i = next_cell[cells[i], actions[i]]
-    target_j = next_cell[cells[j], actions[j]]
-    if target_i == target_j and not is_goal[target_i]:
-        return True
-    return target_i == cells[j] and target_j == cells[i]
+    cell_i, cell_j = cells[i], cells[j]
+    target_i, target_j = next_cell[cell_i, actions[i]], next_cell[cell_j, actions[j]]
+    done_i, done_j = done[i], done[j]
+    acting = not (done_i or done_j)
+    target_is_goal = is_goal[target_i]
+    same_target = target_i == target_j and not target_is_goal
+    return acting and (same_target or (target_i == cell_j and target_j == cell_i))
 
 
 @njit(cache=True, inline="always")
@@ -186,6 +188,18 @@ def could_collide(next_cell, is_goal, a, b):
             if target_a == b and target_b == a:
                 return True
     return False
+
+
+@njit(cache=True)
+def in_range_table(next_cell, is_goal):
+    """:func:`could_collide` for every pair of cells, ``table[a, b]``: made once per run, so that a
+    kernel looks the answer up instead of trying the 16 joint actions every step."""
+    n_cells = next_cell.shape[0]
+    table = np.zeros((n_cells, n_cells), np.bool_)
+    for a in range(n_cells):
+        for b in range(n_cells):
+            table[a, b] = could_collide(next_cell, is_goal, a, b)
+    return table
 
 
 @njit(cache=True, inline="always")

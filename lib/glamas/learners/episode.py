@@ -6,8 +6,14 @@ averaged over blocks of episodes straight into ``log`` (one row per block), so a
 run stays small. The blocks are given by their ``edges`` (block k holds the episodes
 ``edges[k] <= episode < edges[k + 1]``): :func:`uniform_edges` for blocks of one size,
 :func:`log_edges` for blocks that start one episode wide and widen geometrically, so that the
-first episodes, where learning happens, are resolved as well as the last ones. The helpers are
-inlined into the kernels (``inline="always"``), as are all the pieces of their step loops.
+first episodes, where learning happens, are resolved as well as the last ones.
+
+The helpers are inlined into the kernels (``inline="always"``), as are all the pieces of their
+step loops, and the kernels use numpy's error model (no zero-division checks; no divisor in them
+can be zero). An inlined piece reads and writes its array arguments outside its branches where it
+can (a value read before an ``if``, not inside it): numba counts references on every array handed
+to an inlined function, and only removes that counting, which costs more than a whole step, when
+the array is used on every path through the function.
 
 The constants below are the columns for two agents (the chapter's case). With N agents a row has
 N steps columns, then N reward columns, then length, collisions, coordinations and capped

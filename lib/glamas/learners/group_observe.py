@@ -87,19 +87,20 @@ def collision_coming(next_cell, is_goal, cells, done, preferred, i):
 
 
 @njit(cache=True)
-def in_range_of_any(next_cell, is_goal, cells, done, i):
-    """Whether acting agent i could collide with some other acting agent in this step."""
+def in_range_of_any(in_range, cells, done, i):
+    """Whether acting agent i could collide with some other acting agent in this step
+    (``in_range``: the table of rules.in_range_table)."""
     for j in range(cells.shape[0]):
-        if j != i and not done[j] and rules.could_collide(next_cell, is_goal, cells[i], cells[j]):
+        if j != i and not done[j] and in_range[cells[i], cells[j]]:
             return True
     return False
 
 
 @njit(cache=True)
-def need_of(need, next_cell, is_goal, cells, done, coming, collided, i):
+def need_of(need, in_range, cells, done, coming, collided, i):
     """Agent i's need under reading ``need`` (module docstring); ``collided`` is the step's."""
     if need == NEED_IN_RANGE:
-        return in_range_of_any(next_cell, is_goal, cells, done, i)
+        return in_range_of_any(in_range, cells, done, i)
     if need == NEED_SAMPLED:
         return coming[i]
     return need == NEED_OUTCOME and collided[i]
@@ -139,7 +140,7 @@ def coordinate_group(next_cell, is_goal, cells, done, choices, preferred, action
     return count
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def run(next_cell, is_goal, starts, bounce, n_cols, alpha, gamma, exploit, gla_rate, temperature,
         K, L, bounding, init_range, feedback_table, penalty_per_cell, need, delta_scale,
         rule_distance, n_episodes, edges, max_steps, q, u, need_counts, log, state):
@@ -154,7 +155,7 @@ def run(next_cell, is_goal, starts, bounce, n_cols, alpha, gamma, exploit, gla_r
     coordinations_column = ep.column(n_agents, ep.COORDINATIONS)
     cells, done, actions, new_cells, rewards, bumped, collided, reached, acc = ep.buffers(n_agents)
     choices = np.empty(n_agents, np.int64)
-    preferred = np.empty(n_agents, np.int64)
+    preferred = np.zeros(n_agents, np.int64)  # one of the actions even for done agents (rules.would_collide)
     nearest = np.empty(n_agents, np.int64)
     deltas = np.empty(n_agents, np.int64)
     coming = np.empty(n_agents, np.bool_)
@@ -163,6 +164,7 @@ def run(next_cell, is_goal, starts, bounce, n_cols, alpha, gamma, exploit, gla_r
     kept = np.empty(n_agents, np.bool_)
     probs = np.empty((n_agents, 2))
     x = np.ones((n_agents, N_GLA_INPUTS))
+    in_range = rules.in_range_table(next_cell, is_goal)
     for i in range(n_agents):  # "initialised randomly" (Section 5.3)
         for j in range(2):
             for k in range(N_GLA_INPUTS):
@@ -200,7 +202,7 @@ def run(next_cell, is_goal, starts, bounce, n_cols, alpha, gamma, exploit, gla_r
                                         new_cells, rewards, bumped, collided, reached)
             for i in range(n_agents):
                 if nearest[i] != NOBODY:
-                    needed[i] = need_of(need, next_cell, is_goal, cells, done, coming, collided, i)
+                    needed[i] = need_of(need, in_range, cells, done, coming, collided, i)
                     need_counts[deltas[i], 1 if needed[i] else 0] += 1
             for i in range(n_agents):
                 if not done[i]:

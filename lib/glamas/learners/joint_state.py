@@ -15,7 +15,7 @@ def new_tables(n_cells: int, n_agents: int) -> np.ndarray:
     return np.zeros((n_agents, n_cells ** n_agents, 4))
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def run(next_cell, is_goal, starts, bounce, alpha, gamma, exploit, n_episodes, edges, max_steps,
         q, log, state):
     """One run of ``n_episodes`` episodes; learns in ``q`` and writes the binned ``log``."""

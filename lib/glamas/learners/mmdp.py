@@ -21,7 +21,7 @@ def split_joint_action(joint, actions):
     split_index(joint, rules.N_ACTIONS, actions)
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def run(next_cell, is_goal, starts, bounce, alpha, gamma, exploit, n_episodes, edges, max_steps,
         q, log, state):
     """One run of ``n_episodes`` episodes; learns in ``q[0]`` and writes the binned ``log``.
