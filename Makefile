@@ -9,7 +9,7 @@ EXTRAS := $(VENV)/.extras-installed
 FIGURES := $(sort $(wildcard paper_figures/*.py))
 NOTEBOOKS := $(sort $(wildcard notebooks/*.ipynb))
 
-.PHONY: figures test unit notebooks-check notebooks benchmark clean-env clean-cache
+.PHONY: figures test unit notebooks-check notebooks benchmark reproduce clean-env clean-cache
 
 $(READY): requirements.txt pyproject.toml
 	@$(PYTHON) -c 'import sys; sys.exit(sys.version_info < (3, 11) and "glamas needs Python >= 3.11: set PYTHON=python3.11")'
@@ -43,6 +43,22 @@ notebooks: $(READY)
 ## benchmark: compiled kernels against plain-Python references, and the time of `make figures`
 benchmark: $(READY)
 	@for script in $(sort $(wildcard benchmarks/bench_*.py)); do echo "== $$script"; $(PY) $$script || exit 1; done
+
+## reproduce: recompute every experiment of the chapter (Fig. 5-12) into $(OUT)/results and draw
+## its figures into $(OUT)/figures, e.g. `make reproduce OUT=out/reproduce`. The results directory
+## starts empty, so the first script of each experiment recomputes it (as --rerun would) and the
+## scripts drawing other figures of that experiment read what it just computed.
+OUT ?= out/reproduce
+CHAPTER := fig5 fig6 fig7a fig7b fig9 fig10 fig11a fig11b fig12a fig12b
+
+reproduce: $(READY)
+	rm -rf $(OUT)/figures $(OUT)/results
+	mkdir -p $(OUT)/figures $(OUT)/results
+	@for name in $(CHAPTER); do \
+		echo "== paper_figures/$$name.py"; \
+		if [ $$name = fig9 ]; then results=""; else results="--results $(OUT)/results"; fi; \
+		$(PY) paper_figures/$$name.py --out $(OUT)/figures $$results || exit 1; \
+	done
 
 clean-env:
 	rm -rf $(VENV)
