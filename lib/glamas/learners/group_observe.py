@@ -20,9 +20,10 @@ preferred action; ``outcome``, i collided in this step. "Both coordinated" means
 other agent both chose to coordinate (then the penalty ``-penalty_per_cell * delta`` applies when
 i had no need).
 
-With two agents, :func:`run` reproduces :func:`two_observe.run` exactly under every reading (same
-random numbers, same log, same GLA parameters); only ``need_counts`` counts each observing agent,
-so twice per step. The log's coordinations column counts agent-steps coordinating with their nearest agent,
+With two agents, :func:`run_group` reproduces :func:`two_observe.run` exactly under every reading
+(same random numbers, same log, same GLA parameters); only ``need_counts`` counts each observing
+agent, so twice per step. :func:`run` therefore runs two agents on :func:`two_observe.run`, the
+faster kernel. The log's coordinations column counts agent-steps coordinating with their nearest agent,
 halved: for two agents, the steps on which both coordinated.
 """
 
@@ -32,13 +33,14 @@ from numba import njit
 from glamas import gla, rng
 from glamas.gridworld import rules
 from glamas.learners import episode as ep
+from glamas.learners import two_observe
 from glamas.learners.independent import new_tables  # the same state-action space as two agents
 from glamas.learners.two_observe import (ACT_ALONE, COORDINATE, N_GLA_INPUTS, NEED_IN_RANGE, NEED_OUTCOME,
                                          NEED_SAMPLED, gla_feedback, new_gla_parameters)
 from glamas.qlearning import epsilon_greedy, q_update
 
 __all__ = ["coordinate_group", "nearest_others", "new_need_counts", "new_gla_parameters",
-           "new_tables", "random_order", "run"]
+           "new_tables", "random_order", "run", "run_group"]
 
 NOBODY = -1
 """``nearest`` of an agent that has no other acting agent to observe."""
@@ -149,7 +151,28 @@ def run(next_cell, is_goal, starts, bounce, n_cols, alpha, gamma, exploit, gla_r
 
     ``rule_distance`` >= 0 replaces the GLAs by the fixed rule "coordinate when delta <
     rule_distance" (a diagnostic; -1: the GLAs learn, as in Alg. 4).
+
+    Two agents play the steps of :func:`run_group` on the two-agent kernel
+    (:func:`glamas.learners.two_observe.run`, module docstring), which is faster; both agents
+    observe with the same delta and the same need, so each of its need counts counts twice.
     """
+    if starts.shape[0] == 2:
+        counts = np.zeros_like(need_counts)
+        two_observe.run(next_cell, is_goal, starts, bounce, n_cols, alpha, gamma, exploit, gla_rate,
+                        temperature, K, L, bounding, init_range, feedback_table, penalty_per_cell, need,
+                        delta_scale, rule_distance, n_episodes, edges, max_steps, q, u, counts, log, state)
+        need_counts += 2.0 * counts
+    else:
+        run_group(next_cell, is_goal, starts, bounce, n_cols, alpha, gamma, exploit, gla_rate, temperature,
+                  K, L, bounding, init_range, feedback_table, penalty_per_cell, need, delta_scale,
+                  rule_distance, n_episodes, edges, max_steps, q, u, need_counts, log, state)
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def run_group(next_cell, is_goal, starts, bounce, n_cols, alpha, gamma, exploit, gla_rate, temperature,
+              K, L, bounding, init_range, feedback_table, penalty_per_cell, need, delta_scale,
+              rule_distance, n_episodes, edges, max_steps, q, u, need_counts, log, state):
+    """:func:`run` for any number of agents, with the group coordination of the module docstring."""
     learn_first_level = rule_distance < 0
     n_agents = starts.shape[0]
     coordinations_column = ep.column(n_agents, ep.COORDINATIONS)
