@@ -217,12 +217,8 @@ def run_group(next_cell, is_goal, starts, bounce, n_cols, alpha, gamma, exploit,
                 if nearest[i] != NOBODY and choices[i] == COORDINATE and choices[nearest[i]] == COORDINATE:
                     paired += 1
             acc[coordinations_column] += paired / 2
-            if n_agents == 2:  # the chapter's case, on the rules' fast path
-                collisions = rules.step_two(next_cell, is_goal, starts, bounce, cells, done, actions,
-                                            new_cells, rewards, bumped, collided, reached)
-            else:
-                collisions = rules.step(next_cell, is_goal, starts, bounce, cells, done, actions,
-                                        new_cells, rewards, bumped, collided, reached)
+            collisions = rules.step(next_cell, is_goal, starts, bounce, cells, done, actions,
+                                    new_cells, rewards, bumped, collided, reached)
             for i in range(n_agents):
                 if nearest[i] != NOBODY:
                     needed[i] = need_of(need, in_range, cells, done, coming, collided, i)
