@@ -52,7 +52,7 @@ def new_need_counts(n_rows: int, n_cols: int) -> np.ndarray:
     return np.zeros((n_rows + n_cols - 1, 2))
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def nearest_others(n_cols, cells, done, nearest, deltas):
     """For every acting agent: the nearest other acting agent (lowest number on ties) and its
     Manhattan distance; ``nearest`` is NOBODY for agents that are done or alone."""
@@ -71,7 +71,7 @@ def nearest_others(n_cols, cells, done, nearest, deltas):
                 deltas[i] = d
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def random_order(members, count, state):
     """Shuffle ``members[:count]`` uniformly (Durstenfeld: from the back, one draw per place)."""
     for i in range(count - 1, 0, -1):
@@ -79,7 +79,7 @@ def random_order(members, count, state):
         members[i], members[j] = members[j], members[i]
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def collision_coming(next_cell, is_goal, cells, done, preferred, i):
     """Whether agent i's preferred action would collide with another agent's preferred action."""
     for j in range(cells.shape[0]):
@@ -88,7 +88,7 @@ def collision_coming(next_cell, is_goal, cells, done, preferred, i):
     return False
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def in_range_of_any(in_range, cells, done, i):
     """Whether acting agent i could collide with some other acting agent in this step
     (``in_range``: the table of rules.in_range_table)."""
@@ -98,7 +98,7 @@ def in_range_of_any(in_range, cells, done, i):
     return False
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def need_of(need, in_range, cells, done, coming, collided, i):
     """Agent i's need under reading ``need`` (module docstring); ``collided`` is the step's."""
     if need == NEED_IN_RANGE:
@@ -108,7 +108,7 @@ def need_of(need, in_range, cells, done, coming, collided, i):
     return need == NEED_OUTCOME and collided[i]
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def coordinate_group(next_cell, is_goal, cells, done, choices, preferred, actions, order, kept, state):
     """Section 5.2's coordination for a group (module docstring): fill ``actions`` from the
     ``preferred`` ones; return how many coordinating agents were in a coming collision.
