@@ -24,7 +24,12 @@ def result_differences(fresh: Path, committed: Path) -> list[str]:
         keys_a, keys_b = set(a.files) - {_PROVENANCE}, set(b.files) - {_PROVENANCE}
         if keys_a != keys_b:
             return [f"{committed.name}: arrays {sorted(keys_a ^ keys_b)} are in only one of the files"]
-        return [f"{committed.name}: {key} differs" for key in sorted(keys_a) if not np.array_equal(a[key], b[key])]
+        return [f"{committed.name}: {key} differs" for key in sorted(keys_a) if not _equal(a[key], b[key])]
+
+
+def _equal(x: np.ndarray, y: np.ndarray) -> bool:
+    """Equal arrays; NaN equals NaN in float arrays (the scaling study marks skipped runs with it)."""
+    return np.array_equal(x, y, equal_nan=x.dtype.kind in "fc" and y.dtype.kind in "fc")
 
 
 def differences(directory: Path) -> list[str]:
