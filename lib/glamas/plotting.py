@@ -77,3 +77,8 @@ def legend_below(ax, ncols: int = 2, **kwargs):
     room for it), so that no curve, band or marker is ever hidden behind it."""
     return ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.16), ncols=ncols, fontsize="small",
                      frameon=False, **kwargs)
+
+
+def legend_right(ax, **kwargs):
+    """The legend of ``ax`` right of it, outside the data (for legends too long to go below)."""
+    return ax.legend(loc="upper left", bbox_to_anchor=(1.02, 1.0), fontsize="small", frameon=False, **kwargs)
