@@ -69,6 +69,15 @@ def test_best_single_line_for_agent_b_matches_the_analytic_value():
     assert single_gla.best_line_reward("absolute", 0, grid=200) == pytest.approx(0.5, abs=0.01)
 
 
+@pytest.mark.parametrize("offset", single_gla.B_BEST_LINE_OFFSETS)
+def test_fig5b_draws_agent_b_best_lines(offset):
+    # the reference lines Fig. 5b draws for B score what the exhaustive search finds best
+    x1, x2 = single_gla.lineworld.state_grid(200)
+    plays_left = np.where(x2 - x1 > offset, single_gla.lineworld.LEFT, single_gla.lineworld.RIGHT)
+    share = (plays_left == single_gla.best_actions(x1, x2, 1)).mean()
+    assert share == pytest.approx(single_gla.best_line_reward("joint", 1, grid=200), abs=0.01)
+
+
 def test_encoding_comparison_metrics():
     results = single_gla.compare_encodings(replace(SMALL_1, runs=3), seed=0)
     assert set(results) == {"joint", "absolute", "deictic"}

@@ -70,3 +70,15 @@ def plot_mean_band(ax, x, curves, label: str, **style):
 def new_figure(width: float = 6.0, height: float = 4.0, **kwargs):
     """A figure of the given size in inches, with constrained layout."""
     return plt.subplots(figsize=(width, height), layout="constrained", **kwargs)
+
+
+def legend_below(ax, ncols: int = 2, **kwargs):
+    """The legend of ``ax`` under its x axis label, outside the data (constrained layout makes
+    room for it), so that no curve, band or marker is ever hidden behind it."""
+    return ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.16), ncols=ncols, fontsize="small",
+                     frameon=False, **kwargs)
+
+
+def legend_right(ax, **kwargs):
+    """The legend of ``ax`` right of it, outside the data (for legends too long to go below)."""
+    return ax.legend(loc="upper left", bbox_to_anchor=(1.02, 1.0), fontsize="small", frameon=False, **kwargs)

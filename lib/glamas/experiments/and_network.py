@@ -13,7 +13,7 @@ from numba import njit
 
 from glamas import claims, gla, lineworld, memory, rng
 from glamas.experiments import checks
-from glamas.plotting import plot_mean_band
+from glamas.plotting import legend_below
 from glamas.runs import run_batches
 
 CONTEXT_LENGTH = 3  # the joint context [x1, x2, 1]
@@ -364,28 +364,51 @@ def plot_parabola(ax, config: ANDNetworkConfig):
     ax.set_ylabel("x2 (position of agent B)")
 
 
-def plot_boundaries(ax, result: ANDNetworkResult, run_index: int, grid: int = 200):
-    """Fig. 7a: over the parabola, each agent's learned boundary P(L) = 1/2 for one run."""
+AGENT_COLOURS = (("A", "tab:red"), ("B", "tab:purple"))
+"""Each agent's name and colour in Fig. 7a and 7b."""
+
+
+def plot_boundaries(ax, result: ANDNetworkResult, run_index: int, grid: int = 200, title: str | None = None):
+    """Fig. 7a: over the parabola, each agent's learned boundary P(L) = 1/2 for one run; ``title``
+    says which run it is (default: its index), the index then goes to the legend's title."""
     plot_parabola(ax, result.config)
     centres = -1.0 + (np.arange(grid) + 0.5) * (2.0 / grid)
     x1, x2 = np.meshgrid(centres, centres, indexing="xy")
     p_left = left_map(result, run_index, x1.ravel(), x2.ravel())
-    for agent, (name, colour) in enumerate((("A", "tab:red"), ("B", "tab:purple"))):
+    for agent, (name, colour) in enumerate(AGENT_COLOURS):
         ax.contour(x1, x2, p_left[agent].reshape(x1.shape), levels=[0.5], colors=colour,
                    linewidths=2)
         ax.plot([], [], color=colour, lw=2, label=f"agent {name}: P(L) = 1/2")
-    ax.legend(loc="lower left", fontsize="small")
-    ax.set_title(f"run {run_index}")
+    legend_below(ax, title=None if title is None else f"run {run_index}", title_fontsize="small")
+    ax.set_title(f"run {run_index}" if title is None else title, fontsize="medium")
+
+
+def stuck_runs(result: ANDNetworkResult) -> np.ndarray:
+    """(runs,) True where the run ended stuck in 'R everywhere' (as :func:`measure` counts them)."""
+    in_I, _ = final_left_by_region(result)
+    return (in_I < result.config.stuck_threshold).all(axis=1)
 
 
 def plot_prob_left(ax, result: ANDNetworkResult):
-    """Fig. 7b: P(L) in region I of both agents over iterations, mean and 95 % band over runs."""
-    for agent, name in enumerate(("A", "B")):
-        plot_mean_band(ax, result.iteration, result.prob_left[:, :, agent], label=f"agent {name}")
+    """Fig. 7b: P(L) in region I of both agents over iterations: every run faint (the runs split
+    into those that learned and those stuck in 'R everywhere', which a mean over all runs would
+    hide), and each group's mean per agent, A solid and wide under B dashed, so both show."""
+    stuck = stuck_runs(result)
+    for agent, (name, colour) in enumerate(AGENT_COLOURS):
+        ax.plot(result.iteration, result.prob_left[:, :, agent].T, color=colour, alpha=0.12, linewidth=0.6)
+    for group, label in ((~stuck, "that learned"), (stuck, "that got stuck")):
+        for agent, (name, colour) in enumerate(AGENT_COLOURS):
+            if group.any():
+                ax.plot(result.iteration, result.prob_left[group, :, agent].mean(axis=0), color=colour,
+                        linewidth=2.8 if agent == 0 else 1.4, linestyle="-" if agent == 0 else "--",
+                        label=f"agent {name}, mean of the {group.sum()} runs {label}")
+    ax.plot([], [], color="0.5", alpha=0.4, linewidth=0.6, label="one run (per agent)")
+    ax.set_title(f"stuck in 'R everywhere' at the end: {stuck.sum()} of {stuck.size} runs "
+                 f"({stuck.mean():.0%})", fontsize="medium")
     ax.set_xlabel("iteration")
     ax.set_ylabel("P(L) in region I")
     ax.set_ylim(0, 1)
-    ax.legend(loc="lower right")
+    legend_below(ax)
 
 
 def plot_stuck_fraction(ax, result: SweepResult):

@@ -19,7 +19,7 @@ import numpy as np
 from glamas import cli, results
 from glamas.experiments import gridworld as gw
 from glamas.paths import RESULTS
-from glamas.plotting import new_figure, save_figure
+from glamas.plotting import legend_below, new_figure, save_figure
 
 READINGS = {
     "in_range, L=8": {},
@@ -174,7 +174,7 @@ def plot_coordination(ax, rows: list[dict]):
     ax.set_xlabel("delta (Manhattan distance between the agents)")
     ax.set_ylabel("P(coordinate), learned")
     ax.set_ylim(-0.03, 1.03)
-    ax.legend(fontsize="x-small", loc="center right")
+    legend_below(ax, ncols=2)
 
 
 def plot_collisions(ax, rows: list[dict]):
@@ -186,7 +186,7 @@ def plot_collisions(ax, rows: list[dict]):
     ax.axvline(0.05, color="black", linestyle="--", linewidth=1, label="zero collisions (claim: <= 0.05)")
     ax.set_xscale("log")
     ax.set_xlabel("final collisions per episode")
-    ax.legend(fontsize="small", loc="lower right")
+    legend_below(ax, ncols=1)
 
 
 # --- figure script (paper_figures/fig10_readings.py) -------------------------------------------
@@ -204,7 +204,7 @@ def figure_main(argv=None) -> list[Path]:
     config = ReadingsConfig(gridworld=base)
     result = cli.load_or_run(args, RESULT_NAME, config, run, ReadingsResult)
     rows = summary(result, config)
-    fig, axes = new_figure(12.0, 4.0, ncols=2)
+    fig, axes = new_figure(12.0, 5.0, ncols=2)
     plot_coordination(axes[0], rows)
     plot_collisions(axes[1], rows)
     written = save_figure(fig, args.out, RESULT_NAME)

@@ -12,6 +12,7 @@ from pathlib import Path
 
 import matplotlib.pyplot as plt
 import numpy as np
+from matplotlib.ticker import NullFormatter
 
 from glamas import claims as chapter
 from glamas import cli, gla, results, runs
@@ -20,7 +21,7 @@ from glamas.gridworld import BOUNCE_MODES, GridMap, dp, load_map, rules
 from glamas.learners import episode as ep
 from glamas.learners import independent, joint_state, mmdp, two_observe
 from glamas.paths import MAPS, RESULTS
-from glamas.plotting import learner_style, new_figure, plot_mean_band, save_figure
+from glamas.plotting import legend_below, learner_style, new_figure, plot_mean_band, save_figure
 
 EXPERIMENT = "gridworld"
 LEARNERS = ("independent", "joint_state", "mmdp", "two_observe")
@@ -440,23 +441,82 @@ def need_probability(result: GridworldResult) -> np.ndarray:
 
 # --- plots: each draws on a given Axes -------------------------------------------------------
 
+UNDERNEATH = "two_observe"
+"""The learner drawn first, widest and under the others: its curve lies on theirs in the long
+run, and drawn on top it would hide them."""
+
+
+def _line_style(name: str) -> dict:
+    """Colour, width and stacking of learner ``name``'s curve (2observe wide and underneath)."""
+    under = name == UNDERNEATH
+    return {**learner_style(name), "linewidth": 2.6 if under else 1.3, "zorder": 2 if under else 3}
+
+
 def _plot_learners(ax, result, values, ylabel, reference=None, learners=None):
     x = result.episodes
-    for name in learners or result.names():
-        plot_mean_band(ax, x, values(name), LABELS[name], **learner_style(name))
+    names = list(learners or result.names())
+    for name in sorted(names, key=lambda name: name != UNDERNEATH):  # 2observe first, underneath
+        plot_mean_band(ax, x, values(name), LABELS[name], **_line_style(name))
     if reference is not None:
         ax.axhline(reference, color="black", linestyle="--", linewidth=1, label="optimum (value iteration)")
     ax.set_xscale("log")  # the learning happens in the first few thousand episodes
     ax.set_xlabel("episode")
     ax.set_ylabel(ylabel)
-    ax.legend(fontsize="small")
+    _legend_in_learner_order(ax, names)
+
+
+def _legend_in_learner_order(ax, names):
+    """The legend below the axes, learners in their usual order whatever order they were drawn in."""
+    handles, labels = ax.get_legend_handles_labels()
+    order = sorted(range(len(labels)), key=lambda i: _legend_rank(labels[i], names))
+    legend_below(ax, handles=[handles[i] for i in order], labels=[labels[i] for i in order])
+
+
+def _legend_rank(label: str, names) -> int:
+    ranks = {LABELS[name]: k for k, name in enumerate(names)}
+    return ranks.get(label, len(ranks))
+
+
+STEP_TICKS = (10, 20, 50, 100, 1000)
+"""Fig. 11a's log-axis ticks: the scale of the steps, from the first episodes down to the goal."""
+STEP_TAIL_TICKS = (10, 11, 12, 14, 16)
+"""The zoomed tail's ticks: the final steps the text compares (the optimum is about 10.5)."""
+TAIL_FROM = 100
+"""The zoom shows the episodes from this one on, after the first drop of every learner."""
 
 
 def plot_steps(ax, result, optimum=None):
-    """Fig. 11a: steps from start to goal, mean of both agents (mean and 95 % band over runs)."""
+    """Fig. 11a: steps from start to goal, mean of both agents (mean and 95 % band over runs), on
+    a log axis with ticks at round values, and the tail (episode 100 on) zoomed on a linear axis
+    in an inset, where the learners' final steps differ by one or two."""
     _plot_learners(ax, result, result.steps, "steps to goal (mean of the agents)",
                    None if optimum is None else optimum["steps"])
+    _round_log_ticks(ax, STEP_TICKS)
+    _plot_step_tail(ax, result, optimum)
+
+
+def _round_log_ticks(ax, ticks):
+    """Log y axis labelled at ``ticks`` as plain numbers (no 10^k, no unlabelled minor ticks)."""
     ax.set_yscale("log")
+    ax.set_yticks(ticks, [f"{t:g}" for t in ticks])
+    ax.yaxis.set_minor_formatter(NullFormatter())
+
+
+def _plot_step_tail(ax, result, optimum):
+    """An inset in the empty upper right (every curve is below 20 steps there): the steps from
+    TAIL_FROM on, linear axis, ticks at STEP_TAIL_TICKS."""
+    tail = ax.inset_axes([0.5, 0.4, 0.47, 0.5])
+    keep = result.episodes >= TAIL_FROM
+    for name in sorted(result.names(), key=lambda name: name != UNDERNEATH):
+        plot_mean_band(tail, result.episodes[keep], result.steps(name)[:, keep], LABELS[name], **_line_style(name))
+    if optimum is not None:
+        tail.axhline(optimum["steps"], color="black", linestyle="--", linewidth=1)
+    tail.set_xscale("log")
+    tail.set_yticks(STEP_TAIL_TICKS)
+    tail.set_ylim(STEP_TAIL_TICKS[0] - 0.5, STEP_TAIL_TICKS[-1] + 2)
+    tail.grid(axis="y", linewidth=0.4, color="0.85")
+    tail.tick_params(labelsize="x-small")
+    tail.set_title(f"from episode {TAIL_FROM}, linear axis", fontsize="x-small")
 
 
 def plot_reward(ax, result, optimum=None):
@@ -471,8 +531,15 @@ def plot_collisions(ax, result, optimum=None):
                    None if optimum is None else optimum["collisions"])
 
 
+CHAPTER_COORDINATIONS = 4.0
+"""Sec. 5.3: 2observe converges to "about four" coordinations per episode (Fig. 12b)."""
+
+
 def plot_coordinations(ax, result):
-    """Fig. 12b: steps per episode on which both 2observe agents chose to coordinate."""
+    """Fig. 12b: steps per episode on which both 2observe agents chose to coordinate, against the
+    chapter's "about four"."""
+    ax.axhline(CHAPTER_COORDINATIONS, color="black", linestyle=":", linewidth=1.2,
+               label='the chapter: "about four" per episode')
     _plot_learners(ax, result, lambda name: result.curves(name, ep.COORDINATIONS),
                    "coordinations per episode", learners=["two_observe"])
 
@@ -487,7 +554,7 @@ def plot_variants(ax, results: dict, metric: str, learner: str = "two_observe"):
     ax.set_xscale("log")
     ax.set_xlabel("episode")
     ax.set_ylabel(f"{metric} per episode")
-    ax.legend(fontsize="small")
+    legend_below(ax)
 
 
 NEED_LABELS = {"in_range": ("cannot collide this step", "could collide this step"),

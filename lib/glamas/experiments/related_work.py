@@ -21,7 +21,7 @@ from glamas.experiments import gridworld as gw
 from glamas.gridworld import BOUNCE_MODES, rules
 from glamas.learners import cq, sparse_maq
 from glamas.learners import episode as ep
-from glamas.plotting import learner_style, new_figure, plot_mean_band, save_figure
+from glamas.plotting import legend_below, legend_right, learner_style, new_figure, plot_mean_band, save_figure
 
 EXPERIMENT = "related_work"
 RELATED_LEARNERS = ("sparse_maq", "cq")
@@ -221,26 +221,39 @@ def plot_coordinations(ax, result: RelatedWorkResult):
     ax.set_xscale("log")
     ax.set_xlabel("episode")
     ax.set_ylabel("steps observing the other agent")
-    ax.legend(fontsize="small")
+    legend_below(ax)
 
 
 def plot_size_and_reward(ax, result: RelatedWorkResult, config: RelatedWorkConfig):
     """Each learner's Q entries per agent (measured) against its final reward: the chapter's
-    trade-off between state-action space and coordination (learners on the same point share a label)."""
+    trade-off between state-action space and coordination (learners on the same point share a
+    legend entry). A learner that also stores reward samples for a statistical test (CQ-learning)
+    gets a second, open marker at Q entries + samples, joined by an arrow: that memory is the
+    chapter's argument for the GLA, which needs none."""
     m = measure(result, config)
     points = {}
     for name in result.names():
         points.setdefault((m[f"q_entries_{name}"], round(m[f"reward_{name}"], 1)), []).append(name)
-    by_reward = sorted((reward, entries, names) for (entries, reward), names in points.items())
-    for i, (reward, entries, names) in enumerate(by_reward):
-        ax.plot(entries, reward, markersize=7, linestyle="none", **learner_style(names[0], marker=True))
-        ax.annotate(" = ".join(gw.LABELS[n] for n in names), (entries, reward), fontsize="small", textcoords="offset points",
-                    xytext=(-4, -14 if i % 2 == 0 else 7))  # by reward, alternately below and above
+    for (entries, reward), names in points.items():
+        ax.plot(entries, reward, markersize=8, linestyle="none", label=" = ".join(gw.LABELS[n] for n in names),
+                **learner_style(names[0], marker=True))
+    for k, name in enumerate(result.names()):
+        if result.reward_samples[k] > 0:
+            _plot_with_samples(ax, name, m[f"q_entries_{name}"], m[f"reward_{name}"], int(result.reward_samples[k]))
     ax.set_xscale("log")
-    ax.margins(x=0.1, y=0.12)
-    ax.set_xlim(right=ax.get_xlim()[1] * 3)  # room for the labels
-    ax.set_xlabel("Q entries per agent (log)")
+    ax.margins(x=0.15, y=0.08)
+    ax.set_xlabel("values stored per agent (log)")
     ax.set_ylabel("final reward per episode (mean of the agents)")
+    legend_right(ax)
+
+
+def _plot_with_samples(ax, name: str, entries: float, reward: float, samples: int):
+    """An open marker at ``entries + samples``, labelled, and an arrow to it from the Q-entries point."""
+    style = learner_style(name, marker=True)
+    ax.plot(entries + samples, reward, markersize=8, linestyle="none", mfc="none",
+            label=f"{gw.LABELS[name]}: Q entries + {samples} reward samples", **style)
+    ax.annotate("", (entries + samples, reward), xytext=(entries, reward),
+                arrowprops={"arrowstyle": "->", "color": style["color"], "shrinkA": 6, "shrinkB": 6})
 
 
 def plot_marked_distances(ax, result: RelatedWorkResult, config: RelatedWorkConfig):
@@ -261,7 +274,7 @@ def plot_marked_distances(ax, result: RelatedWorkResult, config: RelatedWorkConf
     ax.set_yscale("log")
     ax.set_xlabel("Manhattan distance between the agents")
     ax.set_ylabel("joint states (log)")
-    ax.legend(fontsize="small")
+    legend_below(ax, ncols=1)
 
 
 # --- figure scripts (paper_figures/related_*.py) ----------------------------------------------
@@ -273,6 +286,17 @@ _DRAW = {"related_steps": lambda ax, r, c: gw.plot_steps(ax, r, gw.optimum(c.gri
          "related_collisions": lambda ax, r, c: gw.plot_collisions(ax, r, gw.optimum(c.gridworld)),
          "related_coordinations": lambda ax, r, c: plot_coordinations(ax, r),
          "related_sizes": plot_size_and_reward}
+_CURVES = ("related_steps", "related_reward", "related_collisions", "related_coordinations")
+"""The figures whose x axis counts episodes, on which CQ-learning's solo phase must be noted."""
+
+
+def note_cq_solo_phase(ax, result: RelatedWorkResult, config: RelatedWorkConfig):
+    """Say, above the axes, that CQ-learning's curve starts after the episodes each of its agents
+    first learned alone: its episode 1 is not the others' episode 1."""
+    if "cq" in result.names():
+        ax.set_title(f"CQ-learning's curve starts after {config.cq_solo_episodes} episodes in which each of its "
+                     "agents\nfirst learned alone (not on the x axis): it starts from what they learned there",
+                     fontsize="small", color=learner_style("cq")["color"])
 
 
 def figure_main(name: str, description: str, argv=None) -> list[Path]:
@@ -283,8 +307,10 @@ def figure_main(name: str, description: str, argv=None) -> list[Path]:
     base = gw.GridworldConfig(learners=CHAPTER_LEARNERS, runs=args.runs, episodes=args.iterations)
     config = RelatedWorkConfig(gridworld=base)
     result = cli.load_or_run(args, RESULT_NAME, config, run, RelatedWorkResult)
-    fig, ax = new_figure(6.0, 4.0)
+    fig, ax = new_figure(8.0 if name == "related_sizes" else 6.0, 4.0)
     _DRAW[name](ax, result, config)
+    if name in _CURVES:
+        note_cq_solo_phase(ax, result, config)
     written = save_figure(fig, args.out, name)
     plt.close(fig)
     return written

@@ -32,7 +32,7 @@ from glamas.gridworld import BOUNCE_MODES, GridMap, load_map, rules
 from glamas.learners import episode as ep
 from glamas.learners import cq, group_observe, independent, joint_state, mmdp, sparse_maq, two_observe
 from glamas.paths import MAPS
-from glamas.plotting import learner_style, new_figure, plot_mean_band, save_figure
+from glamas.plotting import BAND_DRAWS, learner_style, legend_right, new_figure, plot_mean_band, save_figure
 
 EXPERIMENT = "scaling"
 CHAPTER_METHODS = ("independent", "joint_state", "mmdp", "two_observe", "two_observe_rule")
@@ -440,16 +440,28 @@ def growth_table(result: ScalingResult) -> str:
 
 # --- plots: each draws on a given Axes -------------------------------------------------------
 
-def plot_sizes(ax, result: ScalingResult, config: ScalingConfig | None = None):
+COINCIDE = 1.1
+"""Methods whose stored values stay within this factor of each other at every N draw on one line
+on a log axis: :func:`plot_sizes` sets them side by side and says so."""
+DODGE = 0.1
+"""Horizontal distance, in agents, between methods drawn side by side at one N."""
+
+
+def plot_sizes(ax, result: ScalingResult, config: ScalingConfig | None = None, legend: bool = True):
     """Values learned per run (Q entries + GLA parameters) against N (log scale): filled markers
     where the learner ran, open markers where its tables were only computed (skipped), with the
-    whole machine's memory for one run and the study's memory budget if ``config`` is given."""
+    whole machine's memory for one run and the study's memory budget if ``config`` is given.
+    Methods that store nearly the same (within COINCIDE) are drawn side by side, with a note."""
     params = result.parameters()
+    shifts, groups = _coinciding_shifts(params)
     for k, method in enumerate(result.names()):
-        line, = ax.plot(result.agents, params[k], "-", label=LABELS[method], **learner_style(method))
+        x = result.agents + shifts[k]
+        ax.plot(x, params[k], "-", **learner_style(method))
+        ax.plot([], [], "-", label=LABELS[method], **learner_style(method, marker=True))  # the legend's entry
         ok = result.ran[k]
-        ax.plot(result.agents[ok], params[k, ok], linestyle="none", **learner_style(method, marker=True))
-        ax.plot(result.agents[~ok], params[k, ~ok], linestyle="none", mfc="none", **learner_style(method, marker=True))
+        ax.plot(x[ok], params[k, ok], linestyle="none", **learner_style(method, marker=True))
+        ax.plot(x[~ok], params[k, ~ok], linestyle="none", mfc="none", **learner_style(method, marker=True))
+    ax.plot([], [], "o", color="0.4", mfc="none", linestyle="none", label="open: skipped (tables computed, not run)")
     ax.axhline(MACHINE_MEMORY_GIB * 2 ** 30 / BYTES_PER_ENTRY, color="black", linestyle=":", linewidth=1,
                label=f"the whole machine ({MACHINE_MEMORY_GIB} GiB) for one run")
     if config is not None:
@@ -460,31 +472,91 @@ def plot_sizes(ax, result: ScalingResult, config: ScalingConfig | None = None):
     ax.set_xticks(result.agents)
     ax.set_xlabel("agents N")
     ax.set_ylabel("values stored per run")
-    ax.legend(fontsize="small")
+    if groups:
+        names = "; ".join(" = ".join(LABELS[result.names()[k]] for k in group) for group in groups)
+        ax.set_title(f"drawn side by side, as they store within {COINCIDE - 1:.0%} of each other at every N:\n{names}",
+                     fontsize="small")
+    if legend:
+        legend_right(ax)
+
+
+def _coinciding_shifts(params: np.ndarray) -> tuple[np.ndarray, list[list[int]]]:
+    """Horizontal shifts (methods,) that set apart the methods storing within COINCIDE of each
+    other at every N, and those groups of method indices (groups of two or more)."""
+    groups: list[list[int]] = []
+    for k in range(params.shape[0]):
+        for group in groups:
+            if np.all(np.maximum(params[k], params[group[0]]) <= COINCIDE * np.minimum(params[k], params[group[0]])):
+                group.append(k)
+                break
+        else:
+            groups.append([k])
+    shifts = np.zeros(params.shape[0])
+    for group in groups:
+        for i, k in enumerate(group):
+            shifts[k] = DODGE * (i - (len(group) - 1) / 2)
+    return shifts, [group for group in groups if len(group) > 1]
 
 
 _METRIC_LABELS = {"steps": "final steps to goal (agent mean)", "reward": "final reward (agent mean)",
                   "collisions": "final collisions per episode", "coordinations": "final coordinations per episode",
                   "convergence": "episodes until within 5 % of final steps"}
+_METRIC_COLUMNS = {"steps": STEPS, "reward": REWARD, "collisions": COLLISIONS, "coordinations": COORDINATIONS}
 
 
-def plot_final(ax, result: ScalingResult, metric: str):
+def plot_final(ax, result: ScalingResult, metric: str, legend: bool = True):
     """One final measurement ('steps', 'reward', 'collisions', 'coordinations' or 'convergence')
-    against N for every method, at the N each method ran at."""
+    against N for every method, at the N each method ran at: the value of :func:`measure` with its
+    95 % bootstrap interval over runs, the methods side by side at each N. Convergence: a method
+    still outside 5 % of its final steps in the last block never settled; it is drawn as an open
+    triangle above the end of the runs, not as a number of episodes."""
     if metric not in _METRIC_LABELS:
         raise ValueError(f"metric must be one of {sorted(_METRIC_LABELS)}, got {metric!r}")
-    m = measure(result)
-    for k, method in enumerate(result.names()):
-        ns = [int(n) for n, ok in zip(result.agents, result.ran[k]) if ok]
-        ax.plot(ns, [m[f"{metric}_{method}_{n}"] for n in ns], "-", label=LABELS[method],
-                **learner_style(method, marker=True))
+    names = result.names()
+    never_settled = False
+    for k, method in enumerate(names):
+        ns = np.array([int(n) for n, ok in zip(result.agents, result.ran[k]) if ok], dtype=float)
+        if not ns.size:
+            continue
+        value, low, high = np.array([_final_with_band(result, method, int(n), metric) for n in ns]).T
+        x = ns + DODGE * 0.5 * (k - (len(names) - 1) / 2)
+        unsettled = (value >= result.episodes[-1]) if metric == "convergence" else np.zeros(ns.size, bool)
+        shown = np.where(unsettled, np.nan, value)
+        ax.errorbar(x, shown, yerr=[shown - np.where(unsettled, np.nan, low), np.where(unsettled, np.nan, high) - shown],
+                    capsize=2, linewidth=1.2, label=LABELS[method], **learner_style(method, marker=True))
+        if unsettled.any():
+            never_settled = True
+            ax.plot(x[unsettled], np.full(unsettled.sum(), result.episodes[-1] * 1.05), linestyle="none",
+                    mfc="none", markersize=7, **{**learner_style(method), "marker": "^"})
+    if never_settled:
+        _mark_never_settled(ax, result.episodes[-1])
     ax.set_xticks(result.agents)
     ax.set_xlabel("agents N")
     ax.set_ylabel(_METRIC_LABELS[metric])
-    ax.legend(fontsize="small")
+    if legend:
+        legend_right(ax)
 
 
-def plot_curves(ax, result: ScalingResult, n: int, metric: int = STEPS):
+def _mark_never_settled(ax, last: int):
+    """The end of the runs as a line, and what the open triangles above it mean."""
+    ax.axhline(last, color="black", linestyle=":", linewidth=1)
+    ax.set_ylim(top=last * 1.18)
+    ax.text(0.01, last * 1.13, "open triangles: never settled within 5 % (not a number of episodes)",
+            transform=ax.get_yaxis_transform(), fontsize="x-small", va="center")
+
+
+def _final_with_band(result: ScalingResult, method: str, n: int, metric: str) -> tuple[float, float, float]:
+    """The final value of ``metric`` (as :func:`measure`) and its 95 % bootstrap interval: runs
+    resampled with replacement, the statistic recomputed from each resample's mean curve."""
+    curves = result.curves(method, n, STEPS if metric == "convergence" else _METRIC_COLUMNS[metric])
+    statistic = convergence_episode if metric == "convergence" else final
+    draws = np.random.default_rng(0).integers(0, curves.shape[0], (BAND_DRAWS, curves.shape[0]))
+    values = [statistic(curves[pick], result.episodes) for pick in draws]
+    low, high = np.percentile(values, [2.5, 97.5])
+    return statistic(curves, result.episodes), float(low), float(high)
+
+
+def plot_curves(ax, result: ScalingResult, n: int, metric: int = STEPS, legend: bool = True):
     """Learning curves (mean and 95 % band over runs) of every method that ran with ``n`` agents."""
     if n not in result.agents:
         raise ValueError(f"no results for N = {n}; the study has N in {result.agents.tolist()}")
@@ -497,7 +569,8 @@ def plot_curves(ax, result: ScalingResult, n: int, metric: int = STEPS):
     ax.set_xlabel("episode")
     ax.set_ylabel(["steps to goal (agent mean)", "reward (agent mean)", "collisions per episode",
                    "coordinations per episode", "capped episodes"][metric] + f", N = {n}")
-    ax.legend(fontsize="small")
+    if legend:
+        legend_right(ax)
 
 
 # --- figure scripts (paper_figures/scaling_*.py) ----------------------------------------------
@@ -515,12 +588,14 @@ def figure_main(name: str, description: str, argv=None) -> list[Path]:
                            bin_size=math.gcd(args.iterations, ScalingConfig.bin_size))
     result = cli.load_or_run(args, RESULT_NAME, config, run, ScalingResult)
     if name == "scaling_sizes":
-        fig, ax = new_figure(6.0, 4.0)
+        fig, ax = new_figure(8.0, 4.5)
         plot_sizes(ax, result, config)
     else:
-        fig, axes = new_figure(12.0, 7.0, nrows=2, ncols=2)
+        fig, axes = new_figure(12.0, 8.0, nrows=2, ncols=2)
         for ax, metric in zip(axes.flat, ("steps", "reward", "collisions", "convergence")):
-            plot_final(ax, result, metric)
+            plot_final(ax, result, metric, legend=False)
+        fig.legend(*axes.flat[0].get_legend_handles_labels(), loc="outside lower center", ncols=4,
+                   fontsize="small", frameon=False)
     written = save_figure(fig, args.out, name)
     plt.close(fig)
     return written

@@ -13,7 +13,7 @@ from numba import njit
 
 from glamas import claims, gla, lineworld, memory, rng
 from glamas.experiments import checks
-from glamas.plotting import plot_mean_band
+from glamas.plotting import legend_below, plot_mean_band
 from glamas.runs import run_batches
 
 ENCODING_NAMES = ("joint", "absolute", "deictic")
@@ -469,6 +469,7 @@ def plot_learned_lines(ax, result: SingleGLAResult, run_index: int, grid: int = 
     hu = _bounded(u, result.config)
     prefers_left = [(xs @ (hu[agent, 0] - hu[agent, 1])) > 0 for agent in range(2)]
     t = np.linspace(-1.0, 1.0, 401)
+    _draw_reference_lines(ax, t)
     for agent, (name, colour) in enumerate((("A", "tab:red"), ("B", "tab:purple"))):
         w = hu[agent, 0] - hu[agent, 1]
         _draw_line(ax, w, t, colour, f"agent {name}")
@@ -478,8 +479,25 @@ def plot_learned_lines(ax, result: SingleGLAResult, run_index: int, grid: int = 
             if cell.mean() > 0.02:  # label cells large enough to hold text
                 label = f"({'L' if left_a else 'R'}, {'L' if left_b else 'R'})"
                 ax.text(x1[cell].mean(), x2[cell].mean(), label, ha="center", va="center")
-    ax.legend(loc="lower right", fontsize="small")
+    legend_below(ax, ncols=2)
     _square(ax)
+
+
+B_BEST_LINE_OFFSETS = (-0.5, 0.5)
+"""Agent B's best single lines in the joint context are x2 = x1 + c for these c (tied): B's
+rewarded action depends only on x2 - x1 (L above 0.5 and in (-0.5, 0), R elsewhere), and a
+threshold at either band edge gets all but one band of width 0.5 right (share 25/32; the
+exhaustive search of :func:`best_line_reward` finds no better line)."""
+
+
+def _draw_reference_lines(ax, t):
+    """Where the ideal lines lie: A's rewarded actions are split by x1 = x2 exactly; B's best
+    single lines (:data:`B_BEST_LINE_OFFSETS`)."""
+    ax.plot(t, t, color="black", linestyle="--", linewidth=1, label="x1 = x2: agent A's ideal line")
+    for k, c in enumerate(B_BEST_LINE_OFFSETS):
+        inside = np.abs(t + c) <= 1
+        ax.plot(t[inside], t[inside] + c, color="0.4", linestyle=":", linewidth=1.3,
+                label="x2 = x1 ± 0.5: agent B's best single lines (tied)" if k == 0 else None)
 
 
 def learned_line(result: SingleGLAResult, run_index: int, agent: int) -> tuple[float, float]:
@@ -500,7 +518,7 @@ def plot_reward_curves(ax, results: dict):
         plot_mean_band(ax, res.iteration, res.reward, label=name)
     ax.set_xlabel("iteration")
     ax.set_ylabel("average reward")
-    ax.legend(loc="lower right")
+    legend_below(ax, ncols=3)
 
 
 def _bounded(u: np.ndarray, config: SingleGLAConfig) -> np.ndarray:

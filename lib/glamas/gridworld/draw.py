@@ -10,11 +10,16 @@ _AGENT_COLOURS = ("tab:blue", "tab:orange", "tab:green", "tab:red", "tab:purple"
                   "tab:brown", "tab:pink", "tab:gray", "tab:olive")
 
 
+INDEX_MARGIN = 0.5
+"""Room left of and above the map for the row and column indices."""
+
+
 def draw_map(ax, gridmap: GridMap):
-    """Walls, blocked cells, the goal and the agents' numbered starts; row 0 at the top."""
+    """Walls, blocked cells, the goal and the agents' numbered starts; row 0 at the top, with the
+    row and column indices (from 0, as the notebooks cite cells) along the left and top edges."""
     rows, cols = gridmap.n_rows, gridmap.n_cols
-    ax.set_xlim(-0.05, cols + 0.05)
-    ax.set_ylim(rows + 0.05, -0.05)
+    ax.set_xlim(-INDEX_MARGIN, cols + 0.05)
+    ax.set_ylim(rows + 0.05, -INDEX_MARGIN)
     ax.set_aspect("equal")
     ax.set_axis_off()
     for x in range(cols + 1):
@@ -35,17 +40,72 @@ def draw_map(ax, gridmap: GridMap):
         ax.add_patch(_disc(c, r, _AGENT_COLOURS[agent % len(_AGENT_COLOURS)]))
         ax.text(c + 0.5, r + 0.5, str(agent + 1), ha="center", va="center", color="white",
                 fontsize=11, fontweight="bold", zorder=5)
+    _draw_indices(ax, rows, cols)
 
 
-def draw_paths(ax, gridmap: GridMap, cells: np.ndarray):
-    """The agents' cells over an episode (array (n_steps + 1, n_agents)) as offset polylines."""
+def _draw_indices(ax, rows: int, cols: int):
+    """Column indices above the map, row indices left of it, and which is which in the corner."""
+    for c in range(cols):
+        ax.text(c + 0.5, -0.2, str(c), ha="center", va="center", fontsize=7, color="0.3")
+    for r in range(rows):
+        ax.text(-0.2, r + 0.5, str(r), ha="center", va="center", fontsize=7, color="0.3")
+    ax.text(-0.2, -0.2, "r\\c", ha="center", va="center", fontsize=6, color="0.5")
+
+
+def draw_paths(ax, gridmap: GridMap, cells: np.ndarray, numbered: bool = False, wait_label: str | None = None):
+    """The agents' cells over an episode (array (n_steps + 1, n_agents)) as offset polylines.
+
+    ``numbered``: the step at which each agent enters each cell next to it (a range "5-6" where it
+    stays, the entry step alone in the goal), agent 1's numbers in the cells' upper left corners, agent 2's in the lower right.
+    ``wait_label``: a ring where an agent stays in a cell other than the goal, labelled so.
+    """
     n = cells.shape[1]
     for agent in range(n):
         offset = 0.12 * (agent - (n - 1) / 2)
+        colour = _AGENT_COLOURS[agent % len(_AGENT_COLOURS)]
         points = np.array([gridmap.row_col(int(c)) for c in cells[:, agent]], dtype=float)
         ax.plot(points[:, 1] + 0.5 + offset, points[:, 0] + 0.5 + offset, marker="o", markersize=3,
-                color=_AGENT_COLOURS[agent % len(_AGENT_COLOURS)], linewidth=1.5, zorder=4,
-                label=f"agent {agent + 1}")
+                color=colour, linewidth=1.5, zorder=4, label=f"agent {agent + 1}")
+        stays = _stays(cells[:, agent])
+        if numbered:
+            _number_steps(ax, gridmap, stays, agent, colour)
+        if wait_label is not None:
+            _mark_waits(ax, gridmap, stays, offset, colour, wait_label if agent == 0 else None)
+
+
+def _stays(path: np.ndarray) -> list[tuple[int, int, int]]:
+    """(first step, last step, cell) of every stretch of consecutive steps in one cell."""
+    stretches = []
+    for t, cell in enumerate(path):
+        if stretches and stretches[-1][2] == cell:
+            stretches[-1] = (stretches[-1][0], t, int(cell))
+        else:
+            stretches.append((t, t, int(cell)))
+    return stretches
+
+
+_NUMBER_CORNERS = ((0.2, 0.22), (0.76, 0.8))
+"""Where in a cell agent 1 and agent 2 write their step numbers (x, y from the upper left)."""
+
+
+def _number_steps(ax, gridmap, stays, agent, colour):
+    dx, dy = _NUMBER_CORNERS[agent % len(_NUMBER_CORNERS)]
+    for first, last, cell in stays:
+        r, c = gridmap.row_col(cell)
+        once = first == last or gridmap.is_goal[cell]  # an agent in the goal stays there: its entry step only
+        text = str(first) if once else f"{first}-{last}"
+        ax.text(c + dx, r + dy, text, ha="center", va="center", fontsize=6, color=colour,
+                fontweight="bold", zorder=6)
+
+
+def _mark_waits(ax, gridmap, stays, offset, colour, label):
+    """A ring on every cell (not the goal) the agent stays in for more than one step."""
+    waits = [cell for first, last, cell in stays if last > first and not gridmap.is_goal[cell]]
+    for k, cell in enumerate(waits):
+        r, c = gridmap.row_col(cell)
+        ax.plot(c + 0.5 + offset, r + 0.5 + offset, marker="o", markersize=13, markerfacecolor="none",
+                markeredgecolor="black", markeredgewidth=1.5, linestyle="none", zorder=5,
+                label=label if k == 0 else None)
 
 
 def _walls(gridmap: GridMap):
