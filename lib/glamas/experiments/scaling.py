@@ -522,7 +522,11 @@ def plot_final(ax, result: ScalingResult, metric: str, legend: bool = True):
         x = ns + DODGE * 0.5 * (k - (len(names) - 1) / 2)
         unsettled = (value >= result.episodes[-1]) if metric == "convergence" else np.zeros(ns.size, bool)
         shown = np.where(unsettled, np.nan, value)
-        ax.errorbar(x, shown, yerr=[shown - np.where(unsettled, np.nan, low), np.where(unsettled, np.nan, high) - shown],
+        # a statistic that is not a mean (the convergence episode) can lie outside its percentile
+        # interval: the bar then ends at the value
+        below = np.fmax(shown - np.where(unsettled, np.nan, low), 0.0)
+        above = np.fmax(np.where(unsettled, np.nan, high) - shown, 0.0)
+        ax.errorbar(x, shown, yerr=[below, above],
                     capsize=2, linewidth=1.2, label=LABELS[method], **learner_style(method, marker=True))
         if unsettled.any():
             never_settled = True
