@@ -21,7 +21,7 @@ from glamas.experiments import gridworld as gw
 from glamas.gridworld import BOUNCE_MODES, rules
 from glamas.learners import cq, sparse_maq
 from glamas.learners import episode as ep
-from glamas.plotting import new_figure, plot_mean_band, save_figure
+from glamas.plotting import mean_and_band, new_figure, plot_mean_band, save_figure
 
 EXPERIMENT = "related_work"
 RELATED_LEARNERS = ("sparse_maq", "cq")
@@ -185,6 +185,28 @@ def measure(result: RelatedWorkResult, config: RelatedWorkConfig) -> dict:
         if "independent" in names:
             m[f"reward_{name}_minus_independent"] = m[f"reward_{name}"] - m["reward_independent"]
     return m
+
+
+def final_interval(result: RelatedWorkResult, name: str, column: int = ep.COLLISIONS) -> tuple[float, float, float]:
+    """Learner ``name``'s final value of one log column (``gw.final``, last 10 % of the episodes)
+    as (mean over runs, 95 % bootstrap interval of that mean: runs resampled, as the figures' bands)."""
+    per_run = np.array([gw.final(curve[None], result.episodes) for curve in result.curves(name, column)])
+    mean, low, high = mean_and_band(per_run[:, None])
+    return float(mean[0]), float(low[0]), float(high[0])
+
+
+def fewest_flagged_collisions(config: RelatedWorkConfig) -> int:
+    """The fewest collisions among the ``cq_window`` recent rewards of a state-action that
+    CQ-learning's test flags against a baseline without any (``cq_window`` equal rewards, as of a
+    state-action that never collided alone); the other recent rewards equal the baseline's."""
+    window = config.cq_window
+    t_critical = cq.t_critical_values(2 * window - 2, config.cq_significance)
+    baseline = np.array([window, 0.0, 0.0])
+    for k in range(1, window + 1):
+        penalties = k * rules.COLLISION_PENALTY
+        if cq.significantly_lower(baseline, np.array([window, penalties, penalties * rules.COLLISION_PENALTY]), t_critical):
+            return k
+    return window + 1  # never: not even a window of collisions only
 
 
 def claim_rows(result: RelatedWorkResult, config: RelatedWorkConfig) -> list[dict]:
