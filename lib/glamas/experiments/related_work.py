@@ -279,6 +279,7 @@ def plot_marked_distances(ax, result: RelatedWorkResult, config: RelatedWorkConf
            label="CQ-learning: marked joint states per agent")
     ax.set_xticks(distances)
     ax.set_yscale("log")
+    ax.set_ylim(top=ax.get_ylim()[1] * 10)  # room for the legend above the bars
     ax.set_xlabel("Manhattan distance between the agents")
     ax.set_ylabel("joint states (log)")
     ax.legend(fontsize="small")
