@@ -20,6 +20,24 @@ def save_figure(fig, out_dir, name: str) -> list[Path]:
     return [png, pdf]
 
 
+LEARNER_STYLES = {
+    "independent": {"color": "tab:blue", "marker": "o"},
+    "joint_state": {"color": "tab:orange", "marker": "s"},
+    "mmdp": {"color": "tab:green", "marker": "^"},
+    "two_observe": {"color": "tab:red", "marker": "D"},
+    "two_observe_rule": {"color": "tab:brown", "marker": "v"},
+    "sparse_maq": {"color": "tab:purple", "marker": "P"},
+    "cq": {"color": "tab:gray", "marker": "X"},
+}
+"""One colour and marker per learner, the same in every figure and notebook."""
+
+
+def learner_style(name: str, marker: bool = False) -> dict:
+    """Matplotlib style keywords of learner ``name`` (its colour; with ``marker``, its marker too)."""
+    style = LEARNER_STYLES[name]
+    return dict(style) if marker else {"color": style["color"]}
+
+
 BAND_DRAWS = 1000
 """Resamples of the runs behind every band."""
 

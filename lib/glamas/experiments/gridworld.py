@@ -20,7 +20,7 @@ from glamas.gridworld import BOUNCE_MODES, GridMap, dp, load_map, rules
 from glamas.learners import episode as ep
 from glamas.learners import independent, joint_state, mmdp, two_observe
 from glamas.paths import MAPS, RESULTS
-from glamas.plotting import new_figure, plot_mean_band, save_figure
+from glamas.plotting import learner_style, new_figure, plot_mean_band, save_figure
 
 EXPERIMENT = "gridworld"
 LEARNERS = ("independent", "joint_state", "mmdp", "two_observe")
@@ -442,7 +442,7 @@ def need_probability(result: GridworldResult) -> np.ndarray:
 def _plot_learners(ax, result, values, ylabel, reference=None, learners=None):
     x = result.episodes
     for name in learners or result.names():
-        plot_mean_band(ax, x, values(name), LABELS[name])
+        plot_mean_band(ax, x, values(name), LABELS[name], **learner_style(name))
     if reference is not None:
         ax.axhline(reference, color="black", linestyle="--", linewidth=1, label="optimum (value iteration)")
     ax.set_xscale("log")  # the learning happens in the first few thousand episodes
@@ -515,11 +515,12 @@ def plot_coordination_probability(ax, result, config: GridworldConfig):
     deltas = np.arange(1, result.need_counts.shape[1])  # two acting agents are never at distance 0
     p = coordination_probability(result, config, deltas)
     for curve in p.reshape(-1, deltas.size):
-        ax.plot(deltas, curve, color="tab:blue", alpha=0.15, linewidth=0.8)
-    ax.plot(deltas, p.mean(axis=(0, 1)), "o-", color="tab:blue", label="P(coordinate), learned (mean of the GLAs)")
+        ax.plot(deltas, curve, alpha=0.15, linewidth=0.8, **learner_style("two_observe"))
+    ax.plot(deltas, p.mean(axis=(0, 1)), "o-", label="P(coordinate), learned (mean of the GLAs)",
+            **learner_style("two_observe"))
     ax.step(deltas, (deltas <= 2).astype(float), where="mid", color="black", linestyle="--",
             label="coordinate when delta <= 2 (could collide)")
-    ax.plot(deltas, need_probability(result)[1:], "s:", color="tab:red",
+    ax.plot(deltas, need_probability(result)[1:], "s:", color="tab:gray",
             label=f"P(need | delta), observed ({config.gla_need})")
     ax.set_xlabel("delta (Manhattan distance between the agents)")
     ax.set_ylabel("probability")

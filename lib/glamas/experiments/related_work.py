@@ -21,7 +21,7 @@ from glamas.experiments import gridworld as gw
 from glamas.gridworld import BOUNCE_MODES, rules
 from glamas.learners import cq, sparse_maq
 from glamas.learners import episode as ep
-from glamas.plotting import mean_and_band, new_figure, plot_mean_band, save_figure
+from glamas.plotting import learner_style, mean_and_band, new_figure, plot_mean_band, save_figure
 
 EXPERIMENT = "related_work"
 RELATED_LEARNERS = ("sparse_maq", "cq")
@@ -237,7 +237,8 @@ def plot_coordinations(ax, result: RelatedWorkResult):
     joint state."""
     for name in ("two_observe", "sparse_maq", "cq"):
         if name in result.names():
-            plot_mean_band(ax, result.episodes, result.curves(name, ep.COORDINATIONS), gw.LABELS[name])
+            plot_mean_band(ax, result.episodes, result.curves(name, ep.COORDINATIONS), gw.LABELS[name],
+                           **learner_style(name))
     ax.set_xscale("log")
     ax.set_xlabel("episode")
     ax.set_ylabel("steps observing the other agent")
@@ -250,11 +251,11 @@ def plot_size_and_reward(ax, result: RelatedWorkResult, config: RelatedWorkConfi
     m = measure(result, config)
     points = {}
     for name in result.names():
-        points.setdefault((m[f"q_entries_{name}"], round(m[f"reward_{name}"], 1)), []).append(gw.LABELS[name])
-    by_reward = sorted((reward, entries, " = ".join(labels)) for (entries, reward), labels in points.items())
-    for i, (reward, entries, label) in enumerate(by_reward):
-        ax.scatter(entries, reward, s=40)
-        ax.annotate(label, (entries, reward), fontsize="small", textcoords="offset points",
+        points.setdefault((m[f"q_entries_{name}"], round(m[f"reward_{name}"], 1)), []).append(name)
+    by_reward = sorted((reward, entries, names) for (entries, reward), names in points.items())
+    for i, (reward, entries, names) in enumerate(by_reward):
+        ax.plot(entries, reward, markersize=7, linestyle="none", **learner_style(names[0], marker=True))
+        ax.annotate(" = ".join(gw.LABELS[n] for n in names), (entries, reward), fontsize="small", textcoords="offset points",
                     xytext=(-4, -14 if i % 2 == 0 else 7))  # by reward, alternately below and above
     ax.set_xscale("log")
     ax.margins(x=0.1, y=0.12)

@@ -32,7 +32,7 @@ from glamas.gridworld import BOUNCE_MODES, GridMap, load_map, rules
 from glamas.learners import episode as ep
 from glamas.learners import cq, group_observe, independent, joint_state, mmdp, sparse_maq, two_observe
 from glamas.paths import MAPS
-from glamas.plotting import new_figure, plot_mean_band, save_figure
+from glamas.plotting import learner_style, new_figure, plot_mean_band, save_figure
 
 EXPERIMENT = "scaling"
 CHAPTER_METHODS = ("independent", "joint_state", "mmdp", "two_observe", "two_observe_rule")
@@ -445,10 +445,10 @@ def plot_sizes(ax, result: ScalingResult, config: ScalingConfig | None = None):
     whole machine's memory for one run and the study's memory budget if ``config`` is given."""
     params = result.parameters()
     for k, method in enumerate(result.names()):
-        line, = ax.plot(result.agents, params[k], "-", label=LABELS[method])
+        line, = ax.plot(result.agents, params[k], "-", label=LABELS[method], **learner_style(method))
         ok = result.ran[k]
-        ax.plot(result.agents[ok], params[k, ok], "o", color=line.get_color())
-        ax.plot(result.agents[~ok], params[k, ~ok], "o", mfc="none", color=line.get_color())
+        ax.plot(result.agents[ok], params[k, ok], linestyle="none", **learner_style(method, marker=True))
+        ax.plot(result.agents[~ok], params[k, ~ok], linestyle="none", mfc="none", **learner_style(method, marker=True))
     ax.axhline(MACHINE_MEMORY_GIB * 2 ** 30 / BYTES_PER_ENTRY, color="black", linestyle=":", linewidth=1,
                label=f"the whole machine ({MACHINE_MEMORY_GIB} GiB) for one run")
     if config is not None:
@@ -475,7 +475,8 @@ def plot_final(ax, result: ScalingResult, metric: str):
     m = measure(result)
     for k, method in enumerate(result.names()):
         ns = [int(n) for n, ok in zip(result.agents, result.ran[k]) if ok]
-        ax.plot(ns, [m[f"{metric}_{method}_{n}"] for n in ns], "o-", label=LABELS[method])
+        ax.plot(ns, [m[f"{metric}_{method}_{n}"] for n in ns], "-", label=LABELS[method],
+                **learner_style(method, marker=True))
     ax.set_xticks(result.agents)
     ax.set_xlabel("agents N")
     ax.set_ylabel(_METRIC_LABELS[metric])
@@ -489,7 +490,8 @@ def plot_curves(ax, result: ScalingResult, n: int, metric: int = STEPS):
     j = list(result.agents).index(n)
     for k, method in enumerate(result.names()):
         if result.ran[k, j]:
-            plot_mean_band(ax, result.episodes, result.curves(method, n, metric), LABELS[method])
+            plot_mean_band(ax, result.episodes, result.curves(method, n, metric), LABELS[method],
+                           **learner_style(method))
     ax.set_xscale("log")
     ax.set_xlabel("episode")
     ax.set_ylabel(["steps to goal (agent mean)", "reward (agent mean)", "collisions per episode",
