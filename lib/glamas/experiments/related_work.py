@@ -274,9 +274,9 @@ def plot_marked_distances(ax, result: RelatedWorkResult, config: RelatedWorkConf
     marked = marked_distances(result, config)
     per_agent = result.cq_marked.shape[0] * result.cq_marked.shape[1]
     distances = np.arange(1, max(config.coordination_distance, marked.max(initial=1)) + 1)
-    ax.bar(distances - 0.2, [(given_distances == d).sum() for d in distances], width=0.4, color="tab:red",
+    ax.bar(distances - 0.2, [(given_distances == d).sum() for d in distances], width=0.4, **learner_style("sparse_maq"),
            label="sparse MAQ: coordination states (given)")
-    ax.bar(distances + 0.2, [(marked == d).sum() / per_agent for d in distances], width=0.4, color="tab:purple",
+    ax.bar(distances + 0.2, [(marked == d).sum() / per_agent for d in distances], width=0.4, **learner_style("cq"),
            label="CQ-learning: marked joint states per agent")
     ax.set_xticks(distances)
     ax.set_yscale("log")
