@@ -225,11 +225,11 @@ def test_claim_verdicts_come_from_the_measurements(small_result):
     assert "skipped" in sc.size_table(small_result) and "MMDP learner" in sc.performance_table(small_result)
 
 
-def test_pivot_table_has_a_row_per_method_and_counts_trapped_runs(small_result):
+def test_pivot_table_has_a_row_per_method_and_counts_capped_runs(small_result):
     m = sc.measure(small_result)
     capped = small_result.curves("independent", 3, sc.CAPPED)
-    trapped = sum(sc.final(run[None], small_result.episodes) > 0 for run in capped)
-    assert m["trapped_runs_independent_3"] == trapped
+    capped_runs = sum(sc.final(run[None], small_result.episodes) > 0 for run in capped)
+    assert m["capped_runs_independent_3"] == capped_runs
     table = sc.pivot_table(small_result, "collisions").splitlines()
     assert table[0].split() == ["collisions", "N", "=", "2", "N", "=", "3"] and len(table) == 1 + len(sc.METHODS)
     assert table[3].split()[-1] == "-"  # the MMDP learner did not fit at N = 3

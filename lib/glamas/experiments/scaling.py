@@ -362,7 +362,7 @@ def measure(result: ScalingResult) -> dict:
             m[f"capped_{method}_{n}"] = final(result.curves(method, n, CAPPED), result.episodes)
             m[f"convergence_{method}_{n}"] = convergence_episode(result.curves(method, n, STEPS), result.episodes)
             capped = result.curves(method, n, CAPPED)
-            m[f"trapped_runs_{method}_{n}"] = float(sum(final(run[None], result.episodes) > 0 for run in capped))
+            m[f"capped_runs_{method}_{n}"] = float(sum(final(run[None], result.episodes) > 0 for run in capped))
         fit = growth(ran_at, [params[k, list(result.agents).index(n)] for n in ran_at])
         m[f"growth_factor_{method}"] = fit["factor_per_agent"]
         m[f"loglog_slope_{method}"] = fit["loglog_slope"]
@@ -428,13 +428,13 @@ def performance_table(result: ScalingResult) -> str:
 
 
 PIVOT_METRICS = {"steps": "{:.1f}", "reward": "{:.1f}", "collisions": "{:.2f}", "coordinations": "{:.1f}",
-                 "capped": "{:.1%}", "convergence": "{:.0f}", "trapped_runs": "{:.0f}"}
+                 "capped": "{:.1%}", "convergence": "{:.0f}", "capped_runs": "{:.0f}"}
 """What :func:`pivot_table` shows: the per-(method, N) measurements of :func:`measure` and their format."""
 
 
 def pivot_table(result: ScalingResult, metric: str) -> str:
     """One final measurement per method (rows) and N (columns), '-' where the method did not run;
-    'trapped_runs' counts the runs in which some of the final 10 % of the episodes hit the step cap."""
+    'capped_runs' counts the runs in which some of the final 10 % of the episodes hit the step cap."""
     if metric not in PIVOT_METRICS:
         raise ValueError(f"metric must be one of {sorted(PIVOT_METRICS)}, got {metric!r}")
     m = measure(result)
