@@ -9,7 +9,7 @@ EXTRAS := $(VENV)/.extras-installed
 FIGURES := $(sort $(wildcard paper_figures/*.py))
 NOTEBOOKS := $(sort $(wildcard notebooks/*.ipynb))
 
-.PHONY: figures test unit notebooks-check notebooks benchmark clean-env clean-cache
+.PHONY: figures test unit notebooks-check notebooks lab ledger benchmark reproduce verify clean-env clean-cache
 
 $(READY): requirements.txt pyproject.toml
 	@$(PYTHON) -c 'import sys; sys.exit(sys.version_info < (3, 11) and "glamas needs Python >= 3.11: set PYTHON=python3.11")'
@@ -40,13 +40,52 @@ notebooks-check: $(READY)
 notebooks: $(READY)
 	@for nb in $(NOTEBOOKS); do echo "== $$nb"; $(PY) -m jupyter nbconvert --to notebook --execute --inplace $$nb || exit 1; done
 
+## lab: open the notebooks in JupyterLab (installs the optional extra "lab" first)
+lab: $(READY)
+	$(PY) -m pip install --quiet -e '.[lab]'
+	$(PY) -m jupyter lab notebooks/
+
+## ledger: rewrite README.md's table of every claim's verdict from the committed results
+ledger: $(READY)
+	$(PY) -m glamas.ledger --write
+
 ## benchmark: compiled kernels against plain-Python references, and the time of `make figures`
 benchmark: $(READY)
 	@for script in $(sort $(wildcard benchmarks/bench_*.py)); do echo "== $$script"; $(PY) $$script || exit 1; done
 
+## reproduce: recompute every experiment of the chapter (Fig. 5-12) into $(OUT)/results and draw
+## its figures into $(OUT)/figures, e.g. `make reproduce OUT=out/reproduce`. The results directory
+## starts empty, so the first script of each experiment recomputes it (as --rerun would) and the
+## scripts drawing other figures of that experiment read what it just computed.
+OUT ?= out/reproduce
+CHAPTER := fig5 fig6 fig7a fig7b fig9 fig10 fig11a fig11b fig12a fig12b
+
+reproduce: $(READY)
+	rm -rf $(OUT)/figures $(OUT)/results
+	mkdir -p $(OUT)/figures $(OUT)/results
+	@for name in $(CHAPTER); do \
+		echo "== paper_figures/$$name.py"; \
+		if [ $$name = fig9 ]; then results=""; else results="--results $(OUT)/results"; fi; \
+		$(PY) paper_figures/$$name.py --out $(OUT)/figures $$results || exit 1; \
+	done
+
+## verify: recompute every experiment (every script in paper_figures/) into $(VERIFY) and compare
+## every result array and figure with the committed ones, e.g. `make verify VERIFY=out/verify`.
+VERIFY ?= out/verify
+
+verify: $(READY)
+	rm -rf $(VERIFY)/figures $(VERIFY)/results
+	mkdir -p $(VERIFY)/figures $(VERIFY)/results
+	@for script in $(FIGURES); do \
+		echo "== $$script"; \
+		if [ $$script = paper_figures/fig9.py ]; then results=""; else results="--results $(VERIFY)/results"; fi; \
+		$(PY) $$script --out $(VERIFY)/figures $$results || exit 1; \
+	done
+	$(PY) -m glamas.verify $(VERIFY)
+
 clean-env:
 	rm -rf $(VENV)
 
-## clean-cache: drop numba's compiled-kernel cache (after editing the library)
+## clean-cache: drop numba's compiled-kernel cache (glamas also drops it itself when its sources change)
 clean-cache:
 	find lib -name __pycache__ -type d -prune -exec rm -rf {} +

@@ -1,8 +1,10 @@
 """Fig. 11a: steps from start to goal of the four gridworld learners (chapter Section 5.3)."""
 
+from glamas import cli
 from glamas.experiments import gridworld
 
 
+@cli.guard
 def main(argv=None):
     gridworld.figure_main("fig11a", "Fig. 11a: steps from start to goal of the four gridworld learners", argv)
 

@@ -8,13 +8,14 @@ from glamas import cli, plotting  # noqa: E402
 from glamas.experiments import single_gla  # noqa: E402
 
 
+@cli.guard
 def main(argv=None):
     defaults = single_gla.SingleGLAConfig()
     parser = cli.figure_parser(__doc__.splitlines()[0], runs=defaults.runs, iterations=defaults.iterations)
     args = cli.parse(parser, argv)
     config = single_gla.SingleGLAConfig(iterations=args.iterations, runs=args.runs,
                                         record_points=min(defaults.record_points, args.iterations))
-    result = single_gla.run(config, seed=args.seed, workers=args.workers, progress="fig5")
+    result = cli.run_experiment(args, "fig5", config, single_gla.run)
 
     fig, (ax_a, ax_b) = plotting.new_figure(8.0, 4.0, ncols=2)
     single_gla.plot_regions(ax_a)

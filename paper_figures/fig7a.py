@@ -8,6 +8,7 @@ from glamas import cli, plotting  # noqa: E402
 from glamas.experiments import and_network  # noqa: E402
 
 
+@cli.guard
 def main(argv=None):
     defaults = and_network.ANDNetworkConfig()
     parser = cli.figure_parser(__doc__.splitlines()[0], runs=defaults.runs, iterations=defaults.iterations)

@@ -11,18 +11,21 @@ import matplotlib
 
 matplotlib.use("Agg")
 
-from glamas import plotting  # noqa: E402
+from glamas import atomic, cli, plotting  # noqa: E402
 from glamas.cli import DEFAULT_OUT  # noqa: E402
 from glamas.experiments import gridworld_optimum  # noqa: E402
 from glamas.gridworld import draw, tunnel_to_goal  # noqa: E402
 
 
+@cli.guard
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--out", type=Path, default=DEFAULT_OUT, help=f"directory for the PNG and PDF (default {DEFAULT_OUT})")
     args = parser.parse_args(argv)
-    if args.out.exists() and not args.out.is_dir():
-        parser.error(f"--out {args.out} exists and is not a directory; give a directory path")
+    try:
+        atomic.check_writable_directory(args.out, "--out")
+    except ValueError as error:
+        parser.error(str(error))
 
     fig, ax = plotting.new_figure(3.2, 3.2)
     draw.draw_map(ax, tunnel_to_goal())

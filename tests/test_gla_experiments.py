@@ -156,7 +156,7 @@ def test_and_network_config_errors_name_the_problem(change, message):
 
 @pytest.mark.parametrize("experiment, config", [
     ("single_gla", single_gla.SingleGLAConfig()),
-    ("state_encoding", single_gla.SingleGLAConfig()),
+    ("state_encoding", single_gla.SingleGLAConfig(L=single_gla.FIG6_L)),
     ("and_network", and_network.ANDNetworkConfig()),
 ])
 def test_config_defaults_are_the_chapters_parameters(experiment, config):

@@ -195,3 +195,25 @@ def test_corridor_same_target_between_the_starts():
     out = play(gridmap, gridmap.starts, [E, W])
     assert out["n_collisions"] == 1
     assert out["new_cells"].tolist() == gridmap.starts.tolist()
+
+
+def _step_outputs(step, gridmap, cells, done, actions, bounce):
+    out = (np.empty(2, np.int64), np.empty(2), np.empty(2, bool), np.empty(2, bool), np.empty(2, bool))
+    n = step(gridmap.next_cell, gridmap.is_goal, gridmap.starts, bounce, cells, done, actions, *out)
+    return [n] + [a.tolist() for a in out]
+
+
+@pytest.mark.parametrize("bounce", [rules.BOUNCE_PREVIOUS, rules.BOUNCE_START])
+def test_two_agent_fast_path_equals_the_general_step(tunnel, bounce):
+    """step_two gives step's outputs for every joint action from every pair of cells the rules can
+    reach (distinct acting cells; a done agent on the goal)."""
+    goal = int(np.flatnonzero(tunnel.is_goal)[0])
+    free = [c for c in range(tunnel.n_cells) if not tunnel.is_goal[c]]
+    placements = [((a, b), (False, False)) for a in free for b in free if a != b]
+    placements += [((goal, b), (True, False)) for b in free] + [((a, goal), (False, True)) for a in free]
+    for (a, b), done in placements:
+        cells, done = np.array([a, b], np.int64), np.array(done)
+        for joint in range(16):
+            actions = np.array(divmod(joint, 4), np.int64)
+            assert (_step_outputs(rules.step_two, tunnel, cells, done, actions, bounce)
+                    == _step_outputs(rules.step, tunnel, cells, done, actions, bounce)), (a, b, done, actions)

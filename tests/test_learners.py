@@ -8,7 +8,7 @@ from glamas.gridworld import rules, tunnel_to_goal
 from glamas.gridworld.rules import E, N, S, W
 from glamas.learners import episode as ep
 from glamas.learners import independent, joint_state, mmdp, two_observe
-from glamas.learners.two_observe import ACT_ALONE, COORDINATE, first_level, gla_feedback
+from glamas.learners.two_observe import ACT_ALONE, COORDINATE, first_level, gla_feedback, yield_at_random
 from glamas.rng import run_states
 
 SMALL = gw.GridworldConfig(episodes=200, runs=2, bins=20)
@@ -81,8 +81,11 @@ def tunnel_entrance():
 
 
 def _first_level(g, cells, done, choices, preferred, state):
-    actions = np.full(2, -1, np.int64)
-    coming, both = first_level(g.next_cell, g.is_goal, cells, done, np.array(choices), preferred, actions, state)
+    """The actions of Alg. 4's first level, as the kernel plays it."""
+    coming, both = first_level(g.next_cell, g.is_goal, cells, done, np.array(choices), preferred)
+    actions = preferred.copy()
+    if both and coming:
+        yield_at_random(preferred, actions, state)
     return actions, coming, both
 
 
@@ -167,12 +170,14 @@ def _collides_under_some_joint_action(g, a, b):
 
 def test_in_range_is_some_joint_action_colliding_under_the_rules():
     g = tunnel_to_goal()
+    table = rules.in_range_table(g.next_cell, g.is_goal)
     free = [c for c in range(g.n_cells) if not g.is_goal[c] and not g.blocked[c]]
     for a in free:
         for b in free:
             if a != b:
                 expected = _collides_under_some_joint_action(g, a, b)
                 assert rules.could_collide(g.next_cell, g.is_goal, a, b) == expected, (a, b)
+                assert table[a, b] == expected, (a, b)
                 if rules.manhattan(g.n_cols, a, b) > 2:
                     assert not expected  # one move each: never from farther than 2 cells
 
@@ -195,8 +200,8 @@ def test_a_wall_takes_close_agents_out_of_range():
 def test_need_before_the_move_under_each_reading(tunnel_entrance, need, preferred, expected):
     g, cells, done, _ = tunnel_entrance
     coming = rules.would_collide(g.next_cell, g.is_goal, cells, done, np.array(preferred), 0, 1)
-    assert two_observe.need_before_step(two_observe.NEEDS[need], g.next_cell, g.is_goal, cells, 0, 1,
-                                        coming) == expected
+    in_range = rules.in_range_table(g.next_cell, g.is_goal)
+    assert two_observe.need_before_step(two_observe.NEEDS[need], in_range, cells, 0, 1, coming) == expected
 
 
 def test_outcome_reading_feeds_back_the_collision_that_happened():

@@ -154,16 +154,17 @@ def test_n_agent_2observe_is_the_two_agent_kernel_for_two_agents(need, gla_L):
     g = config.gridmap()
     inputs = gw._kernel_inputs("two_observe", config, g)
     out = []
-    for module in (two_observe, group_observe):
+    for kernel in (two_observe.run, group_observe.run_group, group_observe.run):
         arrays = (np.zeros((2, 2, 25, 4)), np.zeros((2, 2, 2, 2)), np.zeros((2, 9, 2)),
                   np.zeros((2, config.edges().size - 1, 8)))
-        runs.run_batches(module.run, inputs, arrays, 3, workers=1)
+        runs.run_batches(kernel, inputs, arrays, 3, workers=1)
         out.append(arrays)
-    (q, u, needs, log), (q2, u2, needs2, log2) = out
+    (q, u, needs, log), group, fast = out
     assert log[..., ep.COORDINATIONS].sum() > 0  # the comparison covers coordinated steps
     assert needs[..., 1].sum() > 0  # and steps with need
-    assert np.array_equal(q, q2) and np.array_equal(u, u2) and np.array_equal(log, log2)
-    assert np.array_equal(2 * needs, needs2)  # counted per observing agent
+    for q2, u2, needs2, log2 in (group, fast):  # the N-agent steps, and the two-agent path of run
+        assert np.array_equal(q, q2) and np.array_equal(u, u2) and np.array_equal(log, log2)
+        assert np.array_equal(2 * needs, needs2)  # counted per observing agent
 
 
 # --- the scaling study -----------------------------------------------------------------------

@@ -2,15 +2,23 @@
 
 Each claim names a metric that an experiment's analysis measures, a comparison and a threshold.
 The verdict is the comparison applied to the measured value: nothing here is typed in by hand.
+A claim is of one of two kinds: what the chapter says, or what we infer from it (our reading of a
+lost figure, or a consequence we derive); ``why`` says which sentence it tests and why the metric
+measures it.
 """
 
 import json
+import math
 import operator
-from dataclasses import dataclass
+from dataclasses import dataclass, fields
 
 from glamas.paths import DATA
 
 _OPS = {">": operator.gt, ">=": operator.ge, "<": operator.lt, "<=": operator.le}
+KINDS = ("chapter", "inferred")
+REPRODUCED, NOT_REPRODUCED, UNDECIDABLE = "reproduced", "NOT reproduced", "undecidable"
+WHY_UNDECIDABLE = ":why_undecidable"
+"""Suffix of the measurements key (``metric + WHY_UNDECIDABLE``) that says why a metric is NaN."""
 
 
 @dataclass(frozen=True)
@@ -23,6 +31,10 @@ class Claim:
     """Section, equation or figure of the chapter that makes the claim."""
     chapter: str
     """What the chapter says, paraphrased."""
+    kind: str
+    """'chapter' (the chapter says it) or 'inferred' (our reading, or a consequence we derive)."""
+    why: str
+    """Which sentence of the chapter the claim tests and why the metric and threshold measure it."""
     metric: str
     """Name of the measured quantity (a key of the experiment's measurements)."""
     op: str
@@ -35,20 +47,52 @@ class Claim:
     def holds(self, value: float) -> bool:
         return bool(_OPS[self.op](value, self.threshold))
 
+    def verdict(self, value: float) -> str:
+        """'reproduced', 'NOT reproduced', or 'undecidable' when the measurement is NaN."""
+        if math.isnan(value):
+            return UNDECIDABLE
+        return REPRODUCED if self.holds(value) else NOT_REPRODUCED
+
+
+_REQUIRED = [f.name for f in fields(Claim) if f.name != "digits"]
+
 
 def load(experiment: str) -> list[Claim]:
     """The claims of one experiment (a key of ``claims`` in one of the chapter files)."""
-    entries = chapter_section_entry("claims", experiment)
-    claims = [Claim(**entry) for entry in entries]
-    for claim in claims:
-        if claim.op not in _OPS:
-            raise ValueError(f"claim {claim.id!r} of {experiment}: op must be one of {sorted(_OPS)}, got {claim.op!r}")
-    return claims
+    return [_claim(entry, experiment) for entry in chapter_section_entry("claims", experiment)]
+
+
+def _claim(entry: dict, experiment: str) -> Claim:
+    """A validated claim from its JSON entry; a ValueError names the claim and the fault."""
+    name = entry.get("id", "<no id>")
+    missing = [key for key in _REQUIRED if key not in entry]
+    if missing:
+        raise ValueError(f"claim {name!r} of {experiment} lacks {missing}")
+    unknown = sorted(set(entry) - {f.name for f in fields(Claim)})
+    if unknown:
+        raise ValueError(f"claim {name!r} of {experiment} has unknown keys {unknown}")
+    claim = Claim(**entry)
+    if claim.op not in _OPS:
+        raise ValueError(f"claim {name!r} of {experiment}: op must be one of {sorted(_OPS)}, got {claim.op!r}")
+    if claim.kind not in KINDS:
+        raise ValueError(f"claim {name!r} of {experiment}: kind must be one of {list(KINDS)}, got {claim.kind!r}")
+    for key in ("where", "chapter", "why"):
+        if not isinstance(getattr(claim, key), str) or not getattr(claim, key).strip():
+            raise ValueError(f"claim {name!r} of {experiment}: {key} must be a non-empty text")
+    return claim
 
 
 def parameters(experiment: str) -> dict:
     """The chapter's stated parameters of one experiment: field -> {"value", "where"}."""
     return chapter_section_entry("parameters", experiment)
+
+
+def experiments() -> list[str]:
+    """Every experiment that has claims in ``data/chapter/*.json``, in file order."""
+    names = []
+    for path in sorted((DATA / "chapter").glob("*.json")):
+        names.extend(json.loads(path.read_text()).get("claims", {}))
+    return names
 
 
 def chapter_section_entry(kind: str, experiment: str):
@@ -62,12 +106,18 @@ def chapter_section_entry(kind: str, experiment: str):
 
 
 def verdicts(claims: list[Claim], measured: dict) -> list[dict]:
-    """One row per claim: the claim, the measured value and whether it holds."""
+    """One row per claim: the claim, the measured value, whether it holds and the verdict
+    (with the reason a NaN measurement is undecidable, when the measurements give one)."""
     missing = [c.metric for c in claims if c.metric not in measured]
     if missing:
         raise KeyError(f"the measurements lack {missing}; the analysis must compute every claimed metric")
-    return [{"claim": c, "value": float(measured[c.metric]), "holds": c.holds(measured[c.metric])}
-            for c in claims]
+    rows = []
+    for c in claims:
+        value = float(measured[c.metric])
+        verdict = c.verdict(value)
+        rows.append({"claim": c, "value": value, "holds": verdict == REPRODUCED, "verdict": verdict,
+                     "why_undecidable": measured.get(c.metric + WHY_UNDECIDABLE, "")})
+    return rows
 
 
 def table(rows: list[dict]) -> str:
@@ -75,7 +125,8 @@ def table(rows: list[dict]) -> str:
     lines = []
     for row in rows:
         c = row["claim"]
-        verdict = "reproduced" if row["holds"] else "NOT reproduced"
-        lines.append(f"[{verdict}] {c.id} ({c.where})\n    chapter:  {c.chapter}\n"
+        lines.append(f"[{row['verdict']}] {c.id} ({c.where})\n    chapter:  {c.chapter}\n"
                      f"    measured: {c.metric} = {row['value']:.{c.digits}f}  (claim: {c.op} {c.threshold:g})")
+        if row["verdict"] == UNDECIDABLE and row.get("why_undecidable"):
+            lines.append(f"    undecidable: {row['why_undecidable']}")
     return "\n".join(lines)

@@ -1,34 +1,98 @@
-"""The command line shared by the figure scripts in ``paper_figures/``."""
+"""The command line shared by the figure scripts in ``paper_figures/``.
+
+Output policy: a run at the paper-scale defaults (the --runs, --iterations and --seed the script
+was made with) writes to ``paper_figures/output`` and ``data/results``; any other run writes to
+``out/figures`` and ``out/results`` (git-ignored) unless --out or --results say where, so a
+reduced run never replaces the committed outputs. Every user error stops the script before it
+computes with one line ``error: ...`` on stderr and exit status 2 (:func:`guard`).
+"""
 
 import argparse
 import contextlib
 import dataclasses
+import functools
+import sys
 from pathlib import Path
 
-from glamas import plotting, results
+from glamas import atomic, memory, plotting, results
 from glamas import runs as runners  # "runs" is the run count in figure_parser
+from glamas.experiments.checks import MAX_COUNT, suspect_settings
+from glamas.gridworld.maps import MapError
 from glamas.paths import REPO, RESULTS
 
 DEFAULT_OUT = REPO / "paper_figures" / "output"
+SCRATCH_OUT = REPO / "out" / "figures"
+"""Where the figures of a run that is not at the paper-scale defaults go by default."""
+SCRATCH_RESULTS = REPO / "out" / "results"
+"""Where the result files of a run that is not at the paper-scale defaults go by default."""
+PAPER_SCALE_OPTIONS = ("runs", "iterations", "seed")
+"""The options that change a result: at their defaults, a run reproduces the committed outputs."""
+MAX_SEED = 2 ** 63 - 1
+WORKERS_PER_CORE = 4
+"""More local workers than this per core only add start-up time and memory."""
+EXIT_USAGE = 2
+"""Exit status of a user error (as argparse's)."""
+USER_ERRORS = (ValueError, results.ResultFileError, MapError, MemoryError, runners.BackendError,
+               runners.NonFiniteError, OSError)
+"""What the library raises for bad input or a fault outside the program (:func:`guard`)."""
+
+
+class CommandLineError(SystemExit):
+    """A user error, already reported on stderr: exit status 2; ``str()`` is the message."""
+
+    def __init__(self, message: str):
+        super().__init__(EXIT_USAGE)
+        self.message = message
+
+    def __str__(self) -> str:
+        return self.message
+
+
+def guard(main):
+    """Decorate a figure script's ``main``: a user error becomes one line ``error: ...`` on
+    stderr and exit status 2, instead of a traceback."""
+    @functools.wraps(main)
+    def guarded(*args, **kwargs):
+        try:
+            return main(*args, **kwargs)
+        except USER_ERRORS as error:
+            message = one_line(error)
+            print(f"error: {message}", file=sys.stderr)
+            raise CommandLineError(message) from None
+    return guarded
+
+
+def one_line(error: BaseException) -> str:
+    """The message of ``error`` on one line (an OSError with the file it concerns)."""
+    if isinstance(error, OSError) and error.strerror:
+        text = f"{error.strerror}: {error.filename}" if error.filename else error.strerror
+    else:
+        text = str(error) or type(error).__name__
+    return " ".join(text.split())
+
+
+def _whole_number(text: str) -> int:
+    try:
+        return int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a whole number, got {text!r}") from None
 
 
 def _positive_int(text: str) -> int:
-    try:
-        value = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected a whole number, got {text!r}") from None
+    value = _whole_number(text)
     if value < 1:
         raise argparse.ArgumentTypeError(f"must be at least 1, got {value}")
+    if value > MAX_COUNT:
+        raise argparse.ArgumentTypeError(f"must be at most {MAX_COUNT}, got {value}")
     return value
 
 
 def _seed(text: str) -> int:
-    try:
-        value = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected a whole number, got {text!r}") from None
+    value = _whole_number(text)
     if value < 0:
         raise argparse.ArgumentTypeError(f"must be 0 or more, got {value}")
+    if value > MAX_SEED:
+        raise argparse.ArgumentTypeError(f"must be at most {MAX_SEED}, got {value}")
     return value
 
 
@@ -53,10 +117,12 @@ def figure_parser(description: str, *, runs: int, iterations: int | None, seed: 
                              "process, or a Dask cluster; results are bit-identical")
     parser.add_argument("--scheduler", metavar="ADDRESS", default=None,
                         help="address of a Dask scheduler (e.g. tcp://HOST:8786); implies --backend dask")
-    parser.add_argument("--out", type=Path, default=DEFAULT_OUT,
-                        help=f"directory for the PNG and PDF (default {DEFAULT_OUT.relative_to(REPO)})")
-    parser.add_argument("--results", type=Path, default=RESULTS,
-                        help=f"directory for the result file (default {RESULTS.relative_to(REPO)})")
+    parser.add_argument("--out", type=Path, default=None,
+                        help=f"directory for the PNG and PDF (default {DEFAULT_OUT.relative_to(REPO)} at the "
+                             f"paper-scale --runs/--iterations/--seed, else {SCRATCH_OUT.relative_to(REPO)})")
+    parser.add_argument("--results", type=Path, default=None,
+                        help=f"directory for the result file (default {RESULTS.relative_to(REPO)} at the "
+                             f"paper-scale --runs/--iterations/--seed, else {SCRATCH_RESULTS.relative_to(REPO)})")
     parser.add_argument("--force", action="store_true",
                         help="replace a result file that another configuration made")
     parser.add_argument("--rerun", action="store_true",
@@ -65,54 +131,105 @@ def figure_parser(description: str, *, runs: int, iterations: int | None, seed: 
 
 
 def parse(parser: argparse.ArgumentParser, argv=None) -> argparse.Namespace:
-    """Parse ``argv``; reject an --out that exists and is not a directory.
+    """Parse ``argv``, choose the output directories (see the module's output policy) and check
+    they can be written, before anything is computed.
 
     ``args.workers`` becomes what the experiments' ``run(..., workers=)`` takes: a
     :mod:`glamas.runs` backend.
     """
     args = parser.parse_args(argv)
     if "backend" in args:
+        _check_workers(parser, args.workers)
         try:
             args.workers = runners.backend(args.backend, args.workers, args.scheduler)
             if isinstance(args.workers, runners.Dask):
                 runners.connect(args.workers).close()  # an unreachable scheduler fails here, not mid-way
         except (ValueError, runners.BackendError) as error:
             parser.error(str(error))
+    _choose_directories(parser, args)
     for option in ("out", "results"):
-        path = getattr(args, option)
-        if path.exists() and not path.is_dir():
-            parser.error(f"--{option} {path} exists and is not a directory; give a directory path")
+        try:
+            atomic.check_writable_directory(getattr(args, option), f"--{option}")
+        except ValueError as error:
+            parser.error(str(error))
     return args
+
+
+def _check_workers(parser, workers: int | None) -> None:
+    limit = WORKERS_PER_CORE * runners.cores()
+    if workers is not None and workers > limit:
+        parser.error(f"--workers {workers} is more than {WORKERS_PER_CORE} per core of this machine "
+                     f"({runners.cores()} cores); give at most {limit}, or use a Dask cluster (--scheduler)")
+
+
+def _choose_directories(parser, args) -> None:
+    """Fill in the --out and --results not given, by the output policy (module docstring)."""
+    paper_scale = all(getattr(args, option) == parser.get_default(option)
+                      for option in PAPER_SCALE_OPTIONS if option in args)
+    defaults = {"out": DEFAULT_OUT, "results": RESULTS} if paper_scale else \
+        {"out": SCRATCH_OUT, "results": SCRATCH_RESULTS}
+    unset = [option for option in defaults if getattr(args, option) is None]
+    for option in unset:
+        setattr(args, option, defaults[option])
+    if unset and not paper_scale:
+        print(f"note: not the paper-scale --runs/--iterations/--seed: writing to "
+              f"{SCRATCH_OUT.parent.relative_to(REPO)}/ (--out and --results choose)", file=sys.stderr)
+
+
+def check_before_run(args: argparse.Namespace, name: str, config, copies: int = 1) -> None:
+    """What a run of ``copies`` times ``config`` needs, checked before it computes: its result
+    file ``name`` can take the result (unless --force), and its arrays fit in memory."""
+    if not args.force:
+        results.check_writable(args.results / f"{name}.npz", config, seed=args.seed)
+    memory.check(config, copies)
+
+
+def run_experiment(args: argparse.Namespace, name: str, config, run, copies: int = 1):
+    """``run(config, seed=, workers=, progress=name)`` after :func:`check_before_run`; a run that
+    leaves the finite numbers names the settings furthest from their defaults."""
+    check_before_run(args, name, config, copies)
+    with _naming_suspects(config):
+        return run(config, seed=args.seed, workers=args.workers, progress=name)
+
+
+@contextlib.contextmanager
+def _naming_suspects(config):
+    try:
+        yield
+    except runners.NonFiniteError as error:
+        suspects = suspect_settings(config)
+        if not suspects:
+            raise
+        raise runners.NonFiniteError(f"{error}; likely responsible: {suspects}") from None
 
 
 def load_or_run(args: argparse.Namespace, name: str, config, run, result_type):
     """The result of ``config``: read from --results when a file of this configuration is there
     (unless --rerun), otherwise ``run(config, seed=, workers=, progress=)`` and saved.
 
-    Figures drawn from one experiment share its result file instead of running it again.
+    Figures drawn from one experiment share its result file instead of running it again. A file
+    of this configuration made with another map or library version is refused (--rerun).
     ``result_type`` is a dataclass of arrays; a field named ``config`` is not stored as an array
     but is the configuration the file is checked against.
     """
     path = args.results / f"{name}.npz"
     carries_config = "config" in {f.name for f in dataclasses.fields(result_type)}
     if path.exists() and not (args.rerun or args.force):
-        with contextlib.suppress(results.ResultFileError):  # unusable: refused just below
+        try:
             arrays = results.load(path, config, seed=args.seed)
             return result_type(config=config, **arrays) if carries_config else result_type(**arrays)
-    if not args.force:
-        try:
-            results.check_writable(path, config, seed=args.seed)
-        except results.ResultFileError as error:
-            raise SystemExit(f"error: {error} (--force)") from None
-    result = run(config, seed=args.seed, workers=args.workers, progress=name)
+        except results.StaleResultError:
+            raise
+        except results.ResultFileError:
+            pass  # another configuration's or unreadable: check_before_run refuses it
+    result = run_experiment(args, name, config, run)
     arrays = {f.name: getattr(result, f.name) for f in dataclasses.fields(result) if f.name != "config"}
-    results.save(path, config, arrays, seed=args.seed, overwrite=True)
+    results.save(path, config, arrays, seed=args.seed, overwrite=args.force)
     return result
 
 
 def write_outputs(args: argparse.Namespace, name: str, fig, config, arrays: dict) -> list[Path]:
-    """Save the figure (PNG, PDF) to --out and the result arrays with their config to --results."""
-    written = plotting.save_figure(fig, args.out, name)
-    written.append(results.save(args.results / f"{name}.npz", config, arrays, seed=args.seed,
-                                overwrite=args.force))
-    return written
+    """Save the result arrays with their config to --results, then the figure (PNG, PDF) to --out:
+    a result refused at saving time (another run wrote the file meanwhile) leaves no figure of it."""
+    saved = results.save(args.results / f"{name}.npz", config, arrays, seed=args.seed, overwrite=args.force)
+    return plotting.save_figure(fig, args.out, name) + [saved]

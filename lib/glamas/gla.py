@@ -5,7 +5,8 @@ A GLA with ``r`` actions keeps one parameter vector ``u_i`` per action, stored a
 eq. 15 and learns with the bounded REINFORCE rule of eq. 13-14.
 
 The compiled functions take plain arrays and scalars so that simulation kernels can call them
-in their inner loops; :class:`GLA` and :class:`GLANetwork` are the checked, user-facing wrappers.
+in their inner loops (inlined there: ``inline="always"``); :class:`GLA` and :class:`GLANetwork`
+are the checked, user-facing wrappers.
 """
 
 from dataclasses import dataclass, field
@@ -51,7 +52,7 @@ class GLAParams:
         return BOUNDING_MODES[self.bounding]
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def bound(eta, L, mode):
     """h_i of eq. 14: L above the box, -L below it; inside it eta ('clip') or 0 ('printed')."""
     if eta >= L:
@@ -61,7 +62,7 @@ def bound(eta, L, mode):
     return eta if mode == BOUND_CLIP else 0.0
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def boltzmann(u, x, temperature, L, mode, probs):
     """Eq. 15 at h(u): probs[i] = exp(x.h(u_i)/T) / sum_j exp(x.h(u_j)/T), written into probs."""
     n_actions, n_inputs = u.shape
@@ -80,14 +81,14 @@ def boltzmann(u, x, temperature, L, mode, probs):
         probs[i] /= total
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def act(u, x, temperature, L, mode, probs, state):
     """Eq. 12: draw an action with the probabilities of eq. 15 (left in probs for the update)."""
     boltzmann(u, x, temperature, L, mode, probs)
     return rng.categorical(state, probs)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def grad_log_g(x, action, probs, temperature, grad):
     """d ln g(x, a, v) / d v_jk = (x_k / T) (1[j == a] - g(x, a_j, v)), with probs = g(x, ., v)."""
     for j in range(grad.shape[0]):
@@ -96,7 +97,7 @@ def grad_log_g(x, action, probs, temperature, grad):
             grad[j, k] = x[k] / temperature * (indicator - probs[j])
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def update(u, x, action, beta, learning_rate, temperature, K, L, mode, probs):
     """Eq. 13 in place: u += lambda beta dln g/du (x, a, h(u)) + lambda K (h(u) - u).
 
@@ -217,7 +218,7 @@ def and_network(n_context: int) -> GLANetwork:
     return GLANetwork(n_context=n_context, unit_actions=(2, 2), output_table=(1, 1, 1, 0))
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def network_act(params, context, unit_actions, wiring, output_table, radix,
                 temperature, L, mode, inputs, probs, chosen, state):
     """One forward pass: each unit acts on its input (eq. 12); returns the agent's action.
@@ -239,7 +240,7 @@ def network_act(params, context, unit_actions, wiring, output_table, radix,
     return output_table[joint]
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def network_update(params, unit_actions, beta, learning_rate, temperature, K, L, mode,
                    inputs, probs, chosen):
     """Eq. 13 for every unit, each with its own input and action and the agent's feedback."""

@@ -1,9 +1,12 @@
 """Shared figure helpers: byte-reproducible PNG and PDF output and mean curves with bootstrap bands."""
 
+from functools import partial
 from pathlib import Path
 
 import matplotlib.pyplot as plt
 import numpy as np
+
+from glamas import atomic
 
 # No creation dates, producers or software versions: the same data gives the same bytes.
 _PDF_METADATA = {"CreationDate": None, "ModDate": None, "Producer": None, "Creator": None}
@@ -11,12 +14,13 @@ _PNG_METADATA = {"Software": None}
 
 
 def save_figure(fig, out_dir, name: str) -> list[Path]:
-    """Write ``fig`` as ``name.png`` and ``name.pdf`` in ``out_dir`` without metadata."""
+    """Write ``fig`` as ``name.png`` and ``name.pdf`` in ``out_dir`` without metadata, each
+    atomically: a run killed while saving leaves the previous file, not a truncated one."""
     out_dir = Path(out_dir)
-    out_dir.mkdir(parents=True, exist_ok=True)
     png, pdf = out_dir / f"{name}.png", out_dir / f"{name}.pdf"
-    fig.savefig(png, dpi=150, metadata=_PNG_METADATA)
-    fig.savefig(pdf, metadata=_PDF_METADATA)
+    with atomic.locked(out_dir):
+        atomic.write(png, partial(fig.savefig, format="png", dpi=150, metadata=_PNG_METADATA))
+        atomic.write(pdf, partial(fig.savefig, format="pdf", metadata=_PDF_METADATA))
     return [png, pdf]
 
 

@@ -1,7 +1,8 @@
 """Tabular Q-learning (chapter Section 2.2, eq. 11 and Alg. 3) as compiled pieces for the kernels.
 
 A Q table is a 2-d float array, one row per state and one column per action. Nothing here
-allocates, so the episode loops can call these functions every step.
+allocates, so the episode loops can call these functions every step; they are inlined into the
+kernels (``inline="always"``), where a call would cost more than the work.
 """
 
 from numba import njit
@@ -9,7 +10,7 @@ from numba import njit
 from glamas import rng
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def q_update(q, s, a, r, s_next, terminal, alpha, gamma):
     """Eq. 11: Q(s, a) <- (1 - alpha) Q(s, a) + alpha (r + gamma max_a' Q(s', a')).
 
@@ -22,7 +23,7 @@ def q_update(q, s, a, r, s_next, terminal, alpha, gamma):
     q[s, a] = (1.0 - alpha) * q[s, a] + alpha * target
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def row_max(q, s):
     """max_a Q(s, a)."""
     best = q[s, 0]
@@ -32,9 +33,9 @@ def row_max(q, s):
     return best
 
 
-@njit(cache=True)
-def greedy(q_row, state):
-    """argmax_a q_row[a], ties broken uniformly at random (one draw, only when there is a tie)."""
+@njit(cache=True, inline="always")
+def best_and_ties(q_row):
+    """max_a q_row[a] and how many actions reach it."""
     best = q_row[0]
     ties = 1
     for a in range(1, q_row.shape[0]):
@@ -43,11 +44,12 @@ def greedy(q_row, state):
             ties = 1
         elif q_row[a] == best:
             ties += 1
-    if ties == 1:
-        for a in range(q_row.shape[0]):
-            if q_row[a] == best:
-                return a
-    pick = rng.integer(state, ties)
+    return best, ties
+
+
+@njit(cache=True, inline="always")
+def nth_best(q_row, best, pick):
+    """The action of the ``pick``-th (from 0) entry of q_row equal to ``best``."""
     for a in range(q_row.shape[0]):
         if q_row[a] == best:
             if pick == 0:
@@ -56,7 +58,19 @@ def greedy(q_row, state):
     return q_row.shape[0] - 1  # not reached: pick < ties
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
+def greedy(q_row, state):
+    """argmax_a q_row[a], ties broken uniformly at random (one draw, only when there is a tie).
+
+    Two loops with the draw between them, rather than one function with early returns: inlined
+    into a kernel's step loop, this shape lets numba drop the reference counting of ``q_row``.
+    """
+    best, ties = best_and_ties(q_row)
+    pick = 0 if ties == 1 else rng.integer(state, ties)
+    return nth_best(q_row, best, pick)
+
+
+@njit(cache=True, inline="always")
 def epsilon_greedy(q_row, exploit_prob, state):
     """The chapter's epsilon-greedy selection (Section 5.3), with epsilon read as the probability
     of exploiting: greedy (random tie-break) with probability ``exploit_prob``, otherwise an

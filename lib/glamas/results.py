@@ -1,24 +1,38 @@
 """Result files: NumPy ``.npz`` archives that carry the configuration that produced them.
 
-Files are written atomically (temporary file, then rename), never replace a file made by a
-different configuration, and are read with ``allow_pickle=False``.
+Files are written atomically (temporary file, then rename) under a lock of their directory, never
+replace a file made by a different configuration without ``overwrite`` (checked again at the
+moment of writing, so two runs cannot silently replace each other's result), and are read with
+``allow_pickle=False``. Besides the configuration, a file records what the result depends on
+beyond it (:mod:`glamas.provenance`: the map files' hashes, the library's source hash) and is
+refused when that changed. Files written before that record existed carry none and are read as
+before.
 """
 
 import dataclasses
 import json
-import os
-import tempfile
 import zipfile
+import zlib
 from pathlib import Path
 
 import numpy as np
 
+from glamas import atomic, provenance
+
 FORMAT = 1
 _CONFIG_KEY = "__config__"
+_PROVENANCE_KEY = "__provenance__"
+_RESERVED = (_CONFIG_KEY, _PROVENANCE_KEY)
+# What a damaged, truncated or foreign archive raises while it is read.
+_UNREADABLE = (OSError, ValueError, KeyError, EOFError, zipfile.BadZipFile, zlib.error, NotImplementedError)
 
 
 class ResultFileError(Exception):
     """A result file is missing, unreadable, or was made by another configuration."""
+
+
+class StaleResultError(ResultFileError):
+    """A result file of the same configuration, made with other map files or library sources."""
 
 
 def config_json(config, seed: int | None = None) -> str:
@@ -32,31 +46,19 @@ def save(path, config, arrays: dict, *, seed: int | None = None, overwrite: bool
     """Write ``arrays`` with ``config`` (and the master ``seed``) to ``path`` atomically.
 
     An existing file made by a different configuration is kept and an error raised, unless
-    ``overwrite`` is set.
+    ``overwrite`` is set; the check is made under the directory's lock, just before the write.
     """
     path = Path(path)
-    if _CONFIG_KEY in arrays:
-        raise ValueError(f"{_CONFIG_KEY!r} is reserved for the configuration")
-    if not overwrite:
-        check_writable(path, config, seed=seed)
-    text = config_json(config, seed)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=path.name, suffix=".tmp")
-    try:
-        with os.fdopen(fd, "wb") as handle:
-            np.savez_compressed(handle, **{_CONFIG_KEY: np.array(text)}, **arrays)
-        os.chmod(tmp, 0o666 & ~_umask())  # mkstemp's 0600 would make results private
-        os.replace(tmp, path)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
+    reserved = sorted(set(_RESERVED) & set(arrays))
+    if reserved:
+        raise ValueError(f"{reserved} are reserved for the configuration and its provenance")
+    header = {_CONFIG_KEY: np.array(config_json(config, seed)),
+              _PROVENANCE_KEY: np.array(json.dumps(provenance.record(config), sort_keys=True))}
+    with atomic.locked(path.parent):
+        if not overwrite:
+            check_writable(path, config, seed=seed)
+        atomic.write(path, lambda handle: np.savez_compressed(handle, **header, **arrays))
     return path
-
-
-def _umask() -> int:
-    mask = os.umask(0)
-    os.umask(mask)
-    return mask
 
 
 def check_writable(path, config, *, seed: int | None = None) -> None:
@@ -68,39 +70,61 @@ def check_writable(path, config, *, seed: int | None = None) -> None:
     if not path.exists():
         return
     try:
-        existing = _read_config(path)
-    except ResultFileError:
-        existing = None
+        existing = _read_text(path, _CONFIG_KEY)
+    except ResultFileError as error:
+        raise ResultFileError(f"{error}; it was not overwritten (--force replaces it)") from None
     if existing != config_json(config, seed):
         raise ResultFileError(
-            f"{path} holds results of a different configuration (or is unreadable); it was not "
-            "overwritten. Remove it, choose another results directory, or force the overwrite."
+            f"{path} holds results of a different configuration and was not overwritten; remove "
+            "it, choose another results directory, or force the overwrite (--force)"
         )
 
 
-def _read_config(path: Path) -> str:
-    try:
-        with np.load(path, allow_pickle=False) as archive:
-            return str(archive[_CONFIG_KEY])
-    except (OSError, ValueError, KeyError, zipfile.BadZipFile, EOFError) as error:
-        raise ResultFileError(f"{path} is not a readable glamas result file ({error}); "
-                              "delete it and run the experiment again") from error
-
-
 def load(path, config, *, seed: int | None = None) -> dict:
-    """The arrays stored in ``path``, after checking they were made by ``config`` and ``seed``."""
+    """The arrays stored in ``path``, after checking they were made by ``config`` and ``seed``
+    with the map files and library sources there are now."""
     path = Path(path)
     if not path.exists():
         raise ResultFileError(f"no result file at {path}; run the experiment to create it")
-    stored = _read_config(path)
+    stored = _read_text(path, _CONFIG_KEY)
     expected = config_json(config, seed)
     if stored != expected:
         raise ResultFileError(
             f"{path} is stale: it was made by another configuration "
             f"({_difference(stored, expected)}); run the experiment again to refresh it"
         )
-    with np.load(path, allow_pickle=False) as archive:
-        return {key: archive[key] for key in archive.files if key != _CONFIG_KEY}
+    _check_provenance(path, config)
+    try:
+        with np.load(path, allow_pickle=False) as archive:
+            return {key: archive[key] for key in archive.files if key not in _RESERVED}
+    except _UNREADABLE as error:
+        raise _unreadable(path, error) from None
+
+
+def _check_provenance(path: Path, config) -> None:
+    try:
+        stored = json.loads(_read_text(path, _PROVENANCE_KEY))
+    except ResultFileError:
+        return  # written before provenance was recorded
+    changed = provenance.mismatch(stored, provenance.record(config))
+    if changed:
+        raise StaleResultError(f"{path} is stale: {changed}; run the experiment again to refresh it (--rerun)")
+
+
+def _read_text(path: Path, key: str) -> str:
+    try:
+        with np.load(path, allow_pickle=False) as archive:
+            if key not in archive.files:
+                raise KeyError(key)
+            return str(archive[key])
+    except _UNREADABLE as error:
+        raise _unreadable(path, error) from None
+
+
+def _unreadable(path: Path, error: Exception) -> ResultFileError:
+    reason = str(error).splitlines()[0] if str(error) else type(error).__name__
+    return ResultFileError(f"{path} is not a readable glamas result file ({reason}); "
+                           "delete it and run the experiment again")
 
 
 def _difference(stored: str, expected: str) -> str:

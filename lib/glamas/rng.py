@@ -2,7 +2,8 @@
 
 Every run owns a xoshiro256** state (four uint64 words) seeded from its own
 ``numpy.random.SeedSequence`` child. A kernel only ever touches its own run's
-state, so results do not depend on how many workers execute the runs.
+state, so results do not depend on how many workers execute the runs. The draws are inlined into
+the kernels (``inline="always"``): a call would cost more than the draw.
 """
 
 import numpy as np
@@ -41,12 +42,12 @@ def chunk_states(seed: int, start: int, stop: int) -> np.ndarray:
                      for r in range(start, stop)])
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _rotl(x, k):
     return (x << _U64(k)) | (x >> _U64(64 - k))
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def next_u64(state):
     """xoshiro256** (Blackman and Vigna): advance ``state`` in place, return 64 bits."""
     result = _rotl(state[1] * _U64(5), 7) * _U64(9)
@@ -60,22 +61,27 @@ def next_u64(state):
     return result
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def uniform(state):
     """A float in [0, 1)."""
     return float(next_u64(state) >> _U64(11)) * _TO_UNIT
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def integer(state, n):
     """An integer in [0, n), n >= 1."""
     return min(int(uniform(state) * n), n - 1)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def categorical(state, probs):
     """An index drawn with the given probabilities (which sum to one)."""
-    r = uniform(state)
+    return _first_above(probs, uniform(state))
+
+
+@njit(cache=True, inline="always")
+def _first_above(probs, r):
+    """The first index whose cumulative probability exceeds r (the last index if none does)."""
     acc = 0.0
     for i in range(probs.shape[0] - 1):
         acc += probs[i]

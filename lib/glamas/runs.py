@@ -15,8 +15,10 @@ second per script (benchmarks/bench_backends.py). Processes are the default beca
 imports its kernel by name and returns its outputs is what carries over to a cluster unchanged.
 """
 
+import asyncio
 import importlib
 import os
+import time
 from concurrent.futures import ThreadPoolExecutor, as_completed
 from dataclasses import dataclass
 
@@ -35,7 +37,16 @@ def _check_count(backend: str, workers) -> None:
 
 
 class BackendError(RuntimeError):
-    """A backend that cannot run: its optional extra is missing or its scheduler is unreachable."""
+    """A backend that cannot run: its optional extra is missing, its scheduler is unreachable, or
+    its workers are gone."""
+
+
+class NonFiniteError(FloatingPointError):
+    """A run produced NaN or infinite values: a setting drove the learning out of range."""
+
+
+POLL_SECONDS = 0.05
+"""How often a wait on a Dask cluster looks for finished jobs and whether it still has workers."""
 
 
 @dataclass(frozen=True)
@@ -146,6 +157,8 @@ def run_batches(kernel, inputs: tuple, outputs: tuple, seed: int, *, workers=Non
     size = chunk_size(n_runs, workers) if chunk is None else chunk
     bounds = [(start, min(start + size, n_runs)) for start in range(0, n_runs, size)]
     initial = [tuple(out[start:stop] for out in outputs) for start, stop in bounds]
+    if not isinstance(workers, Dask) and (workers.workers or cores()) > len(bounds):
+        workers = type(workers)(len(bounds))  # a worker without a job would only cost its start-up
     if isinstance(workers, Threads):
         done = _run_in_threads(workers, [(kernel, inputs, seed, start, stop, first)
                                          for (start, stop), first in zip(bounds, initial)])
@@ -155,9 +168,27 @@ def run_batches(kernel, inputs: tuple, outputs: tuple, seed: int, *, workers=Non
         done = (_run_in_processes if isinstance(workers, Processes) else _run_on_dask)(workers, jobs)
     with tqdm(total=n_runs, desc=progress, unit="run", disable=progress is None) as bar:
         for start, filled in done:
+            check_finite(kernel, start, filled)
             for out, part in zip(outputs, filled):
                 out[start:start + part.shape[0]] = part
             bar.update(filled[0].shape[0])
+
+
+def check_finite(kernel, start: int, filled: tuple) -> None:
+    """Raise :class:`NonFiniteError` if a floating-point output of runs ``start, ...`` holds NaN
+    or infinity: a learning rate, K, reward or penalty too large makes the updates overflow, and
+    every later number would be meaningless."""
+    for k, part in enumerate(filled):
+        if not np.issubdtype(part.dtype, np.floating):
+            continue
+        finite = np.isfinite(part.reshape(part.shape[0], -1)).all(axis=1)
+        if not finite.all():
+            run = start + int(np.argmin(finite))
+            function = getattr(kernel, "py_func", kernel)
+            name = f"{getattr(function, '__module__', '?')}.{getattr(function, '__qualname__', function)}"
+            raise NonFiniteError(f"run {run} of {name} produced NaN or infinite values in its output {k}: "
+                                 "a learning rate, K, reward or penalty is too large for the learning to stay "
+                                 "finite; lower it")
 
 
 def chunk_size(n_runs: int, backend) -> int:
@@ -241,27 +272,84 @@ def _resolve_kernel(name: str):
 
 def _run_in_processes(backend: Processes, jobs: list):
     from joblib import Parallel, delayed
+    from joblib.externals.loky.process_executor import TerminatedWorkerError
 
     # max_nbytes=None: no memory-mapped (read-only) arguments.
     parallel = Parallel(n_jobs=backend.workers or cores(), backend="loky", return_as="generator_unordered",
                         max_nbytes=None)
-    yield from parallel(delayed(run_chunk)(*job) for job in jobs)
+    try:
+        yield from parallel(delayed(run_chunk)(*job) for job in jobs)
+    except TerminatedWorkerError as error:
+        codes = next((line for line in str(error).splitlines() if "exit codes" in line), "").strip()
+        raise BackendError(f"a worker process died mid-run (killed, out of memory or crashed; {codes}); "
+                           "run again, with fewer --workers if memory is short") from None
 
 
 def connect(backend: Dask):
-    """A Dask client of the backend's scheduler (close it after use), or a clear error."""
+    """A Dask client of the backend's scheduler (close it after use), or a clear error within
+    about ``backend.timeout`` seconds: a malformed address, nothing listening, or a server that
+    is not a Dask scheduler."""
     distributed = require_dask()
+    failure = f"cannot reach the Dask scheduler at {backend.scheduler} within {backend.timeout:g} s"
+    advice = "check the address, or start a scheduler with `dask scheduler` and workers with `dask worker ADDRESS`"
     try:
+        with ThreadPoolExecutor(1) as thread:  # its own event loop: the caller may be running one (Jupyter)
+            thread.submit(asyncio.run, _probe(distributed, backend)).result()
         return distributed.Client(backend.scheduler, timeout=backend.timeout, set_as_default=False)
-    except (OSError, TimeoutError) as error:
-        raise BackendError(f"cannot reach the Dask scheduler at {backend.scheduler} within "
-                           f"{backend.timeout:g} s ({error}); check the address, or start a scheduler "
-                           "with `dask scheduler` and workers with `dask worker ADDRESS`") from None
+    except (OSError, TimeoutError, asyncio.TimeoutError) as error:
+        raise BackendError(f"{failure} ({str(error) or 'no answer'}); {advice}") from None
+    except ValueError as error:
+        raise BackendError(f"{backend.scheduler!r} is not a Dask scheduler address ({error}); "
+                           "give one such as tcp://HOST:8786") from None
+
+
+async def _probe(distributed, backend: Dask) -> None:
+    """Ask the address for its identity, with a deadline: distributed's own client waits without
+    one for a server that accepts the connection but never answers as a scheduler would."""
+    async def identity():
+        comm = await distributed.comm.connect(backend.scheduler, timeout=backend.timeout)
+        try:
+            await comm.write({"op": "identity"})
+            return await comm.read()
+        finally:
+            comm.abort()
+
+    reply = await asyncio.wait_for(identity(), backend.timeout)
+    if not (isinstance(reply, dict) and reply.get("type") == "Scheduler"):
+        raise OSError(f"the server there answered, but not as a Dask scheduler ({str(reply)[:80]})")
 
 
 def _run_on_dask(backend: Dask, jobs: list):
     distributed = require_dask()
     with connect(backend) as client:
         futures = [client.submit(run_chunk, *job, pure=False) for job in jobs]
-        for future in distributed.as_completed(futures, loop=client.loop):
-            yield future.result()
+        finished = distributed.as_completed(futures, loop=client.loop)
+        without_workers = None  # since when the cluster has had no worker
+        while not finished.is_empty():
+            batch = finished.next_batch(block=False)
+            if not batch:  # nothing new: look whether anyone is still working, then wait a little
+                without_workers = _check_workers(client, backend, without_workers, finished.count())
+                time.sleep(POLL_SECONDS)
+            for future in batch:
+                yield _result(distributed, future)
+
+
+def _check_workers(client, backend: Dask, without_workers, n_pending: int):
+    """When the cluster has no workers left, raise after ``backend.timeout`` seconds; returns
+    since when it has had none (None: it has workers)."""
+    if client.scheduler_info().get("workers"):
+        return None
+    now = time.monotonic()
+    if without_workers is not None and now - without_workers > backend.timeout:
+        raise BackendError(f"the Dask cluster at {backend.scheduler} has had no worker for "
+                           f"{backend.timeout:g} s with {n_pending} jobs left (a worker was lost or none "
+                           "was started); start workers with `dask worker ADDRESS`")
+    return now if without_workers is None else without_workers
+
+
+def _result(distributed, future):
+    try:
+        return future.result()
+    except distributed.KilledWorker as error:
+        raise BackendError(f"a job was lost with the Dask workers that ran it ({error}); check the "
+                           "workers' memory and logs, then run again") from None

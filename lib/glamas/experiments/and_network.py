@@ -11,7 +11,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 from numba import njit
 
-from glamas import gla, lineworld, rng
+from glamas import claims, gla, lineworld, memory, rng
 from glamas.experiments import checks
 from glamas.plotting import plot_mean_band
 from glamas.runs import run_batches
@@ -67,6 +67,7 @@ class ANDNetworkConfig:
     this (neither has a usable approximation of the parabola)."""
 
     def __post_init__(self):
+        checks.field_types(self)
         checks.whole_numbers(self, {"iterations": 1, "runs": 1, "record_points": 1, "probe_points": 1,
                                     "eval_grid": 1})
         if self.record_points > self.iterations:
@@ -189,6 +190,7 @@ def learn(iterations, learning_rate, temperature, K, L, mode, init_scale, curvat
 def run(config: ANDNetworkConfig, seed: int = 0, workers=None,
         progress: str | None = None) -> ANDNetworkResult:
     """All runs of experiment 2 for ``config``; identical for any number of workers."""
+    memory.check(config)
     c, p = config, config.gla_params()
     unit_actions, wiring, output_table, radix = NETWORK.arrays()
     shape = (c.runs, 2, NETWORK.n_units, int(unit_actions.max()), NETWORK.n_inputs)
@@ -230,33 +232,65 @@ def left_map(result: ANDNetworkResult, run_index: int, x1: np.ndarray, x2: np.nd
 def final_left_by_region(result: ANDNetworkResult) -> tuple[np.ndarray, np.ndarray]:
     """(runs, 2 agents) final mean P(L) inside region I and outside it (region II), averaged
     over the evaluation grid's points in each region."""
-    c = result.config
-    x1, x2 = lineworld.state_grid(c.eval_grid)
-    inside = x2 >= c.parabola_curvature * x1 ** 2 + c.parabola_offset
-    runs = result.params.shape[0]
-    in_I, in_II = np.empty((runs, 2)), np.empty((runs, 2))
-    for r in range(runs):
-        p_left = left_map(result, r, x1, x2)
-        in_I[r], in_II[r] = p_left[:, inside].mean(axis=1), p_left[:, ~inside].mean(axis=1)
-    return in_I, in_II
+    return _region_means(_left_maps(result), result.config)
+
+
+def _region_means(p_left: np.ndarray, config: ANDNetworkConfig) -> tuple[np.ndarray, np.ndarray]:
+    """(runs, 2 agents) mean P(L) in region I and in region II from every run's P(L) maps."""
+    _, _, inside = _evaluation_points(config)
+    return p_left[:, :, inside].mean(axis=2), p_left[:, :, ~inside].mean(axis=2)
+
+
+def _agreement(p_left: np.ndarray, config: ANDNetworkConfig) -> np.ndarray:
+    """(runs,) how well the learned L-region matches region I (Fig. 7a), from every run's P(L)
+    maps (runs, 2 agents, points): the share of the evaluation grid where 'both agents'
+    P(L) > 1/2' agrees with 'inside the parabola', rescaled so that 0 is what the best constant
+    guess (all I or all II) gets and 1 is the parabola itself: the fraction of the constant
+    guess's errors the learned boundaries remove."""
+    _, _, inside = _evaluation_points(config)
+    trivial = max(inside.mean(), 1.0 - inside.mean())
+    agreement = ((p_left > 0.5).all(axis=1) == inside).mean(axis=1)
+    return (agreement - trivial) / (1.0 - trivial)
+
+
+def _left_maps(result: ANDNetworkResult) -> np.ndarray:
+    """(runs, 2 agents, points) every run's final P(L) on the evaluation grid."""
+    x1, x2, _ = _evaluation_points(result.config)
+    return np.stack([left_map(result, r, x1, x2) for r in range(result.params.shape[0])])
+
+
+def _evaluation_points(config: ANDNetworkConfig):
+    """The evaluation grid (x1, x2) and which of its points lie in region I."""
+    x1, x2 = lineworld.state_grid(config.eval_grid)
+    return x1, x2, x2 >= config.parabola_curvature * x1 ** 2 + config.parabola_offset
 
 
 def measure(result: ANDNetworkResult) -> dict:
-    """Fig. 7's metrics: final P(L) in region I (Fig. 7b's last point and on the evaluation
-    grid), P(R) in region II, and the fraction of stuck runs."""
-    in_I, in_II = final_left_by_region(result)
+    """Fig. 7's metrics: how well the learned L-region matches region I, final P(L) in region I
+    (Fig. 7b's last point and on the evaluation grid), P(R) in region II, the lower of P(L) in
+    I and P(R) in II, and the fraction of stuck runs."""
+    p_left = _left_maps(result)
+    in_I, in_II = _region_means(p_left, result.config)
     curve_end = result.prob_left[:, -1, :].mean(axis=0)
+    left_I, right_II = in_I.mean(axis=0), 1.0 - in_II.mean(axis=0)
     return {
+        "region_I_error_removed": _agreement(p_left, result.config).mean(),
         "final_prob_left_I_a": curve_end[0],
         "final_prob_left_I_b": curve_end[1],
         "final_prob_left_I_min": curve_end.min(),
-        "grid_prob_left_I_a": in_I[:, 0].mean(),
-        "grid_prob_left_I_b": in_I[:, 1].mean(),
-        "grid_prob_right_II_a": 1.0 - in_II[:, 0].mean(),
-        "grid_prob_right_II_b": 1.0 - in_II[:, 1].mean(),
-        "grid_prob_right_II_min": 1.0 - in_II.mean(axis=0).max(),
+        "grid_prob_left_I_a": left_I[0],
+        "grid_prob_left_I_b": left_I[1],
+        "grid_prob_right_II_a": right_II[0],
+        "grid_prob_right_II_b": right_II[1],
+        "grid_prob_right_II_min": right_II.min(),
+        "grid_prob_region_action_min": min(left_I.min(), right_II.min()),
         "stuck_fraction": (in_I < result.config.stuck_threshold).all(axis=1).mean(),
     }
+
+
+def claim_rows(result: ANDNetworkResult) -> list[dict]:
+    """The Fig. 7 claims (data/chapter/section4.json) with verdicts computed from ``result``."""
+    return claims.verdicts(claims.load("and_network"), measure(result))
 
 
 @dataclass(frozen=True)
@@ -306,6 +340,11 @@ def measure_sweep(result: SweepResult) -> dict:
     measured["stuck_fraction_highest"] = fractions[-1]
     measured["stuck_fraction_rise"] = fractions[-1] - fractions[0]
     return measured
+
+
+def sweep_claim_rows(result: SweepResult) -> list[dict]:
+    """The stuck-runs claim (data/chapter/section4.json) with its verdict computed from ``result``."""
+    return claims.verdicts(claims.load("and_network_sweep"), measure_sweep(result))
 
 
 # ---- plots (each draws on a given Axes) ----

@@ -1,11 +1,81 @@
 """Checks shared by the experiments' config dataclasses; each error names the field and its bound."""
 
+import dataclasses
+import math
+import numbers
+import types
+import typing
+
 import numpy as np
+
+MAX_COUNT = 2 ** 31 - 1
+"""Largest whole-number setting: counts stay far from the kernels' 64-bit integer range (the
+kernels multiply counts such as iterations by points)."""
 
 
 def whole_numbers(config, minimums: dict) -> None:
-    """Raise unless each field named in ``minimums`` is a whole number (not a bool) >= its minimum."""
+    """Raise unless each field named in ``minimums`` is a whole number (not a bool) from its
+    minimum to MAX_COUNT."""
     for name, minimum in minimums.items():
         value = getattr(config, name)
         if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < minimum:
             raise ValueError(f"{name} must be a whole number >= {minimum}, got {value!r}")
+        if value > MAX_COUNT:
+            raise ValueError(f"{name} must be at most {MAX_COUNT}, got {value!r}")
+
+
+def field_types(config) -> None:
+    """Raise ValueError naming the field unless every field of a config dataclass has its
+    annotated type: int and float a real number (float: finite; whether an int field is whole and
+    in range is the config's own check), str a string, a dataclass an instance of it (``X | None``
+    also None).
+
+    Called first in a config's ``__post_init__``, so that a string for a number or None for a
+    map gets this message instead of a TypeError deep inside the checks that follow."""
+    hints = typing.get_type_hints(type(config))
+    for field in dataclasses.fields(config):
+        value = getattr(config, field.name)
+        problem = _type_problem(hints.get(field.name), value)
+        if problem:
+            raise ValueError(f"{type(config).__name__}.{field.name} must be {problem}, got {value!r}")
+
+
+def _type_problem(hint, value) -> str | None:
+    """What ``value`` must be to have type ``hint`` (None: it has it, or the hint is not checked)."""
+    if isinstance(hint, types.UnionType) or typing.get_origin(hint) is typing.Union:
+        options = typing.get_args(hint)
+        if value is None and type(None) in options:
+            return None
+        hint = next((option for option in options if option is not type(None)), None)
+    real = isinstance(value, numbers.Real) and not isinstance(value, (bool, np.bool_))
+    if hint is int:
+        return None if real else "a whole number"
+    if hint is float:
+        return None if real and math.isfinite(value) else "a finite number"
+    if hint is str:
+        return None if isinstance(value, str) else "a string"
+    if dataclasses.is_dataclass(hint):
+        return None if isinstance(value, hint) else f"a {hint.__name__}"
+    return None
+
+
+def suspect_settings(config, limit: int = 3) -> str:
+    """The real-valued settings of ``config`` furthest (in orders of magnitude) from their
+    defaults, as 'name=value (default d)': the likely cause when the learning leaves the range
+    of finite numbers. Empty if none differs."""
+    ranked = sorted(_changed_reals(config), key=lambda row: -row[0])
+    return ", ".join(f"{name}={value!r} (default {default!r})" for _, name, value, default in ranked[:limit])
+
+
+def _changed_reals(config, prefix: str = "") -> list[tuple]:
+    default = type(config)()
+    hints = typing.get_type_hints(type(config))
+    rows = []
+    for field in dataclasses.fields(config):
+        value, initial = getattr(config, field.name), getattr(default, field.name)
+        if dataclasses.is_dataclass(value):
+            rows += _changed_reals(value, f"{prefix}{field.name}.")
+        elif hints.get(field.name) is float and value != initial:
+            distance = abs(math.log10(abs(value) + 1e-300) - math.log10(abs(initial) + 1e-300))
+            rows.append((distance, f"{prefix}{field.name}", value, initial))
+    return rows

@@ -92,6 +92,7 @@ class GridworldConfig:
     in the chapter, replacing the GLAs by the fixed rule "coordinate when delta < d"."""
 
     def __post_init__(self):
+        checks.field_types(self)
         checks.whole_numbers(self, {"episodes": 1, "runs": 1, "bins": 1, "max_steps": 1})
         learners = tuple(self.learners)
         if not learners or len(set(learners)) != len(learners) or not set(learners) <= set(LEARNERS):

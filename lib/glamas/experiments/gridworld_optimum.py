@@ -8,6 +8,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from glamas import claims, memory
+from glamas.experiments import checks
 from glamas.gridworld import GridMap, dp, draw, load_map, rules
 from glamas.paths import MAPS
 
@@ -29,6 +31,7 @@ class GridworldOptimumConfig:
     """Steps the selfish shortest-path agents are followed (they may never arrive)."""
 
     def __post_init__(self):
+        checks.field_types(self)
         if not (MAPS / f"{self.map_name}.txt").is_file():
             known = sorted(p.stem for p in MAPS.glob("*.txt"))
             raise ValueError(f"map_name {self.map_name!r} is not a map in {MAPS}; known maps: {known}")
@@ -69,6 +72,7 @@ def run(config: GridworldOptimumConfig, seed: int = 0, workers=None, progress=No
 
     Deterministic: ``seed``, ``workers`` and ``progress`` are accepted for the common interface.
     """
+    memory.check(config)  # the joint tables grow as cells ** agents
     gridmap = load_map(MAPS / f"{config.map_name}.txt")
     mdp = dp.joint_mdp(gridmap, config.bounce)
     by_values = dp.value_iteration(mdp, config.gamma, config.epsilon)
@@ -115,3 +119,8 @@ def plot_episode(ax, result: GridworldOptimumResult, which: str = "optimal"):
     steps = ", ".join("-" if s < 0 else str(s) for s in episodes[which].steps_to_goal)
     ax.set_title(f"{which}\nsteps to goal: {steps}; collisions: {episodes[which].collisions}", fontsize=9)
     ax.legend(loc="upper center", bbox_to_anchor=(0.5, 0.0), ncols=2, fontsize=8, frameon=False)
+
+
+def claim_rows(result: GridworldOptimumResult) -> list[dict]:
+    """The claims about the map (data/chapter/gridworld_optimum.json) with computed verdicts."""
+    return claims.verdicts(claims.load("gridworld_optimum"), measure(result))

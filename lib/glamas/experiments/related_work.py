@@ -57,6 +57,7 @@ class RelatedWorkConfig:
     in ``gridworld.episodes``."""
 
     def __post_init__(self):
+        checks.field_types(self)
         if not isinstance(self.gridworld, gw.GridworldConfig):
             raise ValueError(f"gridworld must be a GridworldConfig, got {self.gridworld!r}")
         learners = tuple(self.learners)

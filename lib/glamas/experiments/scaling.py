@@ -96,6 +96,7 @@ class ScalingConfig:
     """CQ-learning: episodes each agent first learns alone, not counted in ``episodes``."""
 
     def __post_init__(self):
+        checks.field_types(self)
         checks.whole_numbers(self, {"episodes": 1, "runs": 1, "bin_size": 1, "coordination_distance": 1,
                                     "cq_window": 2, "cq_solo_episodes": 1})
         if not (isinstance(self.cq_significance, float) and 0.0 < self.cq_significance < 1.0):

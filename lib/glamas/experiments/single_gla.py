@@ -11,12 +11,20 @@ from dataclasses import dataclass, replace
 import numpy as np
 from numba import njit
 
-from glamas import gla, lineworld, rng
+from glamas import claims, gla, lineworld, memory, rng
 from glamas.experiments import checks
 from glamas.plotting import plot_mean_band
 from glamas.runs import run_batches
 
 ENCODING_NAMES = ("joint", "absolute", "deictic")
+
+FIG6_L = 1.0
+"""L of eq. 14 for Fig. 6. The chapter does not restate Fig. 6's parameters; we keep Fig. 5's
+box (its caption: L = 1), which also matches the joint inputs' range [-1, 1]."""
+FIG6_ALTERNATIVE_L = 2.0
+"""The box notebook 02 shows beside FIG6_L: L = 2 matches the range [-2, 2] of the deictic input
+x_self - x_other as L = 1 matches the joint inputs'. The final ordering of the deictic and joint
+contexts depends on this choice."""
 
 
 @dataclass(frozen=True)
@@ -49,6 +57,7 @@ class SingleGLAConfig:
     """Expected rewards are averages over the midpoints of an eval_grid x eval_grid grid."""
 
     def __post_init__(self):
+        checks.field_types(self)
         checks.whole_numbers(self, {"iterations": 1, "runs": 1, "record_points": 1, "eval_grid": 1})
         if self.record_points > self.iterations:
             raise ValueError(f"record_points ({self.record_points}) cannot exceed iterations "
@@ -118,6 +127,7 @@ def learn(encoding, iterations, learning_rate, temperature, K, L, mode, init_sca
 def run(config: SingleGLAConfig, seed: int = 0, workers=None,
         progress: str | None = None) -> SingleGLAResult:
     """All runs of experiment 1 for ``config``; identical for any number of workers."""
+    memory.check(config)
     encoding = lineworld.encoding_code(config.context)
     n_inputs = lineworld.CONTEXT_LENGTH[encoding]
     params = np.zeros((config.runs, 2, 2, n_inputs))
@@ -148,6 +158,15 @@ def best_actions(x1, x2, agent):
     out = np.empty(x1.shape[0], dtype=np.int64)
     for i in range(x1.shape[0]):
         out[i] = lineworld.best_action(x1[i], x2[i], agent)
+    return out
+
+
+@njit(cache=True)
+def regions(x1, x2):
+    """The region of Fig. 5a (1, 2 or 3) of every point."""
+    out = np.empty(x1.shape[0], dtype=np.int64)
+    for i in range(x1.shape[0]):
+        out[i] = lineworld.region(x1[i], x2[i])
     return out
 
 
@@ -193,27 +212,40 @@ def team_reward(params: np.ndarray, config: SingleGLAConfig) -> float:
 
 def evaluate(result: SingleGLAResult) -> Evaluation:
     """Exact-on-a-grid expected rewards of the learned policies (no sampling noise)."""
-    runs = result.params.shape[0]
-    agent_reward, line_reward, team = np.empty((runs, 2)), np.empty((runs, 2)), np.empty(runs)
-    for r in range(runs):
-        correct = _correct_on_grid(result.params[r], result.config)
-        agent_reward[r] = correct.mean(axis=1)
-        line_reward[r] = (correct > 0.5).mean(axis=1)
-        team[r] = (correct[0] * correct[1]).mean()
-    return Evaluation(agent_reward, line_reward, team)
+    return _evaluation(_correct_runs(result.params, result.config))
+
+
+def _evaluation(correct: np.ndarray) -> Evaluation:
+    """The expected rewards from every run's probabilities of playing each agent's part."""
+    return Evaluation(correct.mean(axis=2), (correct > 0.5).mean(axis=2),
+                      (correct[:, 0] * correct[:, 1]).mean(axis=1))
+
+
+def _correct_runs(params: np.ndarray, config: SingleGLAConfig) -> np.ndarray:
+    """(runs, 2 agents, grid points) :func:`_correct_on_grid` for every run's parameters."""
+    return np.stack([_correct_on_grid(u, config) for u in params])
 
 
 def best_line_reward(encoding_name: str, agent: int, grid: int = 200, angles: int = 720) -> float:
     """The best expected reward a single line (a fixed threshold on a linear function of the
     context, i.e. a deterministic 2-action GLA policy) gives the agent, the other agent playing
-    its part of the rewarded joint action.
-
-    Exhaustive search on the evaluation grid: for each direction w of the non-bias inputs
-    (``angles`` directions over the circle when there are two, +-1 when there is one), every
-    threshold between consecutive distinct projections w.x is tried.
-    """
+    its part of the rewarded joint action (exhaustive search, :func:`best_line_shares`)."""
     encoding = lineworld.encoding_code(encoding_name)
     x1, x2 = lineworld.state_grid(grid)
+    return float(best_line_shares(encoding, agent, x1, x2, np.ones((1, x1.shape[0])), angles)[0])
+
+
+def best_line_shares(encoding: int, agent: int, x1: np.ndarray, x2: np.ndarray,
+                     counts: np.ndarray, angles: int = 720) -> np.ndarray:
+    """(rows of ``counts``,) the largest share of the points (x1, x2) a single line of the agent
+    plays its part of the rewarded joint action at, counting point i with weight counts[row, i]
+    (1 everywhere: the agent's best line; 1 where the other agent plays its part: the agent's best
+    line given the other's policy, its best response among lines).
+
+    Exhaustive search: for each direction w of the non-bias inputs (``angles`` directions over the
+    circle when there are two, +-1 when there is one), every threshold between consecutive
+    distinct projections w.x is tried, with L on the side of larger projections.
+    """
     features = contexts(encoding, agent, x1, x2)[:, :-1]  # drop the bias input
     wants_left = best_actions(x1, x2, agent) == lineworld.LEFT
     if features.shape[1] == 1:
@@ -221,33 +253,94 @@ def best_line_reward(encoding_name: str, agent: int, grid: int = 200, angles: in
     else:
         theta = np.arange(angles) * (2 * np.pi / angles)
         directions = np.column_stack([np.cos(theta), np.sin(theta)])
-    best = 0.0
-    for w in directions:
-        projection = features @ w
-        order = np.argsort(projection, kind="stable")
-        s, left = projection[order], wants_left[order]
-        # rule "L iff projection > threshold", threshold just after position i (or below all)
-        right_correct_below = np.concatenate([[0], np.cumsum(~left)])
-        left_correct_above = np.concatenate([np.cumsum(left[::-1])[::-1], [0]])
-        valid = np.concatenate([[True], s[1:] != s[:-1], [True]])
-        correct = (right_correct_below + left_correct_above)[valid]
-        best = max(best, correct.max() / s.shape[0])
-    return float(best)
+    counts = np.asarray(counts, dtype=np.float64)
+    return _best_threshold(np.ascontiguousarray(features), directions, wants_left, counts) / x1.shape[0]
 
 
-def _final(curves: np.ndarray, fraction: float = 0.1) -> np.ndarray:
+@njit(cache=True)
+def _best_threshold(features, directions, wants_left, counts):
+    """Per row of ``counts``: the largest weighted count of points a rule 'L iff w.x is above the
+    threshold' gets right, over every direction w and every threshold between two distinct
+    projections (or beyond all of them)."""
+    best = np.zeros(counts.shape[0])
+    left_total = np.zeros(counts.shape[0])
+    for r in range(counts.shape[0]):
+        for j in range(counts.shape[1]):
+            if wants_left[j]:
+                left_total[r] += counts[r, j]
+        best[r] = left_total[r]
+    for d in range(directions.shape[0]):
+        projection = np.zeros(features.shape[0])
+        for k in range(features.shape[1]):  # features @ w by hand: numba's matmul needs scipy
+            projection += features[:, k] * directions[d, k]
+        order = np.argsort(projection, kind="mergesort")
+        for r in range(counts.shape[0]):
+            right_below, left_above = 0.0, left_total[r]
+            for i in range(order.shape[0]):
+                j = order[i]
+                if wants_left[j]:
+                    left_above -= counts[r, j]
+                else:
+                    right_below += counts[r, j]
+                if i + 1 == order.shape[0] or projection[order[i + 1]] != projection[j]:
+                    best[r] = max(best[r], right_below + left_above)
+    return best
+
+
+FINAL_FRACTION = 0.1
+"""The 'final' reward of Fig. 6 is the average over this last fraction of the iterations."""
+
+
+def _final(curves: np.ndarray, fraction: float = FINAL_FRACTION) -> np.ndarray:
     """Per run: the average feedback over the last ``fraction`` of the learning curve."""
     tail = max(1, int(round(curves.shape[1] * fraction)))
     return curves[:, -tail:].mean(axis=1)
 
 
+REGIONS = (1, 2, 3)
+"""The regions of Fig. 5a: 1 (A left of B), 2 (A right of B), 3 (closer than 0.5)."""
+
+
+def region_shares(correct: np.ndarray, x1: np.ndarray, x2: np.ndarray) -> np.ndarray:
+    """(runs, 3) per region of Fig. 5a, the share of its points where the most probable joint
+    action is the region's rewarded one, from ``correct`` (runs, 2 agents, points): each agent's
+    probability of playing its part. The agents act independently, so the most probable joint
+    action is the pair of each agent's most probable action (a tie counts as not playing it)."""
+    both = (correct > 0.5).all(axis=1)
+    labels = regions(x1, x2)
+    return np.column_stack([both[:, labels == k].mean(axis=1) for k in REGIONS])
+
+
+def best_response_gap(params: np.ndarray, config: SingleGLAConfig, grid: int = 100,
+                      angles: int = 180) -> np.ndarray:
+    """(runs,) how much agent A's learned line loses against the best line A could draw given
+    B's learned line (params: runs, 2 agents, 2 actions, inputs): the share of the points of a
+    grid x grid grid where both lines play their parts, for A's best line (exhaustive search,
+    :func:`best_line_shares`) minus for A's learned line. The search is over every run, so it
+    uses a coarser grid and fewer directions than :func:`best_line_reward`."""
+    correct = _correct_runs(params, replace(config, eval_grid=grid)) > 0.5
+    x1, x2 = lineworld.state_grid(grid)
+    best = best_line_shares(lineworld.encoding_code(config.context), lineworld.AGENT_A, x1, x2,
+                            correct[:, 1].astype(np.float64), angles)
+    return best - (correct[:, 0] & correct[:, 1]).mean(axis=1)
+
+
 def measure(result: SingleGLAResult) -> dict:
-    """Fig. 5's metrics: each agent's expected reward (policy and learned line) against the best
-    a single line can reach with this context, the team's expected and final average reward."""
-    ev = evaluate(result)
-    encoding = result.config.context
-    line_best = [best_line_reward(encoding, agent, result.config.eval_grid) for agent in range(2)]
+    """Fig. 5's metrics: per region the share where the most probable joint action is the
+    region's rewarded one; A's gap to its best line given B's; each agent's expected reward
+    (policy and learned line) against the best a single line can reach with this context; the
+    team's expected and final average reward."""
+    config = result.config
+    correct = _correct_runs(result.params, config)
+    ev = _evaluation(correct)
+    x1, x2 = lineworld.state_grid(config.eval_grid)
+    shares = region_shares(correct, x1, x2).mean(axis=0)
+    line_best = [best_line_reward(config.context, agent, config.eval_grid) for agent in range(2)]
     return {
+        "region_1_share_LL": shares[0],
+        "region_2_share_RR": shares[1],
+        "region_3_share_apart": shares[2],
+        "agent_a_best_response_gap": best_response_gap(result.params, config).mean(),
         "agent_a_reward": ev.agent_reward[:, 0].mean(),
         "agent_b_reward": ev.agent_reward[:, 1].mean(),
         "agent_a_line_reward": ev.line_reward[:, 0].mean(),
@@ -276,20 +369,47 @@ def compare_encodings(config: SingleGLAConfig, seed: int = 0, workers=None,
             for name in ENCODING_NAMES}
 
 
+COMPARISONS = (("deictic", "joint"), ("joint", "absolute"), ("deictic", "absolute"))
+"""Fig. 6's pairs of encodings (better, worse) in the chapter's ordering."""
+
+
 def measure_encodings(results: dict) -> dict:
     """Fig. 6's metrics: each encoding's final average reward (last tenth of the iterations) and
-    mean reward over the whole run (learning speed), and the paired differences between
-    encodings (run r of each shares its seed) with the lower end of their 95 % interval."""
+    mean reward over the whole run (learning speed); for each pair of encodings the paired
+    difference (run r of each shares its seed), the lower end of its 95 % interval, and its effect
+    size :func:`curve_effect`; for the absolute distance, the smaller of its two effects."""
     final = {name: _final(res.reward) for name, res in results.items()}
     measured = {f"{name}_final_reward": values.mean() for name, values in final.items()}
     whole = {name: res.reward.mean(axis=1) for name, res in results.items()}
     measured.update({f"{name}_mean_reward": values.mean() for name, values in whole.items()})
-    for better, worse in (("deictic", "joint"), ("joint", "absolute"), ("deictic", "absolute")):
-        for label, per_run in (("", final), ("_whole", whole)):
+    for better, worse in COMPARISONS:
+        for label, per_run, tail in (("", final, FINAL_FRACTION), ("_whole", whole, 1.0)):
             mean, low = _paired_difference(per_run[better], per_run[worse])
-            measured[f"{better}_minus_{worse}{label}"] = mean
-            measured[f"{better}_minus_{worse}{label}_low"] = low
+            key = f"{better}_minus_{worse}{label}"
+            measured[key], measured[f"{key}_low"] = mean, low
+            measured[f"{key}_effect"] = curve_effect(results[better].reward, results[worse].reward, tail)
+    for label in ("", "_whole"):
+        key = f"absolute_worst{label}_effect"
+        measured[key] = min(measured[f"joint_minus_absolute{label}_effect"],
+                            measured[f"deictic_minus_absolute{label}_effect"])
+    for key in [k for k in measured if k.endswith("_effect") and np.isnan(measured[k])]:
+        measured[key + claims.WHY_UNDECIDABLE] = ("no run-to-run spread to compare the difference with "
+                                                  "(fewer than two runs, or identical ones)")
     return measured
+
+
+def curve_effect(better: np.ndarray, worse: np.ndarray, tail: float) -> float:
+    """How far apart two encodings' Fig. 6 curves (runs, points) are over their last ``tail``
+    of the points, in units of the run-to-run spread of a curve point: the mean difference of
+    the run-mean curves divided by the standard deviation over runs of one point's average
+    reward (root mean square over the points and both curves). This is Cohen's d of the plotted
+    quantity; NaN with one run."""
+    points = max(1, int(round(better.shape[1] * tail)))
+    a, b = better[:, -points:], worse[:, -points:]
+    if a.shape[0] < 2:
+        return float("nan")
+    spread = np.sqrt((a.var(axis=0, ddof=1).mean() + b.var(axis=0, ddof=1).mean()) / 2)
+    return float((a.mean() - b.mean()) / spread) if spread > 0 else float("nan")
 
 
 def _paired_difference(better: np.ndarray, worse: np.ndarray) -> tuple[float, float]:
@@ -297,6 +417,28 @@ def _paired_difference(better: np.ndarray, worse: np.ndarray) -> tuple[float, fl
     diff = better - worse
     half = 1.96 * diff.std(ddof=1) / np.sqrt(diff.shape[0]) if diff.shape[0] > 1 else 0.0
     return float(diff.mean()), float(diff.mean() - half)
+
+
+def encoding_arrays(results: dict) -> dict:
+    """Fig. 6's result arrays as one flat dict ('<encoding>_<array>'), as its result file stores them."""
+    return {f"{name}_{key}": value for name, res in results.items() for key, value in res.arrays().items()}
+
+
+def encodings_from_arrays(config: SingleGLAConfig, arrays: dict) -> dict:
+    """The inverse of :func:`encoding_arrays`: encoding name -> result (``config`` with its context)."""
+    return {name: SingleGLAResult(replace(config, context=name), arrays[f"{name}_iteration"],
+                                  arrays[f"{name}_reward"], arrays[f"{name}_params"])
+            for name in ENCODING_NAMES}
+
+
+def claim_rows(result: SingleGLAResult) -> list[dict]:
+    """The Fig. 5 claims (data/chapter/section4.json) with verdicts computed from ``result``."""
+    return claims.verdicts(claims.load("single_gla"), measure(result))
+
+
+def encoding_claim_rows(results: dict) -> list[dict]:
+    """The Fig. 6 claims (data/chapter/section4.json) with verdicts computed from ``results``."""
+    return claims.verdicts(claims.load("state_encoding"), measure_encodings(results))
 
 
 # ---- plots (each draws on a given Axes) ----
@@ -338,6 +480,18 @@ def plot_learned_lines(ax, result: SingleGLAResult, run_index: int, grid: int = 
                 ax.text(x1[cell].mean(), x2[cell].mean(), label, ha="center", va="center")
     ax.legend(loc="lower right", fontsize="small")
     _square(ax)
+
+
+def learned_line(result: SingleGLAResult, run_index: int, agent: int) -> tuple[float, float]:
+    """(slope, intercept) of the agent's learned line (h(u_L) - h(u_R)).x = 0 (eq. 14-15) as
+    x2 = slope x1 + intercept, for the joint context; the agent prefers L above it when the x2
+    weight is positive."""
+    if result.config.context != "joint":
+        raise ValueError(f"learned lines live in the (x1, x2) plane: they need the joint context, "
+                         f"this result used {result.config.context!r}")
+    hu = _bounded(result.params[run_index, agent], result.config)
+    w = hu[0] - hu[1]
+    return float(-w[0] / w[1]), float(-w[2] / w[1])
 
 
 def plot_reward_curves(ax, results: dict):

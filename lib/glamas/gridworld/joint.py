@@ -4,7 +4,7 @@ significant: the one encoding shared by the joint learners and dynamic programmi
 from numba import njit
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def joint_index(digits, base):
     """The number whose base-``base`` digits are ``digits`` (e.g. the agents' cells)."""
     number = 0
@@ -13,7 +13,7 @@ def joint_index(digits, base):
     return number
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def split_index(number, base, out):
     """Write ``number``'s base-``base`` digits into ``out``: the inverse of :func:`joint_index`."""
     for i in range(out.shape[0] - 1, -1, -1):

@@ -78,15 +78,36 @@ class GridMap:
 
 
 def load_map(source) -> GridMap:
-    """A :class:`GridMap` from a map file path or from the map's text; raises :class:`MapError`."""
+    """A :class:`GridMap` from a map file path or from the map's text; raises :class:`MapError`
+    (naming the file for a map read from one)."""
     if isinstance(source, Path) or (isinstance(source, str) and "\n" not in source):
         path = Path(source)
         if not path.is_file():
             raise MapError(f"no map file {path}; give the path of a map file or the map's text")
-        return _parse(path.read_text(), path.stem)
+        try:
+            return _parse(read_map_text(path), path.stem)
+        except MapError as error:
+            raise MapError(f"map file {path}: {error}") from None
     if isinstance(source, str):
-        return _parse(source, "inline")
+        return _parse(source.removeprefix(_BOM), "inline")
     raise TypeError(f"load_map takes a path or the map's text, got {type(source).__name__}")
+
+
+_BOM = "\ufeff"  # some editors start UTF-8 files with it; it is not part of the map
+
+
+def read_map_text(path: Path) -> str:
+    """The text of a map file: UTF-8, with or without a byte-order mark."""
+    try:
+        data = path.read_bytes()
+    except OSError as error:
+        raise MapError(f"cannot read it ({error.strerror})") from None
+    try:
+        return data.decode("utf-8").removeprefix(_BOM)
+    except UnicodeDecodeError as error:
+        line = data.count(b"\n", 0, error.start) + 1
+        raise MapError(f"line {line} is not UTF-8 text (byte {data[error.start]:#04x}); "
+                       "save the map as UTF-8 (its symbols are plain ASCII)") from None
 
 
 def tunnel_to_goal() -> GridMap:

@@ -26,14 +26,15 @@ except ImportError as error:
     ) from error
 
 from glamas.gridworld.env import GridworldEnv
-from glamas.gridworld.maps import GridMap, tunnel_to_goal
+from glamas.gridworld.maps import GridMap, load_map, tunnel_to_goal
 from glamas.gridworld.rules import N_ACTIONS
 
 
 class GridworldParallelEnv(ParallelEnv):
     """The gridworld game for ``gridmap.n_agents`` agents ``agent_1``, ``agent_2``, ...
 
-    ``gridmap`` defaults to the chapter's TunnelToGoal (Fig. 9); ``bounce`` and ``max_steps`` as
+    ``gridmap`` (a GridMap, or a map file's path or text) defaults to the chapter's TunnelToGoal
+    (Fig. 9); ``bounce`` and ``max_steps`` as
     in GridworldEnv; ``render_mode`` None or 'ansi' (``render()`` returns the map as text, in
     the format of ``data/maps``, with each agent's number on its cell).
     """
@@ -44,7 +45,7 @@ class GridworldParallelEnv(ParallelEnv):
                  render_mode: str | None = None):
         if render_mode not in (None, *self.metadata["render_modes"]):
             raise ValueError(f"render_mode must be None or one of {self.metadata['render_modes']}, got {render_mode!r}")
-        self._game = GridworldEnv(tunnel_to_goal() if gridmap is None else gridmap, bounce, max_steps)
+        self._game = GridworldEnv(_as_map(gridmap), bounce, max_steps)
         self.gridmap = self._game.gridmap
         self.render_mode = render_mode
         self.possible_agents = list(self._game.possible_agents)
@@ -61,14 +62,23 @@ class GridworldParallelEnv(ParallelEnv):
         return self._action_spaces[agent]
 
     def reset(self, seed=None, options=None):
-        """All agents on their start cells; returns (observations, infos)."""
+        """All agents on their start cells; returns (observations, infos). ``seed`` (None or a
+        whole number >= 0) seeds every agent's action and observation samplers, each with its
+        own stream of ``numpy.random.SeedSequence(seed)``, so no two samplers repeat each other
+        at any pair of seeds."""
         if seed is not None:
-            for k, name in enumerate(self.possible_agents):
-                self._action_spaces[name].seed(seed + k)
-                self._observation_spaces[name].seed(seed + k)
+            self._seed_spaces(seed)
         observations, infos = self._game.reset(seed=seed)
         self.agents = list(self._game.agents)
         return self._flatten(observations), infos
+
+    def _seed_spaces(self, seed) -> None:
+        if isinstance(seed, (bool, np.bool_)) or not isinstance(seed, (int, np.integer)) or seed < 0:
+            raise ValueError(f"seed must be None or a whole number >= 0, got {seed!r}")
+        children = iter(np.random.SeedSequence(int(seed)).spawn(2 * len(self.possible_agents)))
+        for name in self.possible_agents:
+            for space in (self._action_spaces[name], self._observation_spaces[name]):
+                space.seed(int(next(children).generate_state(1, np.uint64)[0]))
 
     def step(self, actions: dict):
         """One joint move of the live agents; returns PettingZoo's five dicts."""
@@ -88,6 +98,13 @@ class GridworldParallelEnv(ParallelEnv):
     def _flatten(self, observations: dict) -> dict:
         return {name: np.array([*obs["position"], *(x for cell in obs["others"] for x in cell)], dtype=np.int64)
                 for name, obs in observations.items()}
+
+
+def _as_map(gridmap) -> GridMap:
+    """The map to play on: TunnelToGoal for None, a GridMap as it is, else a map file's path or text."""
+    if gridmap is None:
+        return tunnel_to_goal()
+    return gridmap if isinstance(gridmap, GridMap) else load_map(gridmap)
 
 
 def map_text(gridmap: GridMap, cells) -> str:

@@ -21,6 +21,7 @@ Precondition of :func:`step`: the acting agents are on distinct non-goal cells (
 start cells on, since the rules preserve it).
 """
 
+import numpy as np
 from numba import njit
 
 N, E, S, W = 0, 1, 2, 3
@@ -111,22 +112,64 @@ def step(next_cell, is_goal, starts, bounce, cells, done, actions,
     return n_collisions
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
+def step_two(next_cell, is_goal, starts, bounce, cells, done, actions,
+             new_cells, rewards, bumped, collided, reached):
+    """:func:`step` for two agents (the chapter's case). Two agents collide at most once and
+    bounce to distinct cells, so the later rounds of :func:`step` never find anything.
+
+    Every array is read and written outside the branches, the rules applied to scalars in
+    between: inlined into a kernel, numba can then drop the reference counting of the arrays,
+    which would cost more than the step itself.
+    """
+    cell0, cell1, done0, done1 = cells[0], cells[1], done[0], done[1]
+    target0, target1 = next_cell[cell0, actions[0]], next_cell[cell1, actions[1]]  # a done agent's is ignored
+    start0, start1 = starts[0], starts[1]
+    new0 = cell0 if done0 else target0
+    new1 = cell1 if done1 else target1
+    bump0 = not done0 and new0 == cell0
+    bump1 = not done1 and new1 == cell1
+    target_is_goal = is_goal[new0]
+    same_target = new0 == new1 and not target_is_goal
+    hit = not done0 and not done1 and (same_target or (new0 == cell1 and new1 == cell0))
+    reward0 = BUMP_PENALTY if bump0 else 0.0
+    reward1 = BUMP_PENALTY if bump1 else 0.0
+    if hit:
+        reward0 += COLLISION_PENALTY
+        reward1 += COLLISION_PENALTY
+        new0, new1 = (cell0, cell1) if bounce == BOUNCE_PREVIOUS else (start0, start1)
+    goal0, goal1 = is_goal[new0], is_goal[new1]
+    arrived0 = not done0 and goal0
+    arrived1 = not done1 and goal1
+    if arrived0:
+        reward0 += GOAL_REWARD
+    if arrived1:
+        reward1 += GOAL_REWARD
+    new_cells[0], new_cells[1] = new0, new1
+    rewards[0], rewards[1] = reward0, reward1
+    bumped[0], bumped[1] = bump0, bump1
+    collided[0], collided[1] = hit, hit
+    reached[0], reached[1] = arrived0, arrived1
+    return 1 if hit else 0
+
+
+@njit(cache=True, inline="always")
 def would_collide(next_cell, is_goal, cells, done, actions, i, j):
-    """Whether agents i and j would collide playing ``actions`` (same non-goal target or swap).
+    """Whether agents i and j would collide playing ``actions`` (same non-goal target or swap);
+    never when one of them is done (its action, which must be one of the four, is ignored).
 
     Used by 2observe (Alg. 4) to check the agents' preferred actions; other agents are ignored.
     """
-    if done[i] or done[j]:
-        return False
-    target_i = next_cell[cells[i], actions[i]]
-    target_j = next_cell[cells[j], actions[j]]
-    if target_i == target_j and not is_goal[target_i]:
-        return True
-    return target_i == cells[j] and target_j == cells[i]
+    cell_i, cell_j = cells[i], cells[j]
+    target_i, target_j = next_cell[cell_i, actions[i]], next_cell[cell_j, actions[j]]
+    done_i, done_j = done[i], done[j]
+    acting = not (done_i or done_j)
+    target_is_goal = is_goal[target_i]
+    same_target = target_i == target_j and not target_is_goal
+    return acting and (same_target or (target_i == cell_j and target_j == cell_i))
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def could_collide(next_cell, is_goal, a, b):
     """Whether two acting agents on cells ``a`` and ``b`` could collide in this step: some joint
     action of theirs makes them target the same non-goal cell (a bump targets its own cell) or
@@ -148,6 +191,18 @@ def could_collide(next_cell, is_goal, a, b):
 
 
 @njit(cache=True)
+def in_range_table(next_cell, is_goal):
+    """:func:`could_collide` for every pair of cells, ``table[a, b]``: made once per run, so that a
+    kernel looks the answer up instead of trying the 16 joint actions every step."""
+    n_cells = next_cell.shape[0]
+    table = np.zeros((n_cells, n_cells), np.bool_)
+    for a in range(n_cells):
+        for b in range(n_cells):
+            table[a, b] = could_collide(next_cell, is_goal, a, b)
+    return table
+
+
+@njit(cache=True, inline="always")
 def shared_reward(rewards, reached, all_done_after):
     """The MMDP learner's single reward for one step (Section 5.3).
 
@@ -167,7 +222,7 @@ def shared_reward(rewards, reached, all_done_after):
     return total
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def manhattan(n_cols, a, b):
     """Manhattan distance between cells a and b (cell = row * n_cols + col)."""
     return abs(a // n_cols - b // n_cols) + abs(a % n_cols - b % n_cols)

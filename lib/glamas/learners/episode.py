@@ -8,6 +8,13 @@ run stays small. The blocks are given by their ``edges`` (block k holds the epis
 :func:`log_edges` for blocks that start one episode wide and widen geometrically, so that the
 first episodes, where learning happens, are resolved as well as the last ones.
 
+The helpers are inlined into the kernels (``inline="always"``), as are all the pieces of their
+step loops, and the kernels use numpy's error model (no zero-division checks; no divisor in them
+can be zero). An inlined piece reads and writes its array arguments outside its branches where it
+can (a value read before an ``if``, not inside it): numba counts references on every array handed
+to an inlined function, and only removes that counting, which costs more than a whole step, when
+the array is used on every path through the function.
+
 The constants below are the columns for two agents (the chapter's case). With N agents a row has
 N steps columns, then N reward columns, then length, collisions, coordinations and capped
 (:func:`n_columns`, :func:`reward_column`, :func:`column`): for two agents the same layout.
@@ -39,34 +46,34 @@ def log_edges(n_episodes: int, blocks: int) -> np.ndarray:
     return np.concatenate([np.zeros(1, np.int64), ends])
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def n_columns(n_agents):
     """Columns of a log row for ``n_agents`` agents (N_COLUMNS for two)."""
     return 2 * n_agents + 4
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def reward_column(n_agents, i):
     """The column of agent i's reward (REWARD + i for two agents)."""
     return n_agents + i
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def column(n_agents, two_agent_column):
     """The column of LENGTH, COLLISIONS, COORDINATIONS or CAPPED in an ``n_agents`` row."""
     return two_agent_column + 2 * (n_agents - N_AGENTS)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def buffers(n_agents):
     """Per-run step buffers: cells, done, actions, new_cells, rewards, bumped, collided, reached,
     and the episode accumulator."""
-    return (np.empty(n_agents, np.int64), np.empty(n_agents, np.bool_), np.empty(n_agents, np.int64),
+    return (np.empty(n_agents, np.int64), np.empty(n_agents, np.bool_), np.zeros(n_agents, np.int64),
             np.empty(n_agents, np.int64), np.empty(n_agents, np.float64), np.empty(n_agents, np.bool_),
             np.empty(n_agents, np.bool_), np.empty(n_agents, np.bool_), np.empty(n_columns(n_agents), np.float64))
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def start_episode(starts, cells, done, acc):
     """Every agent on its start cell, none in the goal, the episode's counters at zero."""
     for i in range(starts.shape[0]):
@@ -75,7 +82,7 @@ def start_episode(starts, cells, done, acc):
     acc[:] = 0.0
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def all_done(done):
     for i in range(done.shape[0]):
         if not done[i]:
@@ -83,7 +90,7 @@ def all_done(done):
     return True
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def end_step(t, cells, done, new_cells, rewards, reached, collisions, acc):
     """Book step ``t``'s rewards, arrivals and collisions, then move the agents to their new cells."""
     n = cells.shape[0]
@@ -98,7 +105,7 @@ def end_step(t, cells, done, new_cells, rewards, reached, collisions, acc):
         cells[i] = new_cells[i]
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def end_episode(log, episode, edges, acc, t, done):
     """Close the episode after ``t`` steps and add its measurements to its block's mean (the
     block of ``episode`` between its ``edges``)."""

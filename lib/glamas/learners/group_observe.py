@@ -20,9 +20,10 @@ preferred action; ``outcome``, i collided in this step. "Both coordinated" means
 other agent both chose to coordinate (then the penalty ``-penalty_per_cell * delta`` applies when
 i had no need).
 
-With two agents, :func:`run` reproduces :func:`two_observe.run` exactly under every reading (same
-random numbers, same log, same GLA parameters); only ``need_counts`` counts each observing agent,
-so twice per step. The log's coordinations column counts agent-steps coordinating with their nearest agent,
+With two agents, :func:`run_group` reproduces :func:`two_observe.run` exactly under every reading
+(same random numbers, same log, same GLA parameters); only ``need_counts`` counts each observing
+agent, so twice per step. :func:`run` therefore runs two agents on :func:`two_observe.run`, the
+faster kernel. The log's coordinations column counts agent-steps coordinating with their nearest agent,
 halved: for two agents, the steps on which both coordinated.
 """
 
@@ -32,13 +33,14 @@ from numba import njit
 from glamas import gla, rng
 from glamas.gridworld import rules
 from glamas.learners import episode as ep
+from glamas.learners import two_observe
 from glamas.learners.independent import new_tables  # the same state-action space as two agents
 from glamas.learners.two_observe import (ACT_ALONE, COORDINATE, N_GLA_INPUTS, NEED_IN_RANGE, NEED_OUTCOME,
                                          NEED_SAMPLED, gla_feedback, new_gla_parameters)
 from glamas.qlearning import epsilon_greedy, q_update
 
 __all__ = ["coordinate_group", "nearest_others", "new_need_counts", "new_gla_parameters",
-           "new_tables", "random_order", "run"]
+           "new_tables", "random_order", "run", "run_group"]
 
 NOBODY = -1
 """``nearest`` of an agent that has no other acting agent to observe."""
@@ -50,7 +52,7 @@ def new_need_counts(n_rows: int, n_cols: int) -> np.ndarray:
     return np.zeros((n_rows + n_cols - 1, 2))
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def nearest_others(n_cols, cells, done, nearest, deltas):
     """For every acting agent: the nearest other acting agent (lowest number on ties) and its
     Manhattan distance; ``nearest`` is NOBODY for agents that are done or alone."""
@@ -69,7 +71,7 @@ def nearest_others(n_cols, cells, done, nearest, deltas):
                 deltas[i] = d
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def random_order(members, count, state):
     """Shuffle ``members[:count]`` uniformly (Durstenfeld: from the back, one draw per place)."""
     for i in range(count - 1, 0, -1):
@@ -77,7 +79,7 @@ def random_order(members, count, state):
         members[i], members[j] = members[j], members[i]
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def collision_coming(next_cell, is_goal, cells, done, preferred, i):
     """Whether agent i's preferred action would collide with another agent's preferred action."""
     for j in range(cells.shape[0]):
@@ -86,26 +88,27 @@ def collision_coming(next_cell, is_goal, cells, done, preferred, i):
     return False
 
 
-@njit(cache=True)
-def in_range_of_any(next_cell, is_goal, cells, done, i):
-    """Whether acting agent i could collide with some other acting agent in this step."""
+@njit(cache=True, inline="always")
+def in_range_of_any(in_range, cells, done, i):
+    """Whether acting agent i could collide with some other acting agent in this step
+    (``in_range``: the table of rules.in_range_table)."""
     for j in range(cells.shape[0]):
-        if j != i and not done[j] and rules.could_collide(next_cell, is_goal, cells[i], cells[j]):
+        if j != i and not done[j] and in_range[cells[i], cells[j]]:
             return True
     return False
 
 
-@njit(cache=True)
-def need_of(need, next_cell, is_goal, cells, done, coming, collided, i):
+@njit(cache=True, inline="always")
+def need_of(need, in_range, cells, done, coming, collided, i):
     """Agent i's need under reading ``need`` (module docstring); ``collided`` is the step's."""
     if need == NEED_IN_RANGE:
-        return in_range_of_any(next_cell, is_goal, cells, done, i)
+        return in_range_of_any(in_range, cells, done, i)
     if need == NEED_SAMPLED:
         return coming[i]
     return need == NEED_OUTCOME and collided[i]
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def coordinate_group(next_cell, is_goal, cells, done, choices, preferred, actions, order, kept, state):
     """Section 5.2's coordination for a group (module docstring): fill ``actions`` from the
     ``preferred`` ones; return how many coordinating agents were in a coming collision.
@@ -139,7 +142,7 @@ def coordinate_group(next_cell, is_goal, cells, done, choices, preferred, action
     return count
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def run(next_cell, is_goal, starts, bounce, n_cols, alpha, gamma, exploit, gla_rate, temperature,
         K, L, bounding, init_range, feedback_table, penalty_per_cell, need, delta_scale,
         rule_distance, n_episodes, edges, max_steps, q, u, need_counts, log, state):
@@ -148,13 +151,34 @@ def run(next_cell, is_goal, starts, bounce, n_cols, alpha, gamma, exploit, gla_r
 
     ``rule_distance`` >= 0 replaces the GLAs by the fixed rule "coordinate when delta <
     rule_distance" (a diagnostic; -1: the GLAs learn, as in Alg. 4).
+
+    Two agents play the steps of :func:`run_group` on the two-agent kernel
+    (:func:`glamas.learners.two_observe.run`, module docstring), which is faster; both agents
+    observe with the same delta and the same need, so each of its need counts counts twice.
     """
+    if starts.shape[0] == 2:
+        counts = np.zeros_like(need_counts)
+        two_observe.run(next_cell, is_goal, starts, bounce, n_cols, alpha, gamma, exploit, gla_rate,
+                        temperature, K, L, bounding, init_range, feedback_table, penalty_per_cell, need,
+                        delta_scale, rule_distance, n_episodes, edges, max_steps, q, u, counts, log, state)
+        need_counts += 2.0 * counts
+    else:
+        run_group(next_cell, is_goal, starts, bounce, n_cols, alpha, gamma, exploit, gla_rate, temperature,
+                  K, L, bounding, init_range, feedback_table, penalty_per_cell, need, delta_scale,
+                  rule_distance, n_episodes, edges, max_steps, q, u, need_counts, log, state)
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def run_group(next_cell, is_goal, starts, bounce, n_cols, alpha, gamma, exploit, gla_rate, temperature,
+              K, L, bounding, init_range, feedback_table, penalty_per_cell, need, delta_scale,
+              rule_distance, n_episodes, edges, max_steps, q, u, need_counts, log, state):
+    """:func:`run` for any number of agents, with the group coordination of the module docstring."""
     learn_first_level = rule_distance < 0
     n_agents = starts.shape[0]
     coordinations_column = ep.column(n_agents, ep.COORDINATIONS)
     cells, done, actions, new_cells, rewards, bumped, collided, reached, acc = ep.buffers(n_agents)
     choices = np.empty(n_agents, np.int64)
-    preferred = np.empty(n_agents, np.int64)
+    preferred = np.zeros(n_agents, np.int64)  # one of the actions even for done agents (rules.would_collide)
     nearest = np.empty(n_agents, np.int64)
     deltas = np.empty(n_agents, np.int64)
     coming = np.empty(n_agents, np.bool_)
@@ -163,6 +187,7 @@ def run(next_cell, is_goal, starts, bounce, n_cols, alpha, gamma, exploit, gla_r
     kept = np.empty(n_agents, np.bool_)
     probs = np.empty((n_agents, 2))
     x = np.ones((n_agents, N_GLA_INPUTS))
+    in_range = rules.in_range_table(next_cell, is_goal)
     for i in range(n_agents):  # "initialised randomly" (Section 5.3)
         for j in range(2):
             for k in range(N_GLA_INPUTS):
@@ -196,7 +221,7 @@ def run(next_cell, is_goal, starts, bounce, n_cols, alpha, gamma, exploit, gla_r
                                     new_cells, rewards, bumped, collided, reached)
             for i in range(n_agents):
                 if nearest[i] != NOBODY:
-                    needed[i] = need_of(need, next_cell, is_goal, cells, done, coming, collided, i)
+                    needed[i] = need_of(need, in_range, cells, done, coming, collided, i)
                     need_counts[deltas[i], 1 if needed[i] else 0] += 1
             for i in range(n_agents):
                 if not done[i]:

@@ -50,7 +50,7 @@ def new_gla_parameters(n_agents: int) -> np.ndarray:
     return np.zeros((n_agents, 2, N_GLA_INPUTS))
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def yield_at_random(preferred, actions, state):
     """Section 5.2's coordination: one agent (picked at random) keeps its preferred action, the
     other takes an action drawn uniformly from its other three."""
@@ -60,34 +60,31 @@ def yield_at_random(preferred, actions, state):
     actions[yielder] = other + 1 if other >= preferred[yielder] else other
 
 
-@njit(cache=True)
-def first_level(next_cell, is_goal, cells, done, choices, preferred, actions, state):
-    """Alg. 4's if-branch for GLA ``choices`` and Q-preferred actions ``preferred``: fill
-    ``actions``; return (collision coming, both coordinated).
+@njit(cache=True, inline="always")
+def first_level(next_cell, is_goal, cells, done, choices, preferred):
+    """Alg. 4's if-condition for GLA ``choices`` and Q-preferred actions ``preferred``: (collision
+    coming, both coordinated). When both hold, one agent yields (:func:`yield_at_random`).
 
     "Collision coming" means the preferred actions would collide (rules.would_collide): Section
     5.2's check, made only when both chose to coordinate.
     """
     coming = rules.would_collide(next_cell, is_goal, cells, done, preferred, 0, 1)
-    both = choices[0] == COORDINATE and choices[1] == COORDINATE
-    if both and coming:
-        yield_at_random(preferred, actions, state)
-    else:
-        actions[0], actions[1] = preferred[0], preferred[1]
-    return coming, both
+    choice0, choice1 = choices[0], choices[1]  # both read: arrays outside branches (glamas.learners.episode)
+    return coming, choice0 == COORDINATE and choice1 == COORDINATE
 
 
-@njit(cache=True)
-def need_before_step(need, next_cell, is_goal, cells, i, j, coming):
+@njit(cache=True, inline="always")
+def need_before_step(need, in_range, cells, i, j, coming):
     """Agent i's need to coordinate with agent j under the readings decided before the move
-    (``in_range``, ``sampled``: ``coming`` is whether i's and j's preferred actions collide);
-    False for ``outcome``, which the move decides."""
+    (``in_range``: the table of rules.in_range_table; ``sampled``: ``coming`` is whether i's and
+    j's preferred actions collide); False for ``outcome``, which the move decides."""
+    could_collide = in_range[cells[i], cells[j]]  # looked up outside the branches (glamas.learners.episode)
     if need == NEED_IN_RANGE:
-        return rules.could_collide(next_cell, is_goal, cells[i], cells[j])
+        return could_collide
     return need == NEED_SAMPLED and coming
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def gla_feedback(table, penalty_per_cell, choice, need, both, delta):
     """r_c of Alg. 4 (Fig. 10, reconstructed): table[choice, need], minus ``penalty_per_cell *
     delta`` when both coordinated without need (Section 5.3's 0 - delta/10)."""
@@ -97,7 +94,7 @@ def gla_feedback(table, penalty_per_cell, choice, need, both, delta):
     return beta
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def run(next_cell, is_goal, starts, bounce, n_cols, alpha, gamma, exploit, gla_rate, temperature,
         K, L, bounding, init_range, feedback_table, penalty_per_cell, need, delta_scale,
         rule_distance, n_episodes, edges, max_steps, q, u, need_counts, log, state):
@@ -113,9 +110,10 @@ def run(next_cell, is_goal, starts, bounce, n_cols, alpha, gamma, exploit, gla_r
     n_agents = starts.shape[0]
     cells, done, actions, new_cells, rewards, bumped, collided, reached, acc = ep.buffers(n_agents)
     choices = np.empty(n_agents, np.int64)
-    preferred = np.empty(n_agents, np.int64)
+    preferred = np.zeros(n_agents, np.int64)  # one of the actions even for done agents (rules.would_collide)
     probs = np.empty((n_agents, 2))
     x = np.ones(N_GLA_INPUTS)
+    in_range = rules.in_range_table(next_cell, is_goal)
     needed = False
     for i in range(n_agents):  # "initialised randomly" (Section 5.3)
         for j in range(2):
@@ -136,17 +134,19 @@ def run(next_cell, is_goal, starts, bounce, n_cols, alpha, gamma, exploit, gla_r
                         choices[i] = COORDINATE if delta < rule_distance else ACT_ALONE
                 for i in range(n_agents):
                     preferred[i] = epsilon_greedy(q[i, cells[i]], exploit, state)
-                coming, both = first_level(next_cell, is_goal, cells, done, choices, preferred,
-                                           actions, state)
-                needed = need_before_step(need, next_cell, is_goal, cells, 0, 1, coming)
+                coming, both = first_level(next_cell, is_goal, cells, done, choices, preferred)
+                actions[0], actions[1] = preferred[0], preferred[1]
+                if both and coming:
+                    yield_at_random(preferred, actions, state)
+                needed = need_before_step(need, in_range, cells, 0, 1, coming)
                 if both:
                     acc[ep.COORDINATIONS] += 1
             else:
                 for i in range(n_agents):
                     if not done[i]:
                         actions[i] = epsilon_greedy(q[i, cells[i]], exploit, state)
-            collisions = rules.step(next_cell, is_goal, starts, bounce, cells, done, actions,
-                                    new_cells, rewards, bumped, collided, reached)
+            collisions = rules.step_two(next_cell, is_goal, starts, bounce, cells, done, actions,
+                                        new_cells, rewards, bumped, collided, reached)
             if observing:
                 if need == NEED_OUTCOME:
                     needed = collisions > 0

@@ -1,0 +1,143 @@
+"""One ledger of every claim of every experiment, computed from the committed results.
+
+``python -m glamas.ledger`` prints it as Markdown; ``--write`` puts it into README.md between the
+ledger markers; ``--check`` exits 1 when README.md's copy is stale. Each experiment's rows come
+from one entry of :data:`EXPERIMENTS`: a function of the results directory that reads the result
+file the figure scripts wrote (its configuration checked) and returns the experiment's claim rows.
+"""
+
+import argparse
+import dataclasses
+import math
+import sys
+from pathlib import Path
+
+from glamas import results
+from glamas.experiments import and_network, gridworld, gridworld_optimum, related_work, scaling, single_gla
+from glamas.paths import REPO, RESULTS
+
+SEED = 0
+"""The master seed of the committed results (the figure scripts' default)."""
+README = REPO / "README.md"
+START, END = "<!-- ledger:start -->", "<!-- ledger:end -->"
+
+
+def _load(results_dir: Path, name: str, config, result_type):
+    """The result in ``results_dir/name.npz``, checked to be of ``config`` and SEED."""
+    arrays = results.load(results_dir / f"{name}.npz", config, seed=SEED)
+    has_config = "config" in {f.name for f in dataclasses.fields(result_type)}
+    return result_type(config=config, **arrays) if has_config else result_type(**arrays)
+
+
+def _fig5(results_dir: Path) -> list[dict]:
+    config = single_gla.SingleGLAConfig()
+    return single_gla.claim_rows(_load(results_dir, "fig5", config, single_gla.SingleGLAResult))
+
+
+def _fig6(results_dir: Path) -> list[dict]:
+    config = single_gla.SingleGLAConfig(L=single_gla.FIG6_L)
+    arrays = results.load(results_dir / "fig6.npz", config, seed=SEED)
+    return single_gla.encoding_claim_rows(single_gla.encodings_from_arrays(config, arrays))
+
+
+def _fig7(results_dir: Path) -> list[dict]:
+    config = and_network.ANDNetworkConfig()
+    return and_network.claim_rows(_load(results_dir, "fig7", config, and_network.ANDNetworkResult))
+
+
+def _fig7_sweep(results_dir: Path) -> list[dict]:
+    config = and_network.ANDNetworkConfig()
+    return and_network.sweep_claim_rows(_load(results_dir, "fig7_sweep", config, and_network.SweepResult))
+
+
+def _optimum(results_dir: Path) -> list[dict]:
+    """Dynamic programming on the map takes a second: computed, not stored."""
+    return gridworld_optimum.claim_rows(gridworld_optimum.run(gridworld_optimum.GridworldOptimumConfig()))
+
+
+def _gridworld(results_dir: Path) -> list[dict]:
+    config = gridworld.GridworldConfig()
+    return gridworld.claim_rows(_load(results_dir, gridworld.RESULT_NAME, config, gridworld.GridworldResult))
+
+
+def _related_work(results_dir: Path) -> list[dict]:
+    config = related_work.RelatedWorkConfig()
+    result = _load(results_dir, related_work.RESULT_NAME, config, related_work.RelatedWorkResult)
+    return related_work.claim_rows(result, config)
+
+
+def _scaling(results_dir: Path) -> list[dict]:
+    config = scaling.ScalingConfig()
+    return scaling.claim_rows(_load(results_dir, scaling.RESULT_NAME, config, scaling.ScalingResult))
+
+
+EXPERIMENTS = {
+    "single_gla": _fig5,
+    "state_encoding": _fig6,
+    "and_network": _fig7,
+    "and_network_sweep": _fig7_sweep,
+    "gridworld_optimum": _optimum,
+    "gridworld": _gridworld,
+    "related_work": _related_work,
+    "scaling": _scaling,
+}
+"""Experiment (a key of the claims in data/chapter/*.json) -> function(results dir) -> claim rows."""
+
+_HEADER = ("| experiment | claim | where | the chapter (paraphrased) | kind | metric, threshold | measured | verdict |\n"
+           "|---|---|---|---|---|---|---|---|")
+
+
+def markdown(*experiments: str, results_dir: Path = RESULTS) -> str:
+    """The ledger as a Markdown table: the given experiments' part, or all of it."""
+    names = list(experiments or EXPERIMENTS)
+    unknown = [name for name in names if name not in EXPERIMENTS]
+    if unknown:
+        raise KeyError(f"no ledger entry for {unknown}; known: {list(EXPERIMENTS)}")
+    lines = [_HEADER]
+    for name in names:
+        lines.extend(_row(name, row) for row in EXPERIMENTS[name](results_dir))
+    return "\n".join(lines)
+
+
+def _row(experiment: str, row: dict) -> str:
+    c = row["claim"]
+    value = "NaN" if math.isnan(row["value"]) else f"{row['value']:.{c.digits}f}"
+    verdict = row["verdict"] if row["verdict"] == "reproduced" else f"**{row['verdict']}**"
+    if row.get("why_undecidable"):
+        verdict += f" ({row['why_undecidable']})"
+    cells = [experiment, f"`{c.id}`", c.where, c.chapter, c.kind, f"`{c.metric}` {c.op} {c.threshold:g}",
+             value, verdict]
+    return "| " + " | ".join(cell.replace("|", "\\|") for cell in cells) + " |"
+
+
+def readme_with(ledger: str, text: str) -> str:
+    """``text`` (README.md) with the part between the ledger markers replaced by ``ledger``."""
+    if text.count(START) != 1 or text.count(END) != 1 or text.index(START) > text.index(END):
+        raise ValueError(f"README.md must hold one {START} ... {END} pair")
+    head, rest = text.split(START)
+    return f"{head}{START}\n{ledger}\n{END}{rest.split(END, 1)[1]}"
+
+
+def main(argv=None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    mode = parser.add_mutually_exclusive_group()
+    mode.add_argument("--write", action="store_true", help="replace the ledger in README.md")
+    mode.add_argument("--check", action="store_true", help="exit 1 if README.md's ledger is stale")
+    args = parser.parse_args(argv)
+    ledger = markdown()
+    if not (args.write or args.check):
+        print(ledger)
+        return 0
+    text = README.read_text()
+    updated = readme_with(ledger, text)
+    if args.check:
+        if updated != text:
+            print("README.md's claim ledger is stale: run `make ledger` and commit README.md")
+            return 1
+        return 0
+    README.write_text(updated)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,65 @@
+"""What a result depends on beyond its configuration: the map files it read and the library's
+version.
+
+A config names its map (``map_file``, ``map_name`` or ``map_pattern`` with ``agents``), not its
+content; an edited map or library would otherwise serve an old result as if it were current.
+The library is recorded by its version, ``glamas.__version__``, which a change that alters what
+an experiment computes must raise (the tests that recompute the committed results catch a change
+that forgets to): a hash of the sources would make every committed result stale at every edit of a
+comment.
+"""
+
+import dataclasses
+import hashlib
+from pathlib import Path
+
+import glamas
+from glamas.paths import MAPS
+
+MISSING = "missing"
+
+
+def record(config) -> dict:
+    """``{"version": glamas.__version__, "maps": {field: hash of the map file's bytes}}``."""
+    return {"version": glamas.__version__, "maps": {field: file_hash(path) for field, path in map_files(config)}}
+
+
+def map_files(config, prefix: str = "") -> list[tuple[str, Path]]:
+    """(field, path) of every map file a config (and the configs inside it) reads."""
+    found = []
+    for field in dataclasses.fields(config):
+        value, name = getattr(config, field.name), prefix + field.name
+        if dataclasses.is_dataclass(value):
+            found += map_files(value, f"{name}.")
+        elif field.name == "map_file" and isinstance(value, str):
+            found.append((name, resolve_map(value)))
+        elif field.name == "map_name" and isinstance(value, str):
+            found.append((name, MAPS / f"{value}.txt"))
+        elif field.name == "map_pattern" and isinstance(value, str):
+            found += [(f"{name}[n={n}]", resolve_map(value.format(n=n))) for n in getattr(config, "agents", ())]
+    return found
+
+
+def resolve_map(name: str) -> Path:
+    """A map file given as a path, or as a bare name in data/maps (as the experiments read it)."""
+    path = Path(name)
+    return path if path.is_file() or path.parent != Path(".") else MAPS / path
+
+
+def file_hash(path: Path) -> str:
+    """SHA-256 of a file's bytes (MISSING if it cannot be read)."""
+    try:
+        return hashlib.sha256(path.read_bytes()).hexdigest()
+    except OSError:
+        return MISSING
+
+
+def mismatch(stored: dict, current: dict) -> str | None:
+    """What differs between a stored and the current record, in words (None: nothing)."""
+    changed_maps = sorted(field for field in set(stored.get("maps", {})) | set(current["maps"])
+                          if stored.get("maps", {}).get(field) != current["maps"].get(field))
+    if changed_maps:
+        return f"the map file of {', '.join(changed_maps)} changed since it was made"
+    if stored.get("version") != current["version"]:
+        return f"it was made by glamas {stored.get('version')}, this is glamas {current['version']}"
+    return None

@@ -1,0 +1,197 @@
+"""Claims: the loader's checks, three-valued verdicts, and that every claim of every chapter file
+can fail: a wrong measurement gives NOT reproduced and a NaN one undecidable. For Section 4 the
+wrong measurements come from wrong results of the right shape, through the measure functions."""
+
+import json
+import math
+
+import numpy as np
+import pytest
+
+from glamas import claims
+from glamas.experiments import and_network, single_gla
+
+ALL_CLAIMS = [(name, claim) for name in claims.experiments() for claim in claims.load(name)]
+SECTION4 = ("single_gla", "state_encoding", "and_network", "and_network_sweep")
+
+CLAIM = {"id": "c", "where": "Fig. 0", "chapter": "x is large", "kind": "chapter",
+         "why": "x measures largeness", "metric": "x", "op": ">", "threshold": 1.0}
+
+
+def _write_claims(monkeypatch, tmp_path, entries):
+    (tmp_path / "chapter").mkdir()
+    (tmp_path / "chapter" / "t.json").write_text(json.dumps({"claims": {"t": entries}}))
+    monkeypatch.setattr(claims, "DATA", tmp_path)
+
+
+@pytest.mark.parametrize("change, message", [
+    ({"kind": None}, r"claim 'c' of t lacks \['kind'\]"),
+    ({"why": None}, r"claim 'c' of t lacks \['why'\]"),
+    ({"kind": "ours"}, r"kind must be one of \['chapter', 'inferred'\], got 'ours'"),
+    ({"why": "  "}, "why must be a non-empty text"),
+    ({"op": "=="}, "op must be one of"),
+    ({"unit": "m"}, r"unknown keys \['unit'\]"),
+])
+def test_the_loader_names_a_bad_claim(monkeypatch, tmp_path, change, message):
+    entry = {key: value for key, value in {**CLAIM, **change}.items() if value is not None}
+    _write_claims(monkeypatch, tmp_path, [entry])
+    with pytest.raises(ValueError, match=message):
+        claims.load("t")
+
+
+def test_verdicts_are_three_valued():
+    claim = claims.Claim(**CLAIM)
+    rows = claims.verdicts([claim], {"x": 2.0})
+    assert rows[0]["holds"] and rows[0]["verdict"] == "reproduced"
+    assert "[reproduced] c" in claims.table(rows)
+    rows = claims.verdicts([claim], {"x": 0.5})
+    assert not rows[0]["holds"] and "[NOT reproduced] c" in claims.table(rows)
+    rows = claims.verdicts([claim], {"x": math.nan, "x:why_undecidable": "no runs"})
+    assert not rows[0]["holds"] and rows[0]["verdict"] == "undecidable"
+    assert "[undecidable] c" in claims.table(rows) and "undecidable: no runs" in claims.table(rows)
+    with pytest.raises(KeyError, match=r"lack \['x'\]"):
+        claims.verdicts([claim], {"y": 1.0})
+    with pytest.raises(KeyError, match="no claims for experiment 'nonexistent'"):
+        claims.load("nonexistent")
+
+
+def test_every_chapter_file_loads_with_kinds_and_reasons():
+    assert set(SECTION4) | {"gridworld_optimum", "gridworld", "related_work", "scaling"} <= set(claims.experiments())
+    for _, claim in ALL_CLAIMS:
+        assert claim.kind in claims.KINDS and claim.why.strip()
+
+
+def _wrong_side(claim: claims.Claim) -> float:
+    """A measurement just on the wrong side of the claim's threshold, at the claim's resolution."""
+    step = 10.0 ** -claim.digits
+    return {">": claim.threshold, ">=": claim.threshold - step,
+            "<": claim.threshold, "<=": claim.threshold + step}[claim.op]
+
+
+@pytest.mark.parametrize("experiment, claim", ALL_CLAIMS, ids=[f"{e}.{c.id}" for e, c in ALL_CLAIMS])
+def test_every_claim_can_fail_and_can_be_undecidable(experiment, claim):
+    wrong = claims.verdicts([claim], {claim.metric: _wrong_side(claim)})[0]
+    assert wrong["verdict"] == "NOT reproduced", f"{experiment}.{claim.id} holds at {_wrong_side(claim)}"
+    assert claims.verdicts([claim], {claim.metric: math.nan})[0]["verdict"] == "undecidable"
+
+
+# ---- Section 4: wrong results of the right shape, through the measure functions ----
+
+FIG5 = single_gla.SingleGLAConfig(runs=3, eval_grid=40)
+FIG7 = and_network.ANDNetworkConfig(runs=3, eval_grid=40)
+
+
+def _fig5_result(params):
+    return single_gla.SingleGLAResult(FIG5, np.arange(1, 3), np.zeros((FIG5.runs, 2)), params)
+
+
+def _plays_everywhere(action):
+    """Fig. 5 parameters (runs, agents, actions, [x1, x2, 1]): both agents prefer ``action``."""
+    params = np.zeros((FIG5.runs, 2, 2, 3))
+    params[:, :, action, 2] = FIG5.L
+    return params
+
+
+def _chapter_lines():
+    """Lines like Fig. 5b's: A plays L above x2 = x1 + 0.25, B above x2 = x1 - 0.5 (a best line of B)."""
+    params = np.zeros((FIG5.runs, 2, 2, 3))
+    params[:, 0, single_gla.lineworld.LEFT] = [-1.0, 1.0, -0.25]
+    params[:, 1, single_gla.lineworld.LEFT] = [-1.0, 1.0, 0.5]
+    return params
+
+
+def _agent_at_random(agent):
+    """Fig. 5b's lines with ``agent``'s parameters drawn at random."""
+    params = _chapter_lines()
+    params[:, agent] = np.random.default_rng(agent).uniform(-1, 1, (FIG5.runs, 2, 3))
+    return params
+
+
+FIG5_WRONG = {
+    "region_1_plays_LL": _plays_everywhere(single_gla.lineworld.RIGHT),
+    "region_2_plays_RR": _plays_everywhere(single_gla.lineworld.LEFT),
+    "region_3_moves_apart": _plays_everywhere(single_gla.lineworld.RIGHT),
+    "agent_a_best_response": _agent_at_random(0),
+    "agent_a_learns_its_line": _agent_at_random(0),
+    "agent_b_as_good_as_a_line": _agent_at_random(1),
+}
+
+
+@pytest.mark.parametrize("claim_id", sorted(FIG5_WRONG))
+def test_fig5_claims_fail_on_wrong_lines(claim_id):
+    rows = single_gla.claim_rows(_fig5_result(FIG5_WRONG[claim_id]))
+    assert {row["claim"].id: row["verdict"] for row in rows}[claim_id] == "NOT reproduced"
+
+
+def test_fig5_lines_like_the_learned_ones_pass_all_but_the_diagonal():
+    # region 3 is left out: these lines give exactly half of it, and the coarse grid decides the side
+    rows = single_gla.claim_rows(_fig5_result(_chapter_lines()))
+    verdicts = {row["claim"].id: row["verdict"] for row in rows if row["claim"].id != "region_3_moves_apart"}
+    assert verdicts == {"region_1_plays_LL": "reproduced", "region_2_plays_RR": "reproduced",
+                        "agent_a_best_response": "reproduced", "agent_a_learns_its_line": "NOT reproduced",
+                        "agent_b_as_good_as_a_line": "reproduced"}
+
+
+def _encodings(curves: dict):
+    """Fig. 6 results (runs, points) per encoding."""
+    return {name: single_gla.SingleGLAResult(FIG5, np.arange(1, reward.shape[1] + 1), reward,
+                                             np.zeros((reward.shape[0], 2, 2, 3)))
+            for name, reward in curves.items()}
+
+
+def _fig6_verdicts(curves: dict) -> dict:
+    return {row["claim"].id: row for row in single_gla.encoding_claim_rows(_encodings(curves))}
+
+
+def _curve(level, runs=20, points=40, seed=0):
+    """Learning curves of ``runs`` runs around ``level`` with the scatter of 500-iteration windows."""
+    return level + np.random.default_rng(seed).normal(0.0, 0.02, (runs, points))
+
+
+def test_fig6_claims_fail_when_the_contexts_do_not_differ():
+    deictic = _curve(0.7)
+    same = _fig6_verdicts({"joint": deictic.copy(), "absolute": deictic.copy(), "deictic": deictic})
+    assert {row["verdict"] for row in same.values()} == {"NOT reproduced"}
+    apart = _fig6_verdicts({"joint": _curve(0.6, seed=1), "absolute": _curve(0.4, seed=2), "deictic": deictic})
+    assert {row["verdict"] for row in apart.values()} == {"reproduced"}
+
+
+def test_fig6_claims_fail_on_a_tiny_consistent_gap():
+    # a gap far below the scatter of the curves, however consistent, is no 'clear' benefit
+    joint = _curve(0.62)
+    tiny = _fig6_verdicts({"joint": joint, "absolute": _curve(0.4, seed=2), "deictic": joint + 0.0013})
+    assert tiny["deictic_beats_joint_whole_run"]["verdict"] == "NOT reproduced"
+
+
+def test_fig6_claims_are_undecidable_with_one_run():
+    rows = _fig6_verdicts({name: _curve(0.5, runs=1) for name in single_gla.ENCODING_NAMES})
+    assert {row["verdict"] for row in rows.values()} == {"undecidable"}
+    assert all("run-to-run spread" in row["why_undecidable"] for row in rows.values())
+
+
+def _fig7_result(left_bias):
+    """Fig. 7 results where every unit's output 1 has bias ``left_bias`` against output 0."""
+    params = np.zeros((FIG7.runs, 2, 2, 2, 5))
+    params[..., 1, 2] = left_bias / 2
+    params[..., 0, 2] = -left_bias / 2
+    return and_network.ANDNetworkResult(FIG7, np.arange(2), np.zeros((FIG7.runs, 2, 2)), params)
+
+
+@pytest.mark.parametrize("left_bias", [-2.0, 2.0], ids=["R everywhere", "L everywhere"])
+def test_fig7_claims_fail_when_the_agents_play_one_action_everywhere(left_bias):
+    rows = and_network.claim_rows(_fig7_result(left_bias))
+    assert {row["verdict"] for row in rows} == {"NOT reproduced"}
+
+
+def test_fig7_sweep_claim_fails_without_a_rise():
+    stuck = np.zeros((2, 10), dtype=bool)
+    stuck[:, :3] = True
+    flat = and_network.SweepResult(FIG7, np.array([0.5, 1.0]), stuck, np.zeros((2, 10, 2)))
+    assert and_network.sweep_claim_rows(flat)[0]["verdict"] == "NOT reproduced"
+
+
+def test_every_section4_claim_has_a_wrong_result():
+    covered = set(FIG5_WRONG) | {"absolute_clearly_worst", "deictic_beats_joint_final",
+                                 "deictic_beats_joint_whole_run", "approximates_region_I",
+                                 "plays_L_inside_and_R_outside", "higher_region_II_reward_traps_runs"}
+    assert {claim.id for name in SECTION4 for claim in claims.load(name)} == covered

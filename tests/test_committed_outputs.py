@@ -1,0 +1,61 @@
+"""The committed figures and results are what the code makes.
+
+Every figure script redraws its figures from the committed results into a temporary directory,
+byte for byte equal to ``paper_figures/output``; the fast experiments (Fig. 5, 6 and 7) are
+recomputed at paper scale and their arrays compared with ``data/results``. The slow ones (the
+gridworld, the Fig. 10 readings, related work, scaling, and the Fig. 7 sweep, which has no
+redraw-only path) are recomputed by ``make verify``.
+"""
+
+import subprocess
+import sys
+from concurrent.futures import ThreadPoolExecutor
+
+import numpy as np
+import pytest
+
+from glamas.paths import REPO, RESULTS
+
+OUTPUT = REPO / "paper_figures" / "output"
+REDRAWN = ("fig7a", "fig7b", "fig9", "fig10", "fig10_readings", "fig11a", "fig11b", "fig12a", "fig12b",
+           "related_collisions", "related_coordinations", "related_reward", "related_sizes", "related_steps",
+           "scaling_performance", "scaling_sizes")
+"""Scripts that draw from a committed result (or from nothing random)."""
+RECOMPUTED = {"fig5": "fig5", "fig6": "fig6", "fig7a": "fig7"}
+"""Fast scripts recomputed at paper scale: script -> the result file it writes."""
+
+
+def _script(name: str, *args) -> subprocess.CompletedProcess:
+    return subprocess.run([sys.executable, str(REPO / "paper_figures" / f"{name}.py"), *map(str, args)],
+                          capture_output=True, text=True, timeout=300)
+
+
+def _same_figures(directory) -> list[str]:
+    """Names of the figures in ``directory`` whose bytes differ from the committed ones."""
+    drawn = sorted(directory.glob("*.png")) + sorted(directory.glob("*.pdf"))
+    assert drawn, f"no figure was drawn in {directory}"
+    return [path.name for path in drawn if path.read_bytes() != (OUTPUT / path.name).read_bytes()]
+
+
+def test_every_figure_redraws_to_the_committed_bytes(tmp_path):
+    def redraw(name):
+        out = tmp_path / name
+        done = _script(name, "--out", out)
+        assert done.returncode == 0, f"{name}: {done.stderr[-500:]}"
+        return _same_figures(out)
+
+    with ThreadPoolExecutor(2) as pool:
+        differing = [name for names in pool.map(redraw, REDRAWN) for name in names]
+    assert not differing, f"figures that differ from paper_figures/output: {differing}"
+
+
+@pytest.mark.parametrize("script", sorted(RECOMPUTED))
+def test_fast_experiments_recompute_to_the_committed_results(tmp_path, script):
+    done = _script(script, "--out", tmp_path, "--results", tmp_path, "--rerun")
+    assert done.returncode == 0, done.stderr[-500:]
+    name = RECOMPUTED[script]
+    with np.load(tmp_path / f"{name}.npz") as fresh, np.load(RESULTS / f"{name}.npz") as committed:
+        arrays = [key for key in committed.files if key != "__provenance__"]
+        assert sorted(arrays) == sorted(key for key in fresh.files if key != "__provenance__")
+        assert [key for key in arrays if not np.array_equal(fresh[key], committed[key])] == []
+    assert _same_figures(tmp_path) == []
