@@ -226,6 +226,19 @@ def test_claim_verdicts_come_from_the_measurements(small_result):
     assert "skipped" in sc.size_table(small_result) and "MMDP learner" in sc.performance_table(small_result)
 
 
+def test_pivot_table_has_a_row_per_method_and_counts_capped_runs(small_result):
+    m = sc.measure(small_result)
+    capped = small_result.curves("independent", 3, sc.CAPPED)
+    capped_runs = sum(sc.final(run[None], small_result.episodes) > 0 for run in capped)
+    assert m["capped_runs_independent_3"] == capped_runs
+    table = sc.pivot_table(small_result, "collisions").splitlines()
+    assert table[0].split() == ["collisions", "N", "=", "2", "N", "=", "3"] and len(table) == 1 + len(sc.METHODS)
+    assert table[3].split()[-1] == "-"  # the MMDP learner did not fit at N = 3
+    assert table[1].split()[-1] == f"{m['collisions_independent_3']:.2f}"
+    with pytest.raises(ValueError, match="metric must be one of"):
+        sc.pivot_table(small_result, "speed")
+
+
 @pytest.mark.parametrize("kwargs, message", [
     ({"agents": (1, 2)}, "agents must be distinct whole numbers from 2"),
     ({"agents": (2, 2)}, "agents must be distinct"),

@@ -141,6 +141,13 @@ def test_the_test_flags_rewards_that_drop_when_the_other_agent_is_near():
     assert not cq.significantly_lower(noisy, same, t)
 
 
+def test_fewest_flagged_collisions_is_where_the_test_starts_to_flag():
+    config = rw.RelatedWorkConfig()
+    assert rw.fewest_flagged_collisions(config) == 4  # as in the test above: 3 in 30 is not flagged
+    strict = dataclasses.replace(config, cq_significance=0.001)
+    assert rw.fewest_flagged_collisions(strict) > 4
+
+
 def test_a_conflict_marks_the_joint_state_and_copies_the_local_values():
     t = cq.t_critical_values(58, 0.05)
     q = np.zeros((25, 4))
@@ -203,6 +210,15 @@ def test_measure_gives_every_claimed_metric(small):
     m = rw.measure(small, SMALL)
     assert m["q_entries_sparse_maq_over_mmdp"] == pytest.approx(m["q_entries_sparse_maq"] / 5000)
     assert "CQ-learning" in rw.summary_table(small, SMALL)
+
+
+def test_final_interval_is_the_final_mean_with_a_band_over_runs(small):
+    mean, low, high = rw.final_interval(small, "cq")
+    assert mean == pytest.approx(gw.final(small.curves("cq", ep.COLLISIONS), small.episodes))
+    assert low <= mean <= high
+    per_run = [gw.final(c[None], small.episodes) for c in small.curves("independent", ep.STEPS)]
+    _, low, high = rw.final_interval(small, "independent", ep.STEPS)
+    assert min(per_run) <= low <= high <= max(per_run)  # a band of run means stays in the runs' range
 
 
 @pytest.mark.parametrize("changes, message", [

@@ -21,7 +21,7 @@ from glamas.experiments import gridworld as gw
 from glamas.gridworld import BOUNCE_MODES, rules
 from glamas.learners import cq, sparse_maq
 from glamas.learners import episode as ep
-from glamas.plotting import legend_below, legend_right, learner_style, new_figure, plot_mean_band, save_figure
+from glamas.plotting import legend_below, legend_right, learner_style, mean_and_band, new_figure, plot_mean_band, save_figure
 
 EXPERIMENT = "related_work"
 RELATED_LEARNERS = ("sparse_maq", "cq")
@@ -188,6 +188,28 @@ def measure(result: RelatedWorkResult, config: RelatedWorkConfig) -> dict:
     return m
 
 
+def final_interval(result: RelatedWorkResult, name: str, column: int = ep.COLLISIONS) -> tuple[float, float, float]:
+    """Learner ``name``'s final value of one log column (``gw.final``, last 10 % of the episodes)
+    as (mean over runs, 95 % bootstrap interval of that mean: runs resampled, as the figures' bands)."""
+    per_run = np.array([gw.final(curve[None], result.episodes) for curve in result.curves(name, column)])
+    mean, low, high = mean_and_band(per_run[:, None])
+    return float(mean[0]), float(low[0]), float(high[0])
+
+
+def fewest_flagged_collisions(config: RelatedWorkConfig) -> int:
+    """The fewest collisions among the ``cq_window`` recent rewards of a state-action that
+    CQ-learning's test flags against a baseline without any (``cq_window`` equal rewards, as of a
+    state-action that never collided alone); the other recent rewards equal the baseline's."""
+    window = config.cq_window
+    t_critical = cq.t_critical_values(2 * window - 2, config.cq_significance)
+    baseline = np.array([window, 0.0, 0.0])
+    for k in range(1, window + 1):
+        penalties = k * rules.COLLISION_PENALTY
+        if cq.significantly_lower(baseline, np.array([window, penalties, penalties * rules.COLLISION_PENALTY]), t_critical):
+            return k
+    return window + 1  # never: not even a window of collisions only
+
+
 def claim_rows(result: RelatedWorkResult, config: RelatedWorkConfig) -> list[dict]:
     """The related-work claims (data/chapter/related_work.json) with verdicts computed from ``result``."""
     return chapter.verdicts(chapter.load(EXPERIMENT), measure(result, config))
@@ -266,12 +288,13 @@ def plot_marked_distances(ax, result: RelatedWorkResult, config: RelatedWorkConf
     marked = marked_distances(result, config)
     per_agent = result.cq_marked.shape[0] * result.cq_marked.shape[1]
     distances = np.arange(1, max(config.coordination_distance, marked.max(initial=1)) + 1)
-    ax.bar(distances - 0.2, [(given_distances == d).sum() for d in distances], width=0.4, color="tab:red",
+    ax.bar(distances - 0.2, [(given_distances == d).sum() for d in distances], width=0.4, **learner_style("sparse_maq"),
            label="sparse MAQ: coordination states (given)")
-    ax.bar(distances + 0.2, [(marked == d).sum() / per_agent for d in distances], width=0.4, color="tab:purple",
+    ax.bar(distances + 0.2, [(marked == d).sum() / per_agent for d in distances], width=0.4, **learner_style("cq"),
            label="CQ-learning: marked joint states per agent")
     ax.set_xticks(distances)
     ax.set_yscale("log")
+    ax.set_ylim(top=ax.get_ylim()[1] * 10)  # room for the legend above the bars
     ax.set_xlabel("Manhattan distance between the agents")
     ax.set_ylabel("joint states (log)")
     legend_below(ax, ncols=1)

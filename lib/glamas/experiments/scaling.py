@@ -362,6 +362,8 @@ def measure(result: ScalingResult) -> dict:
             m[f"coordinations_{method}_{n}"] = final(result.curves(method, n, COORDINATIONS), result.episodes)
             m[f"capped_{method}_{n}"] = final(result.curves(method, n, CAPPED), result.episodes)
             m[f"convergence_{method}_{n}"] = convergence_episode(result.curves(method, n, STEPS), result.episodes)
+            capped = result.curves(method, n, CAPPED)
+            m[f"capped_runs_{method}_{n}"] = float(sum(final(run[None], result.episodes) > 0 for run in capped))
         fit = growth(ran_at, [params[k, list(result.agents).index(n)] for n in ran_at])
         m[f"growth_factor_{method}"] = fit["factor_per_agent"]
         m[f"loglog_slope_{method}"] = fit["loglog_slope"]
@@ -423,6 +425,25 @@ def performance_table(result: ScalingResult) -> str:
             lines.append(f"{LABELS[method]:22s} {n:2d} {m[f'steps_{method}_{n}']:7.2f} {m[f'reward_{method}_{n}']:7.1f} "
                          f"{m[f'collisions_{method}_{n}']:10.2f} {m[f'coordinations_{method}_{n}']:13.2f} "
                          f"{m[f'convergence_{method}_{n}']:12.0f} {100 * m[f'capped_{method}_{n}']:8.1f}")
+    return "\n".join(lines)
+
+
+PIVOT_METRICS = {"steps": "{:.1f}", "reward": "{:.1f}", "collisions": "{:.2f}", "coordinations": "{:.1f}",
+                 "capped": "{:.1%}", "convergence": "{:.0f}", "capped_runs": "{:.0f}"}
+"""What :func:`pivot_table` shows: the per-(method, N) measurements of :func:`measure` and their format."""
+
+
+def pivot_table(result: ScalingResult, metric: str) -> str:
+    """One final measurement per method (rows) and N (columns), '-' where the method did not run;
+    'capped_runs' counts the runs in which some of the final 10 % of the episodes hit the step cap."""
+    if metric not in PIVOT_METRICS:
+        raise ValueError(f"metric must be one of {sorted(PIVOT_METRICS)}, got {metric!r}")
+    m = measure(result)
+    lines = [f"{metric:22s}" + "".join(f"{f'N = {n}':>9s}" for n in result.agents)]
+    for k, method in enumerate(result.names()):
+        cells = [PIVOT_METRICS[metric].format(m[f"{metric}_{method}_{n}"]) if ok else "-"
+                 for n, ok in zip(result.agents, result.ran[k])]
+        lines.append(f"{LABELS[method]:22s}" + "".join(f"{cell:>9s}" for cell in cells))
     return "\n".join(lines)
 
 
