@@ -100,7 +100,7 @@ def main():
     compiled_walk(*args, actions[:10])  # compile (or load the cache) outside the timing
 
     start = time.perf_counter()
-    compiled = compiled_walk(*args, actions)
+    compiled_walk(*args, actions)
     compiled_time = time.perf_counter() - start
 
     lists = (gridmap.next_cell.tolist(), gridmap.is_goal.tolist(), gridmap.starts.tolist())

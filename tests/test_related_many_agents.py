@@ -8,7 +8,7 @@ import pytest
 from glamas import runs
 from glamas.experiments import scaling as sc
 from glamas.gridworld import load_map, tunnel_to_goal
-from glamas.gridworld.rules import E, N, S, W
+from glamas.gridworld.rules import E, S, W
 from glamas.learners import cq, sparse_maq
 from glamas.learners import episode as ep
 from glamas.learners.sparse_maq import NO_PARTNER

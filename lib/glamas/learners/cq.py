@@ -38,7 +38,7 @@ from numba import njit
 from glamas.gridworld import rules
 from glamas.learners import episode as ep
 from glamas.learners.group_observe import NOBODY, nearest_others
-from glamas.learners.independent import new_tables  # the local tables: as the independent learners
+from glamas.learners.independent import new_tables  # noqa: F401 (re-exported: the local tables are the independent learners')
 from glamas.qlearning import epsilon_greedy, q_update, row_max
 
 COUNT, SUM, SUM_SQUARES = 0, 1, 2

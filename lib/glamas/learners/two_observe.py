@@ -21,7 +21,7 @@ from numba import njit
 from glamas import gla, rng
 from glamas.gridworld import rules
 from glamas.learners import episode as ep
-from glamas.learners.independent import new_tables  # the same state-action space (Section 5.3)
+from glamas.learners.independent import new_tables  # noqa: F401 (re-exported: the same state-action space, Section 5.3)
 from glamas.qlearning import epsilon_greedy, q_update
 
 ACT_ALONE = 0
