@@ -51,7 +51,7 @@ MAX_AGENTS = 9
 BYTES_PER_ENTRY = 8
 """Q values are float64."""
 MACHINE_MEMORY_GIB = 24
-"""The memory of the machine the study was run on (2 cores, 24 GiB), drawn for reference."""
+"""A workstation's memory, 24 GiB, drawn for scale: one run's tables beyond it fit no such machine."""
 
 # Columns of the agent-mean log kept per (method, N).
 STEPS, REWARD, COLLISIONS, COORDINATIONS, CAPPED = range(5)
@@ -79,8 +79,8 @@ class ScalingConfig:
     bin_size: int = 100
     """Episodes averaged into one point of the learning curves; must divide ``episodes``."""
     memory_budget_gib: float = 4.0
-    """Memory the Q tables of all runs of one (method, N) may take, in GiB (the machine has 24 GiB
-    and 2 cores shared with other work); a learner whose tables would need more is skipped at that N."""
+    """Memory the Q tables of all runs of one (method, N) may take, in GiB (a sixth of a 24 GiB
+    workstation, leaving room for other work); a learner whose tables would need more is skipped at that N."""
     learning: GridworldConfig = field(default_factory=lambda: GridworldConfig(max_steps=1000))
     """Q-learning, GLA and collision settings (the Section 5.3 experiment's defaults, with a
     1000-step cap per episode: with three or more agents an agent often gets trapped early on, see
@@ -471,7 +471,7 @@ DODGE = 0.1
 def plot_sizes(ax, result: ScalingResult, config: ScalingConfig | None = None, legend: bool = True):
     """Values learned per run (Q entries + GLA parameters) against N (log scale): filled markers
     where the learner ran, open markers where its tables were only computed (skipped), with the
-    whole machine's memory for one run and the study's memory budget if ``config`` is given.
+    24 GiB workstation's memory for one run and the study's memory budget if ``config`` is given.
     Methods that store nearly the same (within COINCIDE) are drawn side by side, with a note."""
     params = result.parameters()
     shifts, groups = _coinciding_shifts(params)
@@ -484,7 +484,7 @@ def plot_sizes(ax, result: ScalingResult, config: ScalingConfig | None = None, l
         ax.plot(x[~ok], params[k, ~ok], linestyle="none", mfc="none", **learner_style(method, marker=True))
     ax.plot([], [], "o", color="0.4", mfc="none", linestyle="none", label="open: skipped (tables computed, not run)")
     ax.axhline(MACHINE_MEMORY_GIB * 2 ** 30 / BYTES_PER_ENTRY, color="black", linestyle=":", linewidth=1,
-               label=f"the whole machine ({MACHINE_MEMORY_GIB} GiB) for one run")
+               label=f"a {MACHINE_MEMORY_GIB} GiB workstation, one run")
     if config is not None:
         entries = config.memory_budget_gib * 2 ** 30 / BYTES_PER_ENTRY / config.runs
         ax.axhline(entries, color="black", linestyle="--", linewidth=1,
