@@ -319,7 +319,8 @@ def test_result_file_with_a_bad_checksum_gives_one_clear_error(tmp_path):
 
 def test_result_file_holding_a_pickled_array_is_refused(tmp_path):
     path = tmp_path / "pickled.npz"
-    np.savez(path, __config__=np.array(results.config_json(SMALL_LINE)), evil=np.array([{}], dtype=object))
+    np.savez(path, __config__=np.array(results.config_json(SMALL_LINE)),
+             __provenance__=np.array(json.dumps(provenance.record(SMALL_LINE))), evil=np.array([{}], dtype=object))
     with pytest.raises(results.ResultFileError, match="not a readable glamas result file.*allow_pickle"):
         results.load(path, SMALL_LINE)
 
@@ -469,3 +470,10 @@ def test_adapter_samplers_of_neighbouring_seeds_differ(env):
     assert samples(7, "agent_2") != samples(8, "agent_1")
     assert samples(7, "agent_1") == samples(7, "agent_1")
 
+
+
+def test_a_result_without_its_provenance_record_is_stale(tmp_path):
+    path = tmp_path / "old.npz"
+    np.savez(path, __config__=np.array(results.config_json(SMALL_LINE)), x=np.zeros(1))
+    with pytest.raises(results.StaleResultError, match=r"records neither the maps nor the glamas version .*\(--rerun\)"):
+        results.load(path, SMALL_LINE)

@@ -1,13 +1,14 @@
 """Seeding, parallel runs, result files, figure CLI and byte-reproducible figures."""
 
 import dataclasses
+import json
 import os
 
 import numpy as np
 import pytest
 from numba import njit
 
-from glamas import cli, plotting, results, rng, runs
+from glamas import cli, plotting, provenance, results, rng, runs
 
 
 @njit(cache=True, nogil=True)
@@ -97,7 +98,8 @@ def test_missing_and_corrupted_result_files_give_clear_errors(tmp_path):
 
 def test_result_files_holding_objects_are_not_unpickled(tmp_path):
     path = tmp_path / "pickled.npz"
-    np.savez(path, __config__=np.array(results.config_json(_Config())), evil=np.array([{}], dtype=object))
+    np.savez(path, __config__=np.array(results.config_json(_Config())),
+             __provenance__=np.array(json.dumps(provenance.record(_Config()))), evil=np.array([{}], dtype=object))
     with pytest.raises(results.ResultFileError, match="not a readable glamas result file.*allow_pickle"):
         results.load(path, _Config())
 

@@ -4,9 +4,8 @@ Files are written atomically (temporary file, then rename) under a lock of their
 replace a file made by a different configuration without ``overwrite`` (checked again at the
 moment of writing, so two runs cannot silently replace each other's result), and are read with
 ``allow_pickle=False``. Besides the configuration, a file records what the result depends on
-beyond it (:mod:`glamas.provenance`: the map files' hashes, the library's source hash) and is
-refused when that changed. Files written before that record existed carry none and are read as
-before.
+beyond it (:mod:`glamas.provenance`: the map files' hashes, the library's version) and is
+refused when that changed, or when it records nothing of the kind (made by an older glamas).
 """
 
 import dataclasses
@@ -105,7 +104,8 @@ def _check_provenance(path: Path, config) -> None:
     try:
         stored = json.loads(_read_text(path, _PROVENANCE_KEY))
     except ResultFileError:
-        return  # written before provenance was recorded
+        raise StaleResultError(f"{path} records neither the maps nor the glamas version it was made "
+                               "with (an older glamas made it); run the experiment again to refresh it (--rerun)") from None
     changed = provenance.mismatch(stored, provenance.record(config))
     if changed:
         raise StaleResultError(f"{path} is stale: {changed}; run the experiment again to refresh it (--rerun)")
