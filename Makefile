@@ -65,8 +65,7 @@ reproduce: $(READY)
 	mkdir -p $(OUT)/figures $(OUT)/results
 	@for name in $(CHAPTER); do \
 		echo "== paper_figures/$$name.py"; \
-		if [ $$name = fig9 ]; then results=""; else results="--results $(OUT)/results"; fi; \
-		$(PY) paper_figures/$$name.py --out $(OUT)/figures $$results || exit 1; \
+		$(PY) paper_figures/$$name.py --out $(OUT)/figures --results $(OUT)/results || exit 1; \
 	done
 
 ## verify: recompute every experiment (every script in paper_figures/) into $(VERIFY) and compare
@@ -78,8 +77,7 @@ verify: $(READY)
 	mkdir -p $(VERIFY)/figures $(VERIFY)/results
 	@for script in $(FIGURES); do \
 		echo "== $$script"; \
-		if [ $$script = paper_figures/fig9.py ]; then results=""; else results="--results $(VERIFY)/results"; fi; \
-		$(PY) $$script --out $(VERIFY)/figures $$results || exit 1; \
+		$(PY) $$script --out $(VERIFY)/figures --results $(VERIFY)/results || exit 1; \
 	done
 	$(PY) -m glamas.verify $(VERIFY)
 

@@ -34,9 +34,8 @@ def main():
         results.mkdir()
         env = dict(os.environ, NUMBA_CACHE_DIR=str(Path(scratch) / "numba-cache"))
         for name in chapter_scripts():
-            command = [sys.executable, str(REPO / "paper_figures" / f"{name}.py"), "--out", str(figures)]
-            if name != "fig9":  # Fig. 9 draws the map and its exact optimum: no result file
-                command += ["--results", str(results)]
+            command = [sys.executable, str(REPO / "paper_figures" / f"{name}.py"), "--out", str(figures),
+                       "--results", str(results)]
             cpu_before, start = _children_cpu(), time.perf_counter()
             subprocess.run(command, check=True, env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
             seconds[name] = (time.perf_counter() - start, _children_cpu() - cpu_before)

@@ -4,28 +4,21 @@ Writes fig9.png/.pdf (the map) and fig9_optimum.png/.pdf (the value-iteration op
 agents that each take their own shortest path). Deterministic: no runs, no seed.
 """
 
-import argparse
-from pathlib import Path
-
 import matplotlib
 
 matplotlib.use("Agg")
 
-from glamas import atomic, cli, plotting  # noqa: E402
-from glamas.cli import DEFAULT_OUT  # noqa: E402
+from glamas import cli, plotting  # noqa: E402
 from glamas.experiments import gridworld_optimum  # noqa: E402
 from glamas.gridworld import draw, tunnel_to_goal  # noqa: E402
 
 
 @cli.guard
 def main(argv=None):
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--out", type=Path, default=DEFAULT_OUT, help=f"directory for the PNG and PDF (default {DEFAULT_OUT})")
-    args = parser.parse_args(argv)
-    try:
-        atomic.check_writable_directory(args.out, "--out")
-    except ValueError as error:
-        parser.error(str(error))
+    # The figure scripts' common options; this figure is deterministic, so only --out matters.
+    parser = cli.figure_parser(__doc__.splitlines()[0] + " (deterministic: only --out changes what it writes)",
+                               runs=1, iterations=None)
+    args = cli.parse(parser, argv)
 
     fig, ax = plotting.new_figure(3.2, 3.2)
     draw.draw_map(ax, tunnel_to_goal())
