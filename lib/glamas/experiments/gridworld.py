@@ -240,7 +240,7 @@ def _kernel_inputs(name: str, config: GridworldConfig, gridmap: GridMap) -> tupl
     p = config.gla_params()
     automata = (p.learning_rate, p.temperature, p.K, p.L, p.bounding_code, float(config.gla_init_range),
                 np.array(config.gla_feedback), float(config.coordination_penalty_per_cell),
-                two_observe.NEEDS[config.gla_need], config.delta_scale(),
+                two_observe.NEEDS[config.gla_need], delta_scale(config.gla_delta_scale, gridmap),
                 -1 if config.rule_distance is None else config.rule_distance)
     return world + (gridmap.n_cols,) + learning + automata + schedule
 
@@ -383,13 +383,13 @@ def coordination_probability(result: GridworldResult, config: GridworldConfig, d
     """P(coordinate | delta) of 2observe's final GLAs (eq. 15), shape (runs, agents, len(deltas))."""
     p = config.gla_params()
     u = result.gla_parameters
+    contexts = [np.array([delta * config.delta_scale(), 1.0]) for delta in deltas]
     probs = np.empty(2)
     out = np.empty(u.shape[:2] + (len(deltas),))
     for r in range(u.shape[0]):
         for i in range(u.shape[1]):
-            for d, delta in enumerate(deltas):
-                gla.boltzmann(u[r, i], np.array([delta * config.delta_scale(), 1.0]), p.temperature, p.L,
-                              p.bounding_code, probs)
+            for d, x in enumerate(contexts):
+                gla.boltzmann(u[r, i], x, p.temperature, p.L, p.bounding_code, probs)
                 out[r, i, d] = probs[two_observe.COORDINATE]
     return out
 
@@ -406,14 +406,14 @@ def in_range_share(gridmap: GridMap) -> np.ndarray:
     """Per distance delta (0 .. rows + cols - 2): the share of ordered pairs of distinct usable
     cells at that distance from which two agents could collide in one step (NaN where no pair is)."""
     usable = np.flatnonzero(~(gridmap.is_goal | gridmap.blocked))
-    pairs = np.zeros((gridmap.n_rows + gridmap.n_cols - 1, 2))
-    for a in usable:
-        for b in usable:
-            if a != b:
-                delta = rules.manhattan(gridmap.n_cols, a, b)
-                pairs[delta, int(rules.could_collide(gridmap.next_cell, gridmap.is_goal, a, b))] += 1
+    a, b = np.meshgrid(usable, usable, indexing="ij")
+    a, b = a[a != b], b[a != b]
+    delta = np.abs(a // gridmap.n_cols - b // gridmap.n_cols) + np.abs(a % gridmap.n_cols - b % gridmap.n_cols)
+    in_range = rules.in_range_table(gridmap.next_cell, gridmap.is_goal)[a, b]
+    n_deltas = gridmap.n_rows + gridmap.n_cols - 1
     with np.errstate(invalid="ignore"):
-        return pairs[:, 1] / pairs.sum(axis=1)
+        return (np.bincount(delta, weights=in_range, minlength=n_deltas)
+                / np.bincount(delta, minlength=n_deltas))
 
 
 def convergence_report(result: GridworldResult) -> str:
