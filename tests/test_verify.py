@@ -31,3 +31,9 @@ def test_a_changed_array_a_changed_figure_and_a_missing_file_are_reported(tmp_pa
     printed = capsys.readouterr().out
     assert f"fig5.npz: {key} differs" in printed and "fig9.png: differs" in printed
     assert "fig6.npz: not recomputed" in printed
+
+
+def test_a_missing_directory_is_one_usage_line(tmp_path, capsys):
+    assert verify.main([str(tmp_path / "nowhere")]) == 2
+    assert capsys.readouterr().out.strip().splitlines() == [
+        "usage: python -m glamas.verify DIR (the directory `make verify` recomputed into)"]
