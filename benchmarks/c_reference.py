@@ -39,22 +39,22 @@ class Reference:
         self._lib = library
         self._keep = []  # arrays the current World points into
 
-    def _world(self, next_cell, is_goal, starts, bounce, n_cols=0):
-        arrays = (np.ascontiguousarray(next_cell, np.int64), np.ascontiguousarray(is_goal, np.uint8),
-                  np.ascontiguousarray(starts, np.int64))
+    def _world(self, world):
+        arrays = (np.ascontiguousarray(world.next_cell, np.int64), np.ascontiguousarray(world.is_goal, np.uint8),
+                  np.ascontiguousarray(world.starts, np.int64))
         if arrays[2].shape != (2,):
             raise ValueError(f"the C reference is written for two agents, got {arrays[2].shape[0]}")
         self._keep = arrays
-        return _World(*(a.ctypes.data for a in arrays), bounce, arrays[0].shape[0], n_cols)
+        return _World(*(a.ctypes.data for a in arrays), world.bounce, arrays[0].shape[0], world.n_cols)
 
-    def _q_learner(self, name, next_cell, is_goal, starts, bounce, alpha, gamma, exploit, n_episodes,
-                   edges, max_steps, q, log, state):
-        world = self._world(next_cell, is_goal, starts, bounce)
-        edges = np.ascontiguousarray(edges, np.int64)
+    def _q_learner(self, name, world, learning, schedule, q, log, state):
+        c_world = self._world(world)
+        edges = np.ascontiguousarray(schedule.edges, np.int64)
         getattr(self._lib, "run_" + name)(
-            ctypes.byref(world), ctypes.c_double(alpha), ctypes.c_double(gamma), ctypes.c_double(exploit),
-            ctypes.c_int64(n_episodes), _pointer(edges, np.int64), ctypes.c_int64(max_steps),
-            _pointer(q, np.float64), _pointer(log, np.float64), _pointer(state, np.uint64))
+            ctypes.byref(c_world), ctypes.c_double(learning.q_learning_rate), ctypes.c_double(learning.discount),
+            ctypes.c_double(learning.exploit_prob), ctypes.c_int64(schedule.episodes), _pointer(edges, np.int64),
+            ctypes.c_int64(schedule.max_steps), _pointer(q, np.float64), _pointer(log, np.float64),
+            _pointer(state, np.uint64))
 
     def independent(self, *args):
         self._q_learner("independent", *args)
@@ -65,22 +65,21 @@ class Reference:
     def mmdp(self, *args):
         self._q_learner("mmdp", *args)
 
-    def two_observe(self, next_cell, is_goal, starts, bounce, n_cols, alpha, gamma, exploit, gla_rate,
-                    temperature, K, L, bounding, init_range, feedback_table, penalty_per_cell, need,
-                    delta_scale, rule_distance, n_episodes, edges, max_steps, q, u, need_counts, log,
-                    state):
-        if (bounding, need, delta_scale, rule_distance) != (0, 0, 1.0, -1):
+    def two_observe(self, world, learning, automata, schedule, q, u, need_counts, log, state):
+        a = automata
+        if (a.gla_bounding, a.gla_need, a.gla_delta_scale, a.rule_distance) != (0, 0, 1.0, -1):
             raise ValueError("the C reference of 2observe has clip bounding, need in_range, delta in "
                              "cells and learning GLAs only")
-        world = self._world(next_cell, is_goal, starts, bounce, n_cols)
-        edges = np.ascontiguousarray(edges, np.int64)
-        table = np.ascontiguousarray(feedback_table, np.float64)
+        c_world = self._world(world)
+        edges = np.ascontiguousarray(schedule.edges, np.int64)
+        table = np.ascontiguousarray(a.gla_feedback, np.float64)
         double = ctypes.c_double
         self._lib.run_two_observe(
-            ctypes.byref(world), double(alpha), double(gamma), double(exploit), double(gla_rate),
-            double(temperature), double(K), double(L), double(init_range), _pointer(table, np.float64),
-            double(penalty_per_cell), ctypes.c_int64(n_episodes), _pointer(edges, np.int64),
-            ctypes.c_int64(max_steps), _pointer(q, np.float64), _pointer(u, np.float64),
+            ctypes.byref(c_world), double(learning.q_learning_rate), double(learning.discount),
+            double(learning.exploit_prob), double(a.gla_learning_rate), double(a.gla_temperature), double(a.gla_K),
+            double(a.gla_L), double(a.gla_init_range), _pointer(table, np.float64),
+            double(a.coordination_penalty_per_cell), ctypes.c_int64(schedule.episodes), _pointer(edges, np.int64),
+            ctypes.c_int64(schedule.max_steps), _pointer(q, np.float64), _pointer(u, np.float64),
             _pointer(need_counts, np.float64), _pointer(log, np.float64), _pointer(state, np.uint64))
 
     def run(self, name):

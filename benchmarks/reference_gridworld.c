@@ -305,7 +305,7 @@ void run_two_observe(const World *w, double alpha, double gamma, double exploit,
                     if (!e.done[i]) e.actions[i] = epsilon_greedy(q + (i * w->n_cells + e.cells[i]) * N_ACTIONS, N_ACTIONS, exploit, s);
             }
             int collisions = step(w, &e);
-            if (observing) need_counts[delta * 2 + needed] += 1.0;
+            if (observing) need_counts[delta * 2 + needed] += 2.0;  /* both agents observe */
             for (int i = 0; i < 2; i++)
                 if (!e.done[i])
                     q_update(q + i * w->n_cells * N_ACTIONS, N_ACTIONS, e.cells[i], e.actions[i], e.rewards[i],

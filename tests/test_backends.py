@@ -11,7 +11,7 @@ from numba import njit
 
 from glamas import cli, rng, runs
 from glamas.experiments import and_network, gridworld, single_gla
-from glamas.learners import cq, group_observe, independent, joint_state, mmdp, sparse_maq, two_observe
+from glamas.learners import registry, two_observe
 
 SINGLE = single_gla.SingleGLAConfig(iterations=600, runs=7, record_points=6)
 GRID = gridworld.GridworldConfig(episodes=40, runs=3, bins=10, q_initial=0.5, max_steps=200)
@@ -91,8 +91,8 @@ def test_a_job_runs_any_slice_of_the_sweep_on_its_own(reference):
     assert not initial[1].any()  # the job fills copies, not the arrays it was given
 
 
-RUN_KERNELS = [single_gla.learn, and_network.learn, independent.run, joint_state.run, mmdp.run, two_observe.run,
-               group_observe.run, sparse_maq.run, sparse_maq.run_pairs, cq.run]
+RUN_KERNELS = ([single_gla.learn, and_network.learn, two_observe.run_two, two_observe.run_group]
+               + [learner.kernel for learner in registry.LEARNERS.values()])
 
 
 @pytest.mark.parametrize("kernel", RUN_KERNELS, ids=lambda k: f"{k.py_func.__module__}.{k.__name__}")

@@ -409,7 +409,7 @@ def test_importers_at_once_refresh_the_kernel_cache_once(tmp_path):
     (lambda: gridworld_optimum.GridworldOptimumConfig(epsilon=math.inf),
      "GridworldOptimumConfig.epsilon must be a finite number, got inf"),
     (lambda: scaling.ScalingConfig(memory_budget_gib="4"), "ScalingConfig.memory_budget_gib must be a finite number"),
-    (lambda: scaling.ScalingConfig(learning=None), "ScalingConfig.learning must be a GridworldConfig, got None"),
+    (lambda: scaling.ScalingConfig(learning=None), "ScalingConfig.learning must be a LearningSettings, got None"),
 ])
 def test_wrong_types_and_non_finite_settings_are_refused_with_the_field(make, message):
     with pytest.raises(ValueError, match=re.escape(message)):

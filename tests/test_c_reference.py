@@ -11,6 +11,7 @@ import pytest
 
 from glamas.experiments import gridworld as gw
 from glamas.learners import episode as ep
+from glamas.learners import registry, spec
 from glamas.paths import REPO
 from glamas.rng import run_states
 
@@ -28,24 +29,21 @@ def reference(tmp_path_factory):
 
 
 def _outputs(name, config):
-    g = config.gridmap()
-    q = gw._MODULES[name].new_tables(g.n_cells, g.n_agents)
-    log = np.zeros((config.edges().size - 1, ep.N_COLUMNS))
-    if name != "two_observe":
-        return q, log
-    return q, np.zeros((2, 2, 2)), np.zeros((g.n_rows + g.n_cols - 1, 2)), log
+    """One run's outputs of learner ``name``, in kernel order."""
+    outputs = spec.allocate(registry.get(name), config, config.gridmap(), config.schedule(), 1)
+    return tuple(array[0] for array in outputs.values())
 
 
 @pytest.mark.parametrize("name", gw.LEARNERS)
 @pytest.mark.parametrize("bounce", ["previous", "start"])
 def test_c_reference_plays_the_kernels_episodes(reference, name, bounce):
     config = gw.GridworldConfig(learners=(name,), episodes=1500, runs=1, bins=20, bounce=bounce)
-    inputs = gw._kernel_inputs(name, config, config.gridmap())
+    inputs = spec.kernel_inputs(registry.get(name), config, config.gridmap(), config.schedule())
     kernel, c = _outputs(name, config), _outputs(name, config)
     state = run_states(11, 1)[0]
-    gw._MODULES[name].run(*inputs, *kernel, state.copy())
+    registry.get(name).kernel(*inputs, *kernel, state.copy())
     reference.run(name)(*inputs, *c, state.copy())
     log = kernel[-1]
-    assert log[:, ep.LENGTH].min() >= 1 and log[:, ep.COLLISIONS].sum() > 0  # episodes with collisions
+    assert ep.metric(log, "length").min() >= 1 and ep.metric(log, "collisions").sum() > 0  # episodes with collisions
     for got, expected in zip(c, kernel):  # log, Q tables (and 2observe's GLAs and need counts)
         np.testing.assert_array_equal(got, expected)

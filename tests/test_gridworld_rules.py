@@ -30,9 +30,9 @@ def play(gridmap, cells, actions, done=None, bounce=rules.BOUNCE_PREVIOUS):
     done = np.zeros(n, dtype=bool) if done is None else np.array(done, dtype=bool)
     out = {"new_cells": np.empty(n, np.int64), "rewards": np.empty(n), "bumped": np.empty(n, bool),
            "collided": np.empty(n, bool), "reached": np.empty(n, bool)}
-    out["n_collisions"] = rules.step(gridmap.next_cell, gridmap.is_goal, gridmap.starts, bounce, cells, done,
-                                     np.array(actions, dtype=np.int64), out["new_cells"], out["rewards"],
-                                     out["bumped"], out["collided"], out["reached"])
+    world = rules.World(gridmap.next_cell, gridmap.is_goal, gridmap.starts, bounce, gridmap.n_cols)
+    out["n_collisions"] = rules.step(world, cells, done, np.array(actions, dtype=np.int64), out["new_cells"],
+                                     out["rewards"], out["bumped"], out["collided"], out["reached"])
     return out
 
 
@@ -199,7 +199,8 @@ def test_corridor_same_target_between_the_starts():
 
 def _step_outputs(step, gridmap, cells, done, actions, bounce):
     out = (np.empty(2, np.int64), np.empty(2), np.empty(2, bool), np.empty(2, bool), np.empty(2, bool))
-    n = step(gridmap.next_cell, gridmap.is_goal, gridmap.starts, bounce, cells, done, actions, *out)
+    world = rules.World(gridmap.next_cell, gridmap.is_goal, gridmap.starts, bounce, gridmap.n_cols)
+    n = step(world, cells, done, actions, *out)
     return [n] + [a.tolist() for a in out]
 
 

@@ -10,7 +10,7 @@ from glamas.experiments import scaling as sc
 from glamas.gridworld import load_map
 from glamas.gridworld.rules import E, N, S, W
 from glamas.learners import episode as ep
-from glamas.learners import group_observe, independent, joint_state, mmdp, two_observe
+from glamas.learners import independent, joint_state, mmdp, registry, spec, two_observe
 from glamas.learners.two_observe import ACT_ALONE, COORDINATE
 from glamas.paths import MAPS
 from glamas.rng import run_states
@@ -53,12 +53,13 @@ def test_warehouse_maps_are_one_layout_with_n_agents():
 
 # --- the N-agent log layout --------------------------------------------------------------------
 
-def test_log_layout_for_two_agents_is_the_chapter_layout():
-    assert ep.n_columns(2) == ep.N_COLUMNS
-    assert [ep.reward_column(2, i) for i in (0, 1)] == [ep.REWARD, ep.REWARD + 1]
-    for col in (ep.LENGTH, ep.COLLISIONS, ep.COORDINATIONS, ep.CAPPED):
-        assert ep.column(2, col) == col
+def test_log_layout_is_steps_then_rewards_then_the_measures_for_any_number_of_agents():
+    assert ep.n_columns(2) == 8 and [ep.reward_column(2, i) for i in (0, 1)] == [2, 3]
+    assert [ep.column(2, m) for m in (ep.LENGTH, ep.COLLISIONS, ep.COORDINATIONS, ep.CAPPED)] == [4, 5, 6, 7]
     assert ep.n_columns(5) == 14 and ep.reward_column(5, 0) == 5 and ep.column(5, ep.CAPPED) == 13
+    log = np.arange(14.0)[None]
+    assert ep.metric(log, "steps").tolist() == [2.0] and ep.metric(log, "reward").tolist() == [7.0]
+    assert ep.metric(log, "collisions").tolist() == [11.0] and ep.metric(log, "capped").tolist() == [13.0]
 
 
 # --- 2observe for N agents: rules ------------------------------------------------------------
@@ -72,7 +73,7 @@ def _converging_three():
 
 def _resolve(g, cells, done, choices, preferred, state):
     actions = np.zeros(3, np.int64)
-    count = group_observe.coordinate_group(g.next_cell, g.is_goal, cells, done, np.array(choices), preferred,
+    count = two_observe.coordinate_group(g.next_cell, g.is_goal, cells, done, np.array(choices), preferred,
                                            actions, np.zeros(3, np.int64), np.zeros(3, np.bool_), state)
     return count, actions
 
@@ -131,7 +132,7 @@ def test_two_agents_draw_what_the_two_agent_rule_draws():
         expected = np.zeros(2, np.int64)
         two_observe.yield_at_random(pref2, expected, a)
         actions = np.zeros(2, np.int64)
-        group_observe.coordinate_group(g.next_cell, g.is_goal, cells2, done2, np.array([COORDINATE] * 2), pref2,
+        two_observe.coordinate_group(g.next_cell, g.is_goal, cells2, done2, np.array([COORDINATE] * 2), pref2,
                                        actions, np.zeros(2, np.int64), np.zeros(2, np.bool_), b)
         assert np.array_equal(actions, expected) and np.array_equal(a, b)
 
@@ -140,10 +141,10 @@ def test_nearest_other_agent_ignores_agents_in_the_goal_and_breaks_ties_by_numbe
     g = load_map(OPEN_3X3)
     cells = np.array([g.cell(1, 1), g.cell(0, 1), g.cell(1, 0)])
     nearest, deltas = np.zeros(3, np.int64), np.zeros(3, np.int64)
-    group_observe.nearest_others(g.n_cols, cells, np.zeros(3, np.bool_), nearest, deltas)
+    two_observe.nearest_others(g.n_cols, cells, np.zeros(3, np.bool_), nearest, deltas)
     assert nearest.tolist() == [1, 0, 0] and deltas.tolist() == [1, 1, 1]
-    group_observe.nearest_others(g.n_cols, cells, np.array([False, True, True]), nearest, deltas)
-    assert nearest.tolist() == [group_observe.NOBODY] * 3
+    two_observe.nearest_others(g.n_cols, cells, np.array([False, True, True]), nearest, deltas)
+    assert nearest.tolist() == [two_observe.NOBODY] * 3
 
 
 @pytest.mark.parametrize("need", sorted(two_observe.NEEDS))
@@ -152,19 +153,19 @@ def test_n_agent_2observe_is_the_two_agent_kernel_for_two_agents(need, gla_L):
     config = gw.GridworldConfig(episodes=300, runs=2, bins=3, learners=("two_observe",),
                                 gla_feedback=((1.0, 0.0), (1.0, 1.0)), gla_need=need, gla_L=gla_L)
     g = config.gridmap()
-    inputs = gw._kernel_inputs("two_observe", config, g)
+    learner = registry.get("two_observe")
+    inputs = spec.kernel_inputs(learner, config, g, config.schedule())
     out = []
-    for kernel in (two_observe.run, group_observe.run_group, group_observe.run):
-        arrays = (np.zeros((2, 2, 25, 4)), np.zeros((2, 2, 2, 2)), np.zeros((2, 9, 2)),
-                  np.zeros((2, config.edges().size - 1, 8)))
+    for kernel in (two_observe.run_two, two_observe.run_group, two_observe.run):
+        arrays = tuple(spec.allocate(learner, config, g, config.schedule(), 2).values())
         runs.run_batches(kernel, inputs, arrays, 3, workers=1)
         out.append(arrays)
-    (q, u, needs, log), group, fast = out
-    assert log[..., ep.COORDINATIONS].sum() > 0  # the comparison covers coordinated steps
+    (q, u, needs, log), group, dispatched = out
+    assert ep.metric(log, "coordinations").sum() > 0  # the comparison covers coordinated steps
     assert needs[..., 1].sum() > 0  # and steps with need
-    for q2, u2, needs2, log2 in (group, fast):  # the N-agent steps, and the two-agent path of run
-        assert np.array_equal(q, q2) and np.array_equal(u, u2) and np.array_equal(log, log2)
-        assert np.array_equal(2 * needs, needs2)  # counted per observing agent
+    for q2, u2, needs2, log2 in (group, dispatched):  # the N-agent steps, and the two-agent path of run
+        for a, b in ((q, q2), (u, u2), (needs, needs2), (log, log2)):
+            assert np.array_equal(a, b)
 
 
 # --- the scaling study -----------------------------------------------------------------------
@@ -185,9 +186,9 @@ def test_small_study_runs_every_method_that_fits_and_skips_the_rest(small_result
     assert np.isnan(r.log[2, 1]).all() and np.isfinite(r.log[r.ran]).all()
     assert r.table_shapes[:5, 1].tolist() == [[3, 35, 4], [3, 42875, 4], [1, 42875, 64], [3, 35, 4], [3, 35, 4]]
     assert r.gla_parameters[3].tolist() == [8, 12] and r.gla_parameters[4].tolist() == [0, 0]
-    assert (r.curves("two_observe_rule", 3, sc.COORDINATIONS) > 0).all()  # the rule coordinates
+    assert (r.curves("two_observe_rule", 3, "coordinations") > 0).all()  # the rule coordinates
     assert r.bytes_needed[2, 1] == 2 * 42875 * 64 * 8
-    steps = r.curves("independent", 3, sc.STEPS)
+    steps = r.curves("independent", 3, "steps")
     assert (steps >= 10).all() and (steps <= SMALL.learning.max_steps).all()
 
 
@@ -198,14 +199,12 @@ def test_same_seed_same_study_for_one_and_two_workers(small_result):
 
 def test_n_agent_kernels_run_on_the_warehouse():
     g = load_map(MAPS / "warehouse_4.txt")
-    for module in (independent, joint_state, mmdp):
-        if module is mmdp:
+    settings = gw.GridworldConfig(max_steps=500)
+    for learner in (independent.LEARNER, joint_state.LEARNER, mmdp.LEARNER):
+        if learner is mmdp.LEARNER:
             g = load_map(MAPS / "warehouse_3.txt")
-        q = module.new_tables(g.n_cells, g.n_agents)[None]
-        log = np.zeros((1, 2, ep.n_columns(g.n_agents)))
-        runs.run_batches(module.run, (g.next_cell, g.is_goal, g.starts, 0, 0.05, 0.9, 0.9, 20, ep.uniform_edges(20, 10), 500),
-                         (q, log), 2, workers=1)
-        assert (log[0, :, :g.n_agents] >= 1).all() and np.abs(q).sum() > 0
+        outputs = spec.train(learner, settings, g, ep.Schedule(20, ep.uniform_edges(20, 10), 500), 1, 2, workers=1)
+        assert (outputs["log"][0, :, :g.n_agents] >= 1).all() and np.abs(outputs["q"]).sum() > 0
 
 
 def test_growth_fits_recover_linear_and_exponential_sizes():
@@ -228,7 +227,7 @@ def test_claim_verdicts_come_from_the_measurements(small_result):
 
 def test_pivot_table_has_a_row_per_method_and_counts_capped_runs(small_result):
     m = sc.measure(small_result)
-    capped = small_result.curves("independent", 3, sc.CAPPED)
+    capped = small_result.curves("independent", 3, "capped")
     capped_runs = sum(sc.final(run[None], small_result.episodes) > 0 for run in capped)
     assert m["capped_runs_independent_3"] == capped_runs
     table = sc.pivot_table(small_result, "collisions").splitlines()
@@ -250,7 +249,7 @@ def test_pivot_table_has_a_row_per_method_and_counts_capped_runs(small_result):
     ({"map_pattern": "warehouse.txt"}, "map_pattern must contain '{n}'"),
     ({"map_pattern": "warehouse_{n}.txt", "agents": (7,)}, "no map file"),
     ({"map_pattern": "warehouse_3.txt{n}"}, "no map file"),
-    ({"learning": {"max_steps": 10}}, "learning must be a GridworldConfig"),
+    ({"learning": {"max_steps": 10}}, "learning must be a LearningSettings"),
 ])
 def test_config_errors_name_the_problem(kwargs, message):
     with pytest.raises(Exception, match=None) as error:

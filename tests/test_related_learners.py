@@ -12,10 +12,9 @@ import pytest
 from glamas import claims
 from glamas.experiments import gridworld as gw
 from glamas.experiments import related_work as rw
-from glamas.gridworld import load_map, tunnel_to_goal
-from glamas.gridworld.rules import E, N, S, W
-from glamas.learners import cq, sparse_maq
-from glamas.learners import episode as ep
+from glamas.gridworld import tunnel_to_goal
+from glamas.gridworld.rules import S
+from glamas.learners import cq, registry, sparse_maq
 from glamas.paths import REPO
 
 ALPHA, GAMMA = 0.5, 0.9
@@ -36,7 +35,7 @@ def test_coordination_states_are_the_close_joint_states():
         assert a != b and goal not in (a, b) and 1 <= rules_distance(g, a, b) <= 2
     assert index[g.cell(1, 4) * 25 + g.cell(3, 4)] >= 0  # the tunnel entrance, distance 2
     assert index[g.cell(0, 0) * 25 + g.cell(4, 0)] == -1  # the starts, distance 4
-    assert sparse_maq.new_joint_table(index).shape == (rows.size, 16)
+    assert sparse_maq.pair_table_shape(SMALL, g) == (1, rows.size, 16)
 
 
 def rules_distance(g, a, b):
@@ -47,9 +46,6 @@ def rules_distance(g, a, b):
 def test_coordination_index_errors_name_the_problem():
     with pytest.raises(ValueError, match="coordination distance must be a whole number >= 1"):
         sparse_maq.coordination_index(tunnel_to_goal(), 0)
-    three = load_map("+-+-+-+\n|1 2 3|\n+ + + +\n|. . G|\n+-+-+-+\n")
-    with pytest.raises(ValueError, match="written for two agents"):
-        sparse_maq.coordination_index(three, 2)
 
 
 @pytest.fixture()
@@ -68,37 +64,6 @@ def test_coordinated_to_coordinated_is_the_mmdp_update_on_the_summed_reward(tabl
     sparse_maq.coordinated_to_coordinated(q_joint, 0, 5, np.array([-1.0, -10.0]), 1, ALPHA, GAMMA)
     assert q_joint[0, 5] == pytest.approx(10 + ALPHA * (-11 + GAMMA * 15 - 10))
 
-
-def test_coordinated_to_uncoordinated_sums_the_agents_own_next_values(tables):
-    q, q_joint = tables
-    sparse_maq.coordinated_to_uncoordinated(q_joint, 0, 5, q, np.array([7, 9]), np.array([0.0, -1.0]),
-                                            np.array([False, False]), ALPHA, GAMMA)
-    assert q_joint[0, 5] == pytest.approx(10 + ALPHA * ((0 + GAMMA * 4) + (-1 + GAMMA * 6) - 10))
-    q_joint[0, 5] = 10.0  # agent 1 entered the goal: no future term for it
-    sparse_maq.coordinated_to_uncoordinated(q_joint, 0, 5, q, np.array([7, 9]), np.array([0.0, 100.0]),
-                                            np.array([False, True]), ALPHA, GAMMA)
-    assert q_joint[0, 5] == pytest.approx(10 + ALPHA * ((0 + GAMMA * 4) + 100 - 10))
-
-
-def test_uncoordinated_to_coordinated_gives_each_agent_half_the_joint_value(tables):
-    q, q_joint = tables
-    q[0, 3, E], q[1, 13, N] = 2.0, -4.0
-    sparse_maq.uncoordinated_to_coordinated(q, np.array([3, 13]), np.array([E, N]), np.array([0.0, -1.0]),
-                                            q_joint, 1, ALPHA, GAMMA)
-    assert q[0, 3, E] == pytest.approx(2 + ALPHA * (0 + GAMMA * 15 / 2 - 2))
-    assert q[1, 13, N] == pytest.approx(-4 + ALPHA * (-1 + GAMMA * 15 / 2 + 4))
-
-
-def test_uncoordinated_to_uncoordinated_is_independent_q_learning(tables):
-    q, _ = tables
-    sparse_maq.uncoordinated_to_uncoordinated(q, np.array([2, 14]), np.array([False, True]), np.array([S, W]),
-                                              np.array([-1.0, 0.0]), np.array([7, 9]), np.array([False, False]),
-                                              ALPHA, GAMMA)
-    assert q[0, 2, S] == pytest.approx(ALPHA * (-1 + GAMMA * 4))
-    assert q[1, 14, W] == 0.0  # agent 1 is in the goal: it does not act, nothing learned
-
-
-# --- CQ-learning's test --------------------------------------------------------------------------
 
 def test_t_critical_values_match_the_tables():
     t = cq.t_critical_values(60, 0.05)
@@ -181,11 +146,11 @@ def small():
 def test_small_run_logs_both_learners_and_cq_marks_only_close_joint_states(small):
     assert small.names() == ["independent", "mmdp", "sparse_maq", "cq"]
     for name in ("sparse_maq", "cq"):
-        assert np.isfinite(small.curves(name, ep.STEPS)).all()
-        assert (small.curves(name, ep.STEPS) >= 10).all(), name
+        assert np.isfinite(small.curves(name, "steps")).all()
+        assert (small.curves(name, "steps") >= 10).all(), name
         assert (small.reward(name) <= 100).all()
         assert small.steps(name).mean(axis=0)[-1] < 40, name  # they learn the way to the goal
-        assert (small.curves(name, ep.COORDINATIONS) > 0).any(), name
+        assert (small.curves(name, "coordinations") > 0).any(), name
     assert small.cq_marked.any()  # the tunnel entrance makes conflicts
     assert (rw.marked_distances(small, SMALL) <= 2).all()  # collisions only come from close agents
     index = sparse_maq.coordination_index(tunnel_to_goal(), 2)
@@ -200,8 +165,8 @@ def test_chapter_learners_keep_their_seeds_and_results_do_not_depend_on_workers(
     assert np.array_equal(small.log[:2], chapter.log)
     two = rw.run(SMALL, seed=3, workers=2)
     assert np.array_equal(small.log, two.log) and np.array_equal(small.cq_marked, two.cq_marked)
-    assert rw.related_seed(3, "sparse_maq") != rw.related_seed(3, "cq")
-    assert rw.related_seed(0, "sparse_maq") >= 2 ** 32
+    seeds = [registry.master_seed(3, rw.RELATED_LEARNERS, name, "related") for name in rw.RELATED_LEARNERS]
+    assert seeds[0] != seeds[1] and min(seeds) >= 2 ** 32
 
 
 def test_measure_gives_every_claimed_metric(small):
@@ -214,10 +179,10 @@ def test_measure_gives_every_claimed_metric(small):
 
 def test_final_interval_is_the_final_mean_with_a_band_over_runs(small):
     mean, low, high = rw.final_interval(small, "cq")
-    assert mean == pytest.approx(gw.final(small.curves("cq", ep.COLLISIONS), small.episodes))
+    assert mean == pytest.approx(gw.final(small.curves("cq", "collisions"), small.episodes))
     assert low <= mean <= high
-    per_run = [gw.final(c[None], small.episodes) for c in small.curves("independent", ep.STEPS)]
-    _, low, high = rw.final_interval(small, "independent", ep.STEPS)
+    per_run = [gw.final(c[None], small.episodes) for c in small.curves("independent", "steps")]
+    _, low, high = rw.final_interval(small, "independent", "steps")
     assert min(per_run) <= low <= high <= max(per_run)  # a band of run means stays in the runs' range
 
 
@@ -256,6 +221,6 @@ def test_plots_draw_on_a_given_axes(small):
     rw.plot_marked_distances(axes[2], small, SMALL)
     assert [len(ax.get_legend().get_texts()) for ax in (axes[0], axes[2])] == [2, 2]
     sizes = [text.get_text() for text in axes[1].get_legend().get_texts()]
-    assert all(any(rw.gw.LABELS[name] in text for text in sizes) for name in small.names())
+    assert all(any(registry.label(name) in text for text in sizes) for name in small.names())
     assert sum("reward samples" in text for text in sizes) == 1  # CQ-learning's stored rewards
     plt.close(fig)

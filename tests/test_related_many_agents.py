@@ -7,12 +7,14 @@ import pytest
 
 from glamas import runs
 from glamas.experiments import scaling as sc
-from glamas.gridworld import load_map, tunnel_to_goal
+from glamas.gridworld import load_map
 from glamas.gridworld.rules import E, S, W
-from glamas.learners import cq, sparse_maq
+from glamas.learners import cq, spec, sparse_maq
+from glamas.learners.settings import LearnerSettings
 from glamas.learners import episode as ep
 from glamas.learners.sparse_maq import NO_PARTNER
 from glamas.paths import MAPS
+from glamas.qlearning import QLearning
 from glamas.rng import run_states
 
 ALPHA, GAMMA = 0.5, 0.9
@@ -30,13 +32,13 @@ OPEN_3X3 = """\
 @pytest.fixture()
 def open3():
     g = load_map(OPEN_3X3)
-    return g, sparse_maq.pair_coordination_index(g, 2)
+    return g, sparse_maq.coordination_index(g, 2)
 
 
 def match(g, index, cells, acting=(True, True, True), distance=2):
     partner, rows = np.empty(len(cells), np.int64), np.empty(len(cells), np.int64)
-    pairs = sparse_maq.match_pairs(index, g.n_cols, g.n_cells, distance, np.array(cells), np.array(acting),
-                                   partner, rows)
+    pairs = sparse_maq.match_pairs(sparse_maq.Coordination(index, distance), g.n_cols, g.n_cells, np.array(cells),
+                                   np.array(acting), partner, rows)
     return pairs, partner.tolist(), rows.tolist()
 
 
@@ -92,11 +94,11 @@ def tables():
 
 
 def learn(q, q_pairs, partner, partner_next, rewards, reached=(False, False, False), actions=(E, S, W)):
+    matches = (np.array(partner), np.array([0 if p != NO_PARTNER else -1 for p in partner]), np.array([5, 0, 5]),
+               np.array(partner_next), np.array([2 if p != NO_PARTNER else -1 for p in partner_next]))
     sparse_maq.learn_pairs(q, q_pairs, np.array([0, 3, 6]), np.zeros(3, np.bool_), np.array(actions),
-                           np.array([5, 0, 5]), np.array(rewards), np.array([1, 4, 5]), np.array(reached),
-                           np.array(partner), np.array([0 if p != NO_PARTNER else -1 for p in partner]),
-                           np.array(partner_next), np.array([2 if p != NO_PARTNER else -1 for p in partner_next]),
-                           ALPHA, GAMMA)
+                           np.array(rewards), np.array([1, 4, 5]), np.array(reached), matches,
+                           QLearning(ALPHA, GAMMA, 0.9))
 
 
 def test_a_pair_that_stays_together_makes_the_mmdp_update(tables):
@@ -126,41 +128,23 @@ def test_an_agent_entering_the_goal_has_no_future_term(tables):
     assert q[1, 3, S] == pytest.approx(ALPHA * 100)
 
 
-def test_two_agent_pairs_are_the_two_agent_learner_bit_for_bit():
-    g = tunnel_to_goal()
-    index = sparse_maq.coordination_index(g, 2)
-    world, rest = (g.next_cell, g.is_goal, g.starts, 0), (0.05, 0.9, 0.9, 300, ep.uniform_edges(300, 100), 10_000)
-    q1, q2 = np.zeros((2, 2, 25, 4)), np.zeros((2, 2, 25, 4))
-    shape = sparse_maq.new_joint_table(index).shape
-    joint, pairs = np.zeros((2,) + shape), np.zeros((2, 1) + shape)
-    log1, log2 = np.zeros((2, 3, ep.N_COLUMNS)), np.zeros((2, 3, ep.N_COLUMNS))
-    runs.run_batches(sparse_maq.run, (*world, index, *rest), (q1, joint, log1), 4, workers=runs.Threads(1))
-    runs.run_batches(sparse_maq.run_pairs, (*world, g.n_cols, index, 2, *rest), (q2, pairs, log2), 4,
-                     workers=runs.Threads(1))
-    assert np.array_equal(log1, log2) and np.array_equal(q1, q2) and np.array_equal(joint, pairs[:, 0])
-    assert log1[:, :, ep.COORDINATIONS].sum() > 0
-
-
 def test_index_for_many_agents_and_its_errors():
     three = load_map(OPEN_3X3)
-    with pytest.raises(ValueError, match="use pair_coordination_index and run_pairs for N agents"):
-        sparse_maq.coordination_index(three, 2)
     with pytest.raises(ValueError, match="coordination distance must be a whole number >= 1"):
-        sparse_maq.pair_coordination_index(three, 0)
-    assert np.array_equal(sparse_maq.pair_coordination_index(tunnel_to_goal(), 2),
-                          sparse_maq.coordination_index(tunnel_to_goal(), 2))
+        sparse_maq.coordination_index(three, 0)
+    # ordered pairs of the 8 usable cells: 10 adjacent pairs, 11 at distance 2 (none with the goal)
+    assert (sparse_maq.coordination_index(three, 2) >= 0).sum() == 2 * (10 + 11)
 
 
 # --- CQ-learning: the nearest other agent ------------------------------------------------------
 
 def test_cq_marks_with_many_agents_pair_an_agent_with_a_near_agent():
     g = load_map(MAPS / "warehouse_3.txt")
-    n, c = g.n_agents, g.n_cells
-    q, log = np.zeros((1, n, c, 4)), np.zeros((1, 4, ep.n_columns(n)))
-    q_aug, marked = (table[None] for table in cq.new_augmented_tables(c, n))
-    runs.run_batches(cq.run, (g.next_cell, g.is_goal, g.starts, 0, g.n_cols, 0.05, 0.9, 0.9, 30,
-                              cq.t_critical_values(58, 0.05), 200, 400, ep.uniform_edges(400, 100), 1000), (q, q_aug, marked, log), 2,
-                     workers=runs.Threads(1))
+    n = g.n_agents
+    settings = LearnerSettings(max_steps=1000, cq_window=30, cq_significance=0.05, cq_solo_episodes=200)
+    outputs = spec.train(cq.LEARNER, settings, g, ep.Schedule(400, ep.uniform_edges(400, 100), 1000), 1, 2,
+                         workers=runs.Threads(1))
+    q_aug, marked, log = outputs["q_aug"], outputs["marked"], outputs["log"]
     own, other = np.nonzero(marked[0].any(axis=0))
     assert own.size > 0 and (log[0, :, ep.column(n, ep.COORDINATIONS)] > 0).any()
     distances = [abs(a // g.n_cols - b // g.n_cols) + abs(a % g.n_cols - b % g.n_cols) for a, b in zip(own, other)]
@@ -182,13 +166,13 @@ def small():
 
 def test_the_study_counts_the_pair_tables_and_the_reward_windows(small):
     assert small.names() == ["sparse_maq", "cq"] and small.ran.all()
-    rows = [int(sparse_maq.pair_coordination_index(SMALL.gridmap(n), 2).max()) + 1 for n in (2, 3)]
+    rows = [int(sparse_maq.coordination_index(SMALL.gridmap(n), 2).max()) + 1 for n in (2, 3)]
     assert small.joint_entries[0].tolist() == [1 * rows[0] * 16, 3 * rows[1] * 16]
     assert small.reward_samples[1].tolist() == [2 * 35 * 4 * 30, 3 * 35 * 4 * 30]
     assert small.parameters()[1].tolist() == [2 * 140 + small.joint_entries[1, 0] + 2 * 35 * 4 * 30,
                                               3 * 140 + small.joint_entries[1, 1] + 3 * 35 * 4 * 30]
     assert small.bytes_needed[1, 1] == 2 * ((3 * 140 + 3 * 35 * 35 * 4 + 3 * 35 * 4 * 30) * 8 + 3 * 35 * 35)
-    assert np.isfinite(small.log).all() and (small.curves("cq", 3, sc.COORDINATIONS) > 0).any()
+    assert np.isfinite(small.log).all() and (small.curves("cq", 3, "coordinations") > 0).any()
 
 
 def test_new_methods_leave_the_chapter_methods_seeds_and_results_alone(small):

@@ -16,7 +16,7 @@ from pathlib import Path
 
 from glamas import atomic, memory, plotting, results
 from glamas import runs as runners  # "runs" is the run count in figure_parser
-from glamas.experiments.checks import MAX_COUNT, suspect_settings
+from glamas.checks import MAX_COUNT, suspect_settings
 from glamas.gridworld.maps import MapError
 from glamas.paths import REPO, RESULTS
 

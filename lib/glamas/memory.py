@@ -6,7 +6,6 @@ on this machine, so that a run too large for it stops with a message at once ins
 on an allocation (or filling the memory) later.
 """
 
-import math
 import os
 
 BYTES_PER_VALUE = 8  # float64 and int64 arrays
@@ -65,29 +64,22 @@ def _and_network(config) -> int:
 
 
 def _gridworld(config) -> int:
-    from glamas.experiments import scaling
-    from glamas.learners import episode
-
     gridmap = config.gridmap()
-    tables = sum(math.prod(scaling.table_shape(name, gridmap.n_cells, gridmap.n_agents)) for name in config.learners)
-    logs = len(config.learners) * config.bins * episode.N_COLUMNS
-    two_observe = gridmap.n_agents * 4 + (gridmap.n_rows + gridmap.n_cols) * 2
-    return config.runs * (tables * WORKING_COPIES + logs + two_observe) * BYTES_PER_VALUE
+    return config.runs * sum(_learner(name, config, gridmap, config.bins) for name in config.learners)
+
+
+def _learner(name: str, settings, gridmap, bins: int) -> int:
+    """Bytes one run of learner ``name`` allocates: its tables (working copies of them) and its log."""
+    from glamas.learners import episode, registry
+
+    tables = registry.get(name).bytes_per_run(settings, gridmap)
+    return tables * WORKING_COPIES + bins * episode.n_columns(gridmap.n_agents) * BYTES_PER_VALUE
 
 
 def _related_work(config) -> int:
-    from glamas.learners import episode
-
     base = config.gridworld
-    gridmap = base.gridmap()
-    cells, agents = gridmap.n_cells, gridmap.n_agents
-    local = agents * cells * 4
-    joint = agents * cells * cells * 4 * 4  # at most every joint state's values (sparse MAQ, CQ)
-    marks = agents * cells * cells  # CQ's marked joint states (bytes, counted as values: an upper bound)
-    windows = cells * 4 * 2 * config.cq_window  # CQ's baseline and recent rewards
-    per_learner = local + joint + marks + windows
-    logs = base.bins * episode.N_COLUMNS
-    related = base.runs * len(config.learners) * (per_learner * WORKING_COPIES + logs) * BYTES_PER_VALUE
+    gridmap, settings = base.gridmap(), config.settings()
+    related = base.runs * sum(_learner(name, settings, gridmap, base.bins) for name in config.learners)
     return _gridworld(base) + related
 
 
@@ -97,7 +89,7 @@ def _scaling(config) -> int:
     budget = config.memory_budget_gib * 2 ** 30
     fitting = [needed for n in config.agents for method in config.methods
                if (needed := scaling.memory_needed(config, method, n)) <= budget]
-    logs = len(config.methods) * len(config.agents) * config.runs * config.n_bins * scaling.N_METRICS
+    logs = len(config.methods) * len(config.agents) * config.runs * config.n_bins * len(scaling.METRICS)
     return max(fitting, default=0) * WORKING_COPIES + logs * BYTES_PER_VALUE
 
 

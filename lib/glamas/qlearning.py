@@ -5,9 +5,22 @@ allocates, so the episode loops can call these functions every step; they are in
 kernels (``inline="always"``), where a call would cost more than the work.
 """
 
+from typing import NamedTuple
+
 from numba import njit
 
 from glamas import rng
+
+
+class QLearning(NamedTuple):
+    """The Q-learning settings as the kernels read them, named as in the experiments' configs."""
+
+    q_learning_rate: float
+    """alpha of eq. 11."""
+    discount: float
+    """gamma of eq. 11."""
+    exploit_prob: float
+    """Probability of the greedy action (:func:`epsilon_greedy`)."""
 
 
 @njit(cache=True, inline="always")

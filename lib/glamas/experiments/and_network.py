@@ -12,7 +12,7 @@ import numpy as np
 from numba import njit
 
 from glamas import claims, gla, lineworld, memory, rng
-from glamas.experiments import checks
+from glamas import checks
 from glamas.plotting import legend_below
 from glamas.runs import run_batches
 

@@ -67,18 +67,21 @@ class ReadingsConfig:
 class ReadingsResult:
     """2observe's learning curves and final GLAs under each reading (first axis: ``readings``)."""
 
+    config: ReadingsConfig
+    """The configuration that produced the arrays."""
     log: np.ndarray
     """(readings, runs, bins, columns): as GridworldResult.log for 2observe."""
     gla_parameters: np.ndarray
     """(readings, runs, agents, 2, 2): the final GLA parameters."""
     need_counts: np.ndarray
-    """(readings, runs, deltas, 2): observed steps per distance without / with need."""
+    """(readings, runs, deltas, 2): observing agent-steps per distance without / with need."""
     episodes: np.ndarray
     """int (bins,): the episode count at the end of each block."""
 
     def gridworld_result(self, k: int) -> gw.GridworldResult:
         """Reading k's 2observe as a GridworldResult of one learner."""
-        return gw.GridworldResult(learners=np.array([gw.LEARNERS.index("two_observe")]), log=self.log[k:k + 1],
+        return gw.GridworldResult(config=self.config.reading(self.config.readings[k]),
+                                  learners=np.array([gw.LEARNERS.index("two_observe")]), log=self.log[k:k + 1],
                                   table_shapes=np.zeros((1, 3), np.int64), gla_parameters=self.gla_parameters[k],
                                   need_counts=self.need_counts[k], episodes=self.episodes)
 
@@ -90,14 +93,14 @@ def run(config: ReadingsConfig = ReadingsConfig(), seed: int = 0, workers=None, 
     for name in config.readings:
         label = None if progress is None else f"{progress}: {name}"
         parts.append(gw.run(config.reading(name), seed=seed, workers=workers, progress=label))
-    return ReadingsResult(log=np.concatenate([p.log for p in parts]),
+    return ReadingsResult(config=config, log=np.concatenate([p.log for p in parts]),
                           gla_parameters=np.stack([p.gla_parameters for p in parts]),
                           need_counts=np.stack([p.need_counts for p in parts]), episodes=parts[0].episodes)
 
 
 def load(config: ReadingsConfig = ReadingsConfig(), seed: int = 0, results_dir: Path = RESULTS) -> ReadingsResult:
     """The committed study of ``config`` (``results_dir/fig10_readings.npz``), its configuration checked."""
-    return ReadingsResult(**results.load(Path(results_dir) / f"{RESULT_NAME}.npz", config, seed=seed))
+    return ReadingsResult(config=config, **results.load(Path(results_dir) / f"{RESULT_NAME}.npz", config, seed=seed))
 
 
 def with_baselines(result: ReadingsResult, k: int, baselines: gw.GridworldResult) -> gw.GridworldResult:

@@ -14,30 +14,27 @@ import matplotlib.pyplot as plt
 import numpy as np
 from matplotlib.ticker import NullFormatter
 
+from glamas import checks, cli, gla, results
 from glamas import claims as chapter
-from glamas import cli, gla, results, runs
-from glamas.experiments import checks
-from glamas.gridworld import BOUNCE_MODES, GridMap, dp, load_map, rules
+from glamas.gridworld import GridMap, dp, load_map, rules
 from glamas.learners import episode as ep
-from glamas.learners import independent, joint_state, mmdp, two_observe
+from glamas.learners import registry, spec, two_observe
+from glamas.learners.settings import LearningSettings
 from glamas.paths import MAPS, RESULTS
 from glamas.plotting import legend_below, learner_style, new_figure, plot_mean_band, save_figure
 
 EXPERIMENT = "gridworld"
-LEARNERS = ("independent", "joint_state", "mmdp", "two_observe")
-LABELS = {"independent": "independent Q-learners", "joint_state": "joint-state learners",
-          "mmdp": "MMDP learner", "two_observe": "2observe",
-          # the related-work learners of glamas.experiments.related_work, drawn by the same plots
-          "sparse_maq": "sparse tabular MAQ", "cq": "CQ-learning"}
-DELTA_SCALES = ("cells", "unit")
-"""How 2observe's GLA context holds delta (GridworldConfig.gla_delta_scale)."""
-_MODULES = {"independent": independent, "joint_state": joint_state, "mmdp": mmdp,
-            "two_observe": two_observe}
+RESULT_NAME = "gridworld"
+"""Result file shared by the Fig. 11 and 12 scripts: the experiment runs once for all four."""
+LEARNERS = registry.family("chapter")
+"""The learners this experiment trains: the chapter's (glamas.learners.registry), in the order
+their seeds are drawn."""
 
 
 @dataclass(frozen=True)
-class GridworldConfig:
-    """Settings of the Section 5.3 experiment; chapter values as defaults, the rest documented choices."""
+class GridworldConfig(LearningSettings):
+    """Settings of the Section 5.3 experiment: the learners' settings
+    (:class:`glamas.learners.settings.LearningSettings`), plus the map, the learners and the schedule."""
 
     map_file: str = "tunnel_to_goal.txt"
     """Map file (data/maps format), a name in data/maps or a path; Fig. 9 is TunnelToGoal."""
@@ -50,78 +47,14 @@ class GridworldConfig:
     bins: int = 200
     """Points of the learning curves: blocks of episodes with log-spaced ends (the first blocks
     one episode wide), so that learning in the first episodes is resolved (glamas.learners.episode)."""
-    q_learning_rate: float = 0.05
-    """alpha of eq. 11 for every Q-learner (Sec. 5.3)."""
-    q_initial: float = 0.0
-    """Initial value of every Q-table entry (Sec. 5.3)."""
-    exploit_prob: float = 0.9
-    """Probability of the greedy action; the chapter's "epsilon = 0.9" read as exploitation."""
-    discount: float = 0.9
-    """gamma of eq. 11 (not stated in the chapter)."""
-    max_steps: int = 10_000
-    """Step cap per episode, a safeguard (not in the chapter); capped episodes are counted."""
-    bounce: str = "previous"
-    """Where a collided agent goes: 'previous' cell (re-implementations) or its 'start' cell."""
-    gla_learning_rate: float = 0.01
-    """lambda of eq. 13 for 2observe's GLAs (Sec. 5.3)."""
-    gla_temperature: float = 0.5
-    """T of eq. 15 for 2observe's GLAs (not stated for this experiment; Sec. 4.2 uses 0.5)."""
-    gla_K: float = 1.0
-    """K of eq. 13 (not stated for this experiment; Sec. 4.2 uses 1)."""
-    gla_L: float = 8.0
-    """L of eq. 14 (not stated for this experiment). Sec. 4.2's L = 1 bounds parameters for inputs
-    in [-1, 1]; here delta runs to 8 (the largest distance on TunnelToGoal), and L = 1 x 8 lets
-    u.x draw a sharp boundary at any distance the map has."""
-    gla_bounding: str = "clip"
-    """h of eq. 14: 'clip' or 'printed' (see glamas.gla)."""
-    gla_init_range: float = 1.0
-    """GLA parameters start uniform in [-gla_init_range, gla_init_range] ("initialised randomly")."""
-    gla_delta_scale: str = "cells"
-    """The GLA context [delta, 1]: delta in 'cells', or 'unit' (divided by the map's largest
-    distance, into [0, 1] like Sec. 4's inputs)."""
-    gla_need: str = "in_range"
-    """What "need to coordinate" means in Fig. 10 (lost): 'in_range', the agents could collide this
-    step (Sec. 5.1: within each other's range of interference); 'sampled', their preferred actions
-    would collide; 'outcome', they collided (glamas.learners.two_observe)."""
-    gla_feedback: tuple = ((1.0, 0.0), (0.0, 1.0))
-    """Fig. 10 (lost), reconstructed: feedback[choice][need], choice 0 = act alone, 1 = coordinate:
-    1 for the right choice, 0 for the wrong one."""
-    coordination_penalty_per_cell: float = 0.1
-    """Added feedback -this * delta when both coordinated without need (Sec. 5.3's 0 - delta/10)."""
-    rule_distance: int | None = None
-    """None: 2observe's GLAs learn when to coordinate (Alg. 4). A whole number d: a diagnostic, not
-    in the chapter, replacing the GLAs by the fixed rule "coordinate when delta < d"."""
 
     def __post_init__(self):
-        checks.field_types(self)
-        checks.whole_numbers(self, {"episodes": 1, "runs": 1, "bins": 1, "max_steps": 1})
+        super().__post_init__()
+        checks.whole_numbers(self, {"episodes": 1, "runs": 1, "bins": 1})
         learners = tuple(self.learners)
         if not learners or len(set(learners)) != len(learners) or not set(learners) <= set(LEARNERS):
             raise ValueError(f"learners must be distinct names from {LEARNERS}, got {self.learners!r}")
         object.__setattr__(self, "learners", learners)
-        for name in ("q_learning_rate", "exploit_prob", "discount"):
-            _check_unit(self, name)
-        if not np.isfinite(self.q_initial):
-            raise ValueError(f"q_initial must be a finite number, got {self.q_initial!r}")
-        if self.bounce not in BOUNCE_MODES:
-            raise ValueError(f"bounce must be one of {sorted(BOUNCE_MODES)}, got {self.bounce!r}")
-        self.gla_params()  # validates the GLA settings with glamas.gla's messages
-        if not (isinstance(self.gla_init_range, (int, float)) and 0 <= self.gla_init_range <= self.gla_L):
-            raise ValueError(f"gla_init_range must be in [0, gla_L={self.gla_L}], got {self.gla_init_range!r}")
-        table = np.array(self.gla_feedback, dtype=float) if _is_table(self.gla_feedback) else None
-        if table is None or table.shape != (2, 2) or not np.isfinite(table).all():
-            raise ValueError("gla_feedback must be a 2x2 table of numbers, rows = (act alone, "
-                             f"coordinate), columns = (no need, need); got {self.gla_feedback!r}")
-        object.__setattr__(self, "gla_feedback", tuple(tuple(float(v) for v in row) for row in table))
-        if not (isinstance(self.coordination_penalty_per_cell, (int, float)) and self.coordination_penalty_per_cell >= 0):
-            raise ValueError("coordination_penalty_per_cell must be a number >= 0, "
-                             f"got {self.coordination_penalty_per_cell!r}")
-        if self.gla_need not in two_observe.NEEDS:
-            raise ValueError(f"gla_need must be one of {sorted(two_observe.NEEDS)}, got {self.gla_need!r}")
-        if self.gla_delta_scale not in DELTA_SCALES:
-            raise ValueError(f"gla_delta_scale must be one of {sorted(DELTA_SCALES)}, got {self.gla_delta_scale!r}")
-        if self.rule_distance is not None:
-            checks.whole_numbers(self, {"rule_distance": 0})
         gridmap = self.gridmap()
         if gridmap.n_agents != 2:
             raise ValueError(f"the learners are written for two agents; map {self.map_file!r} has {gridmap.n_agents}")
@@ -131,43 +64,24 @@ class GridworldConfig:
         path = Path(self.map_file)
         return load_map(path if path.is_file() or path.parent != Path(".") else MAPS / path)
 
-    def gla_params(self) -> gla.GLAParams:
-        return gla.GLAParams(learning_rate=self.gla_learning_rate, temperature=self.gla_temperature,
-                             K=self.gla_K, L=self.gla_L, bounding=self.gla_bounding)
-
     def edges(self) -> np.ndarray:
         """The learning curves' block edges (glamas.learners.episode.log_edges)."""
         return ep.log_edges(self.episodes, self.bins)
 
+    def schedule(self) -> ep.Schedule:
+        return ep.Schedule(self.episodes, self.edges(), self.max_steps)
+
     def delta_scale(self) -> float:
         """What the GLA context multiplies delta by (``gla_delta_scale``) on this map."""
-        return delta_scale(self.gla_delta_scale, self.gridmap())
-
-
-def delta_scale(mode: str, gridmap: GridMap) -> float:
-    """The factor of delta in 2observe's GLA context: 1 for 'cells', one over the map's largest
-    Manhattan distance for 'unit'."""
-    return 1.0 if mode == "cells" else 1.0 / (gridmap.n_rows + gridmap.n_cols - 2)
-
-
-def _check_unit(config, name):
-    value = getattr(config, name)
-    if not isinstance(value, (int, float)) or not 0 < value <= 1:
-        raise ValueError(f"{name} must be a number in (0, 1], got {value!r}")
-
-
-def _is_table(value) -> bool:
-    try:
-        np.array(value, dtype=float)
-    except (TypeError, ValueError):
-        return False
-    return True
+        return two_observe.delta_scale(self.gla_delta_scale, self.gridmap())
 
 
 @dataclass(frozen=True)
 class GridworldResult:
     """Learning curves (block means over episodes) and final learned structures, all arrays."""
 
+    config: GridworldConfig
+    """The configuration that produced the arrays."""
     learners: np.ndarray
     """int (n_learners,): index into LEARNERS of each learner, in the order of the other arrays."""
     log: np.ndarray
@@ -178,7 +92,7 @@ class GridworldResult:
     gla_parameters: np.ndarray
     """(runs, agents, 2 actions, 2 inputs): 2observe's final GLA parameters (zeros if not run)."""
     need_counts: np.ndarray
-    """(runs, deltas, 2): 2observe's observed steps per distance delta without / with need
+    """(runs, deltas, 2): 2observe's observing agent-steps per distance delta without / with need
     (``gla_need``; zeros if not run)."""
     episodes: np.ndarray
     """int (bins,): the episode count at the end of each block (the curves' x axis)."""
@@ -190,59 +104,47 @@ class GridworldResult:
     def names(self) -> list[str]:
         return [LEARNERS[k] for k in self.learners]
 
-    def curves(self, learner: str, column: int) -> np.ndarray:
-        """(runs, bins) block means of one log column for one learner."""
-        return self.log[self.names().index(learner), :, :, column]
+    def curves(self, learner: str, metric: str) -> np.ndarray:
+        """(runs, bins) block means of one metric of glamas.learners.episode.METRICS for one
+        learner (steps and reward: means of both agents)."""
+        return ep.metric(self.log[self.names().index(learner)], metric)
 
     def steps(self, learner: str) -> np.ndarray:
         """(runs, bins): steps to the goal, averaged over both agents (Fig. 11a)."""
-        return self.log[self.names().index(learner), :, :, ep.STEPS:ep.STEPS + ep.N_AGENTS].mean(axis=2)
+        return self.curves(learner, "steps")
 
     def reward(self, learner: str) -> np.ndarray:
         """(runs, bins): undiscounted reward per episode, averaged over both agents (Fig. 11b)."""
-        return self.log[self.names().index(learner), :, :, ep.REWARD:ep.REWARD + ep.N_AGENTS].mean(axis=2)
+        return self.curves(learner, "reward")
 
 
 def run(config: GridworldConfig = GridworldConfig(), seed: int = 0, workers=None,
         progress=None) -> GridworldResult:
     """Train every learner of ``config`` in ``config.runs`` runs.
 
-    Learner ``LEARNERS[k]`` draws its runs' streams from master seed ``4 * seed + k``: every
-    (seed, learner) pair has its own streams, and a learner gets the same streams whichever
-    other learners are trained with it.
+    Each learner draws its runs' streams from its own master seed
+    (:func:`glamas.learners.registry.master_seed` over LEARNERS): every (seed, learner) pair has
+    its own streams, and a learner gets the same streams whichever other learners are trained with it.
     """
-    gridmap = config.gridmap()
-    n = len(config.learners)
-    edges = config.edges()
-    log = np.zeros((n, config.runs, edges.size - 1, ep.N_COLUMNS))
-    shapes = np.zeros((n, 3), dtype=np.int64)
-    u = np.zeros((config.runs,) + two_observe.new_gla_parameters(gridmap.n_agents).shape)
-    needs = np.zeros((config.runs,) + two_observe.new_need_counts(gridmap.n_rows, gridmap.n_cols).shape)
+    gridmap, schedule = config.gridmap(), config.schedule()
+    log = np.zeros((len(config.learners), config.runs, schedule.edges.size - 1, ep.n_columns(gridmap.n_agents)))
+    shapes = np.zeros((len(config.learners), 3), dtype=np.int64)
+    first_level = {key: np.stack([zeros] * config.runs) for key, zeros in two_observe.outputs(config, gridmap).items()}
     for k, name in enumerate(config.learners):
-        q = np.stack([_MODULES[name].new_tables(gridmap.n_cells, gridmap.n_agents)] * config.runs)
-        q[:] = config.q_initial
-        inputs = _kernel_inputs(name, config, gridmap)
-        outputs = (q, u, needs, log[k]) if name == "two_observe" else (q, log[k])
         label = None if progress is None else f"{progress}: {name}"
-        runs.run_batches(_MODULES[name].run, inputs, outputs, len(LEARNERS) * seed + LEARNERS.index(name), workers=workers, progress=label)
-        shapes[k] = q.shape[1:]
+        outputs = spec.train(registry.get(name), config, gridmap, schedule, config.runs,
+                             registry.master_seed(seed, LEARNERS, name), workers, label)
+        log[k], shapes[k] = outputs["log"], outputs["q"].shape[1:]
+        first_level.update({key: outputs[key] for key in first_level.keys() & outputs.keys()})
     codes = np.array([LEARNERS.index(name) for name in config.learners], dtype=np.int64)
-    return GridworldResult(learners=codes, log=log, table_shapes=shapes, gla_parameters=u,
-                           need_counts=needs, episodes=edges[1:])
+    return GridworldResult(config=config, learners=codes, log=log, table_shapes=shapes,
+                           gla_parameters=first_level["u"], need_counts=first_level["need_counts"],
+                           episodes=schedule.edges[1:])
 
 
-def _kernel_inputs(name: str, config: GridworldConfig, gridmap: GridMap) -> tuple:
-    world = (gridmap.next_cell, gridmap.is_goal, gridmap.starts, BOUNCE_MODES[config.bounce])
-    learning = (config.q_learning_rate, config.discount, config.exploit_prob)
-    schedule = (config.episodes, config.edges(), config.max_steps)
-    if name != "two_observe":
-        return world + learning + schedule
-    p = config.gla_params()
-    automata = (p.learning_rate, p.temperature, p.K, p.L, p.bounding_code, float(config.gla_init_range),
-                np.array(config.gla_feedback), float(config.coordination_penalty_per_cell),
-                two_observe.NEEDS[config.gla_need], delta_scale(config.gla_delta_scale, gridmap),
-                -1 if config.rule_distance is None else config.rule_distance)
-    return world + (gridmap.n_cols,) + learning + automata + schedule
+def load(config: GridworldConfig = GridworldConfig(), seed: int = 0, results_dir: Path = RESULTS) -> GridworldResult:
+    """The committed (or ``results_dir``'s) result of ``config`` and ``seed``, its configuration checked."""
+    return GridworldResult(config=config, **results.load(Path(results_dir) / f"{RESULT_NAME}.npz", config, seed=seed))
 
 
 FINAL_FRACTION = 0.1
@@ -305,10 +207,10 @@ def measure(result: GridworldResult) -> dict:
     for name in result.names():
         m[f"steps_{name}"] = final(result.steps(name), x)
         m[f"reward_{name}"] = final(result.reward(name), x)
-        m[f"collisions_{name}"] = final(result.curves(name, ep.COLLISIONS), x)
-        m[f"coordinations_{name}"] = final(result.curves(name, ep.COORDINATIONS), x)
+        m[f"collisions_{name}"] = final(result.curves(name, "collisions"), x)
+        m[f"coordinations_{name}"] = final(result.curves(name, "coordinations"), x)
         m[f"convergence_{name}"] = convergence_episode(result.steps(name), x)
-        m[f"capped_episodes_{name}"] = float(result.curves(name, ep.CAPPED).mean(axis=0) @ result.widths())
+        m[f"capped_episodes_{name}"] = float(result.curves(name, "capped").mean(axis=0) @ result.widths())
     if {"two_observe", "independent", "mmdp"} <= set(result.names()):
         for base in ("independent", "mmdp"):
             m[f"steps_two_observe_minus_{base}"] = m["steps_two_observe"] - m[f"steps_{base}"]
@@ -328,7 +230,7 @@ def summary_table(result: GridworldResult) -> str:
     lines = [f"{'learner':24s} {'steps':>6s} {'reward':>7s} {'collisions':>10s} {'coordinations':>13s} "
              f"{'converged by':>12s} {'capped/run':>10s}"]
     for name in result.names():
-        lines.append(f"{LABELS[name]:24s} {m[f'steps_{name}']:6.2f} {m[f'reward_{name}']:7.1f} "
+        lines.append(f"{registry.label(name):24s} {m[f'steps_{name}']:6.2f} {m[f'reward_{name}']:7.1f} "
                      f"{m[f'collisions_{name}']:10.3f} {m[f'coordinations_{name}']:13.2f} "
                      f"{m[f'convergence_{name}']:12.0f} {m[f'capped_episodes_{name}']:10.1f}")
     return "\n".join(lines)
@@ -340,8 +242,9 @@ def with_learner(result: GridworldResult, other: GridworldResult, name: str) -> 
     k, j = result.names().index(name), other.names().index(name)
     log = result.log.copy()
     log[k] = other.log[j]
-    extra = {"gla_parameters": other.gla_parameters, "need_counts": other.need_counts} if name == "two_observe" else {}
-    return replace(result, log=log, **extra)
+    learned = registry.get(name).outputs(other.config, other.config.gridmap())
+    first_level = {"gla_parameters": "u", "need_counts": "need_counts"}
+    return replace(result, log=log, **{field: getattr(other, field) for field, key in first_level.items() if key in learned})
 
 
 def matches_committed(result: GridworldResult, config: GridworldConfig, seed: int = 0) -> bool:
@@ -360,7 +263,7 @@ def state_action_table(result: GridworldResult) -> str:
     """:func:`state_action_spaces` as text: the measured counterpart of Table 1 for this map."""
     lines = [f"{'learner':24s} {'Q tables':>8s} {'states':>7s} {'actions':>7s} {'Q entries/agent':>15s} {'GLA params/agent':>16s}"]
     for row in state_action_spaces(result):
-        lines.append(f"{LABELS[row['learner']]:24s} {row['tables']:8d} {row['states']:7d} {row['actions']:7d} "
+        lines.append(f"{registry.label(row['learner']):24s} {row['tables']:8d} {row['states']:7d} {row['actions']:7d} "
                      f"{row['q_entries_per_agent']:15.0f} {row['gla_parameters_per_agent']:16d}")
     return "\n".join(lines)
 
@@ -369,10 +272,10 @@ def state_action_spaces(result: GridworldResult) -> list[dict]:
     """Table 1 / Sec. 5.3 analysis, measured from the learners' final tables: per learner the
     number of Q tables, their states and actions, the Q entries per agent and the GLA parameters."""
     rows = []
+    gridmap = result.config.gridmap()
     for name, (tables, states, actions) in zip(result.names(), result.table_shapes):
-        n_agents = result.gla_parameters.shape[1]
-        q_per_agent = tables * states * actions / n_agents
-        gla_per_agent = int(np.prod(result.gla_parameters.shape[2:])) if name == "two_observe" else 0
+        q_per_agent = tables * states * actions / gridmap.n_agents
+        gla_per_agent = registry.get(name).gla_parameters(result.config, gridmap) // gridmap.n_agents
         rows.append({"learner": name, "tables": int(tables), "states": int(states),
                      "actions": int(actions), "q_entries_per_agent": q_per_agent,
                      "gla_parameters_per_agent": gla_per_agent})
@@ -421,11 +324,11 @@ def convergence_report(result: GridworldResult) -> str:
     m = measure(result)
     lines = [f"{'':28s} {'episodes':>9s}"]
     for name in result.names():
-        lines.append(f"{LABELS[name]:28s} {m[f'convergence_{name}']:9.0f}")
+        lines.append(f"{registry.label(name):28s} {m[f'convergence_{name}']:9.0f}")
     for base in ("independent", "mmdp"):
         key = f"convergence_two_observe_over_{base}"
         decided = "undecidable" if np.isnan(m[key]) else ("faster" if m[key] < 1 else "slower")
-        lines.append(f"2observe / {LABELS[base]}: ratio {m[f'{key}_point']:.3f}, 95 % interval over runs "
+        lines.append(f"2observe / {registry.label(base)}: ratio {m[f'{key}_point']:.3f}, 95 % interval over runs "
                      f"[{m[f'{key}_low']:.3f}, {m[f'{key}_high']:.3f}]: {decided}")
     return "\n".join(lines)
 
@@ -456,7 +359,7 @@ def _plot_learners(ax, result, values, ylabel, reference=None, learners=None):
     x = result.episodes
     names = list(learners or result.names())
     for name in sorted(names, key=lambda name: name != UNDERNEATH):  # 2observe first, underneath
-        plot_mean_band(ax, x, values(name), LABELS[name], **_line_style(name))
+        plot_mean_band(ax, x, values(name), registry.label(name), **_line_style(name))
     if reference is not None:
         ax.axhline(reference, color="black", linestyle="--", linewidth=1, label="optimum (value iteration)")
     ax.set_xscale("log")  # the learning happens in the first few thousand episodes
@@ -473,7 +376,7 @@ def _legend_in_learner_order(ax, names):
 
 
 def _legend_rank(label: str, names) -> int:
-    ranks = {LABELS[name]: k for k, name in enumerate(names)}
+    ranks = {registry.label(name): k for k, name in enumerate(names)}
     return ranks.get(label, len(ranks))
 
 
@@ -508,7 +411,7 @@ def _plot_step_tail(ax, result, optimum):
     tail = ax.inset_axes([0.5, 0.4, 0.47, 0.5])
     keep = result.episodes >= TAIL_FROM
     for name in sorted(result.names(), key=lambda name: name != UNDERNEATH):
-        plot_mean_band(tail, result.episodes[keep], result.steps(name)[:, keep], LABELS[name], **_line_style(name))
+        plot_mean_band(tail, result.episodes[keep], result.steps(name)[:, keep], registry.label(name), **_line_style(name))
     if optimum is not None:
         tail.axhline(optimum["steps"], color="black", linestyle="--", linewidth=1)
     tail.set_xscale("log")
@@ -527,7 +430,7 @@ def plot_reward(ax, result, optimum=None):
 
 def plot_collisions(ax, result, optimum=None):
     """Fig. 12a: agent-agent collisions per episode."""
-    _plot_learners(ax, result, lambda name: result.curves(name, ep.COLLISIONS), "collisions per episode",
+    _plot_learners(ax, result, lambda name: result.curves(name, "collisions"), "collisions per episode",
                    None if optimum is None else optimum["collisions"])
 
 
@@ -540,16 +443,15 @@ def plot_coordinations(ax, result):
     chapter's "about four"."""
     ax.axhline(CHAPTER_COORDINATIONS, color="black", linestyle=":", linewidth=1.2,
                label='the chapter: "about four" per episode')
-    _plot_learners(ax, result, lambda name: result.curves(name, ep.COORDINATIONS),
+    _plot_learners(ax, result, lambda name: result.curves(name, "coordinations"),
                    "coordinations per episode", learners=["two_observe"])
 
 
 def plot_variants(ax, results: dict, metric: str, learner: str = "two_observe"):
     """One learner's curve of ``metric`` ('steps', 'reward', 'collisions' or 'coordinations')
     for several configurations: ``results`` maps a label to a result."""
-    column = {"collisions": ep.COLLISIONS, "coordinations": ep.COORDINATIONS}
     for label, result in results.items():
-        values = getattr(result, metric)(learner) if metric in ("steps", "reward") else result.curves(learner, column[metric])
+        values = result.curves(learner, metric)
         plot_mean_band(ax, result.episodes, values, label)
     ax.set_xscale("log")
     ax.set_xlabel("episode")
@@ -598,8 +500,6 @@ def plot_coordination_probability(ax, result, config: GridworldConfig):
 
 # --- figure scripts (paper_figures/fig10.py ... fig12b.py) --------------------------------------
 
-RESULT_NAME = "gridworld"
-"""Result file shared by the Fig. 11 and 12 scripts: the experiment runs once for all four."""
 _DRAW = {"fig11a": plot_steps, "fig11b": plot_reward, "fig12a": plot_collisions,
          "fig12b": lambda ax, result, optimum: plot_coordinations(ax, result)}
 

@@ -9,7 +9,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from glamas import claims, memory
-from glamas.experiments import checks
+from glamas import checks
 from glamas.gridworld import GridMap, dp, draw, load_map, rules
 from glamas.paths import MAPS
 

@@ -15,66 +15,65 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 from glamas import claims as chapter
-from glamas import cli, runs
-from glamas.experiments import checks
+from glamas import cli, results
 from glamas.experiments import gridworld as gw
-from glamas.gridworld import BOUNCE_MODES, rules
-from glamas.learners import cq, sparse_maq
-from glamas.learners import episode as ep
+from glamas.gridworld import GridMap, rules
+from glamas.learners import cq, registry, spec, sparse_maq
+from glamas.learners.settings import LearnerSettings, RelatedSettings, combine
+from glamas.paths import RESULTS
 from glamas.plotting import legend_below, legend_right, learner_style, mean_and_band, new_figure, plot_mean_band, save_figure
 
 EXPERIMENT = "related_work"
-RELATED_LEARNERS = ("sparse_maq", "cq")
-ALL_LEARNERS = gw.LEARNERS + RELATED_LEARNERS
-"""Learner codes of a :class:`RelatedWorkResult`: the chapter's four keep their codes 0-3."""
-RELATED_SEED_OFFSET = 2 ** 32
-"""Related-work learner j draws its runs' streams from master seed
-``RELATED_SEED_OFFSET + len(RELATED_LEARNERS) * seed + j``: apart from the chapter learners'
-``4 * seed + k`` for every seed below 2**30."""
+RESULT_NAME = "related_work"
+"""Result file shared by the related_* figure scripts: the comparison runs once for all of them."""
+RELATED_LEARNERS = registry.family("related")
+"""The related-work learners (glamas.learners.registry), in the order their seeds are drawn."""
 CHAPTER_LEARNERS = ("independent", "mmdp", "two_observe")
 """The chapter's learners the comparison trains by default (the joint-state learners are left out)."""
-_MODULES = {"sparse_maq": sparse_maq, "cq": cq}
 
 
 @dataclass(frozen=True)
-class RelatedWorkConfig:
-    """The comparison's settings: the chapter's experiment plus the related-work learners' own."""
+class RelatedWorkConfig(RelatedSettings):
+    """The comparison's settings: the chapter's experiment plus the related-work learners' own
+    (:class:`glamas.learners.settings.RelatedSettings`)."""
 
     gridworld: gw.GridworldConfig = gw.GridworldConfig(learners=CHAPTER_LEARNERS)
     """The chapter's experiment (map, episodes, runs, Q-learning settings) and which of its learners
     to train; the related-work learners use the same map, schedule and Q-learning settings."""
     learners: tuple = RELATED_LEARNERS
-    """Which related-work learners to train: distinct names from sparse_maq, cq (may be empty)."""
-    coordination_distance: int = 2
-    """Sparse tabular MAQ: the agents coordinate in the joint states where their Manhattan distance
-    is at most this (given in advance, as Kok and Vlassis require); 2 covers every collision."""
-    cq_window: int = 30
-    """CQ-learning: rewards kept per state-action, in the baseline and in the recent window."""
-    cq_significance: float = 0.05
-    """CQ-learning: significance level of the two-sided Student t-test on immediate rewards."""
-    cq_solo_episodes: int = 1000
-    """CQ-learning: episodes each agent first learns alone (the single-agent phase), not counted
-    in ``gridworld.episodes``."""
+    """Which learners beyond the chapter's to train: distinct names of registered learners, such
+    as sparse_maq and cq (may be empty)."""
 
     def __post_init__(self):
-        checks.field_types(self)
-        if not isinstance(self.gridworld, gw.GridworldConfig):
-            raise ValueError(f"gridworld must be a GridworldConfig, got {self.gridworld!r}")
+        super().__post_init__()
         learners = tuple(self.learners)
-        if len(set(learners)) != len(learners) or not set(learners) <= set(RELATED_LEARNERS):
-            raise ValueError(f"learners must be distinct names from {RELATED_LEARNERS}, got {self.learners!r}")
+        if len(set(learners)) != len(learners) or not set(learners) <= set(registry.beyond_the_chapter()):
+            raise ValueError(f"learners must be distinct names from {registry.beyond_the_chapter()}, "
+                             f"got {self.learners!r}")
         object.__setattr__(self, "learners", learners)
-        checks.whole_numbers(self, {"coordination_distance": 1, "cq_window": 2, "cq_solo_episodes": 1})
-        if not (isinstance(self.cq_significance, float) and 0.0 < self.cq_significance < 1.0):
-            raise ValueError(f"cq_significance must be a number in (0, 1) such as 0.05, got {self.cq_significance!r}")
         # two agents: GridworldConfig already rejects other maps
+
+    def settings(self) -> LearnerSettings:
+        """Every learner's settings: the chapter experiment's and the related-work learners' own."""
+        return combine(self.gridworld, self)
+
+    def gridmap(self) -> GridMap:
+        return self.gridworld.gridmap()
+
+
+def learner_codes() -> tuple:
+    """The learners a :class:`RelatedWorkResult`'s codes index: the chapter's four (codes 0-3),
+    then every registered learner beyond them (the related-work learners 4 and 5)."""
+    return gw.LEARNERS + registry.beyond_the_chapter()
 
 
 @dataclass(frozen=True)
 class RelatedWorkResult(gw.GridworldResult):
-    """A :class:`~glamas.experiments.gridworld.GridworldResult` over the chapter's and the
-    related-work learners (codes into ALL_LEARNERS), with what each learner stores."""
+    """A :class:`~glamas.experiments.gridworld.GridworldResult` over the chapter's and other
+    learners (codes into :func:`learner_codes`), with what each learner stores."""
 
+    config: RelatedWorkConfig
+    """The configuration that produced the arrays."""
     local_entries: np.ndarray
     """float (n_learners,): Q entries per agent over its own cells."""
     joint_entries: np.ndarray
@@ -87,66 +86,56 @@ class RelatedWorkResult(gw.GridworldResult):
     observe (all False if CQ did not run)."""
 
     def names(self) -> list[str]:
-        return [ALL_LEARNERS[k] for k in self.learners]
-
-
-def related_seed(seed: int, name: str) -> int:
-    """The master seed of related-work learner ``name`` for the experiment's ``seed``."""
-    return RELATED_SEED_OFFSET + len(RELATED_LEARNERS) * seed + RELATED_LEARNERS.index(name)
+        codes = learner_codes()
+        return [codes[k] for k in self.learners]
 
 
 def run(config: RelatedWorkConfig = RelatedWorkConfig(), seed: int = 0, workers=None,
         progress=None) -> RelatedWorkResult:
     """Train the chapter's learners (:func:`glamas.experiments.gridworld.run`, unchanged) and the
     related-work learners of ``config`` in ``config.gridworld.runs`` runs."""
-    base = config.gridworld
+    base, settings = config.gridworld, config.settings()
     chapter_result = gw.run(base, seed=seed, workers=workers, progress=progress)
-    gridmap = base.gridmap()
-    n_cells, n_agents = gridmap.n_cells, gridmap.n_agents
+    gridmap, schedule = base.gridmap(), base.schedule()
     n = len(config.learners)
-    edges = base.edges()
-    log = np.zeros((n, base.runs, edges.size - 1, ep.N_COLUMNS))
+    log = np.zeros((n, base.runs, schedule.edges.size - 1, chapter_result.log.shape[-1]))
     shapes = np.zeros((n, 3), dtype=np.int64)
-    joint = np.zeros((n, base.runs))
-    samples = np.zeros(n, dtype=np.int64)
-    marked = np.zeros((base.runs, n_agents, n_cells, n_cells), dtype=np.bool_)
-    world = (gridmap.next_cell, gridmap.is_goal, gridmap.starts, BOUNCE_MODES[base.bounce])
-    learning = (base.q_learning_rate, base.discount, base.exploit_prob)
-    schedule = (base.episodes, edges, base.max_steps)
+    learned = np.zeros((n, base.runs))
+    marked = np.stack([cq.outputs(settings, gridmap)["marked"]] * base.runs)
     for j, name in enumerate(config.learners):
-        q = np.full((base.runs,) + _MODULES[name].new_tables(n_cells, n_agents).shape, base.q_initial)
         label = None if progress is None else f"{progress}: {name}"
-        if name == "sparse_maq":
-            index = sparse_maq.coordination_index(gridmap, config.coordination_distance)
-            q_joint = np.full((base.runs,) + sparse_maq.new_joint_table(index).shape, base.q_initial)
-            runs.run_batches(sparse_maq.run, world + (index,) + learning + schedule, (q, q_joint, log[j]),
-                             related_seed(seed, name), workers=workers, progress=label)
-            joint[j] = q_joint[0].size / n_agents
-        else:
-            q_aug = np.stack([cq.new_augmented_tables(n_cells, n_agents)[0]] * base.runs)
-            t_critical = cq.t_critical_values(2 * config.cq_window - 2, config.cq_significance)
-            inputs = world + (gridmap.n_cols,) + learning + (config.cq_window, t_critical,
-                                                             config.cq_solo_episodes) + schedule
-            runs.run_batches(cq.run, inputs, (q, q_aug, marked, log[j]), related_seed(seed, name),
-                             workers=workers, progress=label)
-            joint[j] = marked.sum(axis=(2, 3)).mean(axis=1) * rules.N_ACTIONS
-            samples[j] = n_cells * rules.N_ACTIONS * config.cq_window
-        shapes[j] = q.shape[1:]
-    codes = np.array([ALL_LEARNERS.index(name) for name in config.learners], dtype=np.int64)
-    chapter_local = [float(np.prod(s[1:])) if name in ("independent", "two_observe") else 0.0
-                     for name, s in zip(chapter_result.names(), chapter_result.table_shapes)]
-    chapter_joint = [np.full(base.runs, 0.0 if name in ("independent", "two_observe") else np.prod(s) / n_agents)
-                     for name, s in zip(chapter_result.names(), chapter_result.table_shapes)]
+        learner = registry.get(name)
+        outputs = spec.train(learner, settings, gridmap, schedule, base.runs,
+                             registry.master_seed(seed, RELATED_LEARNERS, name, learner.family), workers, label)
+        log[j], shapes[j] = outputs["log"], outputs["q"].shape[1:]
+        learned[j] = learner.joint_learned(outputs, settings, gridmap)
+        marked = outputs.get("marked", marked)
+    names = chapter_result.names() + list(config.learners)
+    shapes = np.concatenate([chapter_result.table_shapes, shapes])
+    learned = np.concatenate([np.zeros((len(chapter_result.names()), base.runs)), learned])
     return RelatedWorkResult(
-        learners=np.concatenate([chapter_result.learners, codes]),
-        log=np.concatenate([chapter_result.log, log]),
-        table_shapes=np.concatenate([chapter_result.table_shapes, shapes]),
+        config=config, learners=np.array([learner_codes().index(name) for name in names], dtype=np.int64),
+        log=np.concatenate([chapter_result.log, log]), table_shapes=shapes,
         gla_parameters=chapter_result.gla_parameters, need_counts=chapter_result.need_counts,
-        episodes=chapter_result.episodes,
-        local_entries=np.array(chapter_local + [float(n_cells * rules.N_ACTIONS)] * n),
-        joint_entries=np.concatenate([np.array(chapter_joint).reshape(-1, base.runs), joint]),
-        reward_samples=np.concatenate([np.zeros(len(chapter_local), dtype=np.int64), samples]),
-        cq_marked=marked)
+        episodes=chapter_result.episodes, **storage(names, shapes, learned, settings, gridmap), cq_marked=marked)
+
+
+def storage(names: list, shapes: np.ndarray, learned: np.ndarray, settings, gridmap: GridMap) -> dict:
+    """What each agent stores, per learner: its Q entries over its own cells, its Q entries over
+    joint states per run (its joint Q tables, and the joint values ``learned`` beyond them), and
+    its reward samples."""
+    n_agents = gridmap.n_agents
+    joint = [registry.get(name).joint_tables for name in names]
+    local = [0.0 if is_joint else float(np.prod(shape[1:])) for is_joint, shape in zip(joint, shapes)]
+    tables = [np.prod(shape) / n_agents if is_joint else 0.0 for is_joint, shape in zip(joint, shapes)]
+    samples = [registry.get(name).reward_samples(settings, gridmap) // n_agents for name in names]
+    return {"local_entries": np.array(local), "joint_entries": np.array(tables)[:, None] + learned / n_agents,
+            "reward_samples": np.array(samples, dtype=np.int64)}
+
+
+def load(config: RelatedWorkConfig = RelatedWorkConfig(), seed: int = 0, results_dir: Path = RESULTS) -> RelatedWorkResult:
+    """The committed (or ``results_dir``'s) result of ``config`` and ``seed``, its configuration checked."""
+    return RelatedWorkResult(config=config, **results.load(Path(results_dir) / f"{RESULT_NAME}.npz", config, seed=seed))
 
 
 # --- measurements and claims --------------------------------------------------------------------
@@ -188,10 +177,10 @@ def measure(result: RelatedWorkResult, config: RelatedWorkConfig) -> dict:
     return m
 
 
-def final_interval(result: RelatedWorkResult, name: str, column: int = ep.COLLISIONS) -> tuple[float, float, float]:
-    """Learner ``name``'s final value of one log column (``gw.final``, last 10 % of the episodes)
+def final_interval(result: RelatedWorkResult, name: str, metric: str = "collisions") -> tuple[float, float, float]:
+    """Learner ``name``'s final value of one metric (``gw.final``, last 10 % of the episodes)
     as (mean over runs, 95 % bootstrap interval of that mean: runs resampled, as the figures' bands)."""
-    per_run = np.array([gw.final(curve[None], result.episodes) for curve in result.curves(name, column)])
+    per_run = np.array([gw.final(curve[None], result.episodes) for curve in result.curves(name, metric)])
     mean, low, high = mean_and_band(per_run[:, None])
     return float(mean[0]), float(low[0]), float(high[0])
 
@@ -221,9 +210,10 @@ def summary_table(result: RelatedWorkResult, config: RelatedWorkConfig) -> str:
     m = measure(result, config)
     lines = [f"{'learner':24s} {'steps':>6s} {'reward':>7s} {'collisions':>10s} {'coordinations':>13s} "
              f"{'converged by':>12s} {'Q entries/agent':>15s} {'samples/agent':>13s} {'GLA params/agent':>16s}"]
+    settings, gridmap = config.settings(), config.gridmap()
     for k, name in enumerate(result.names()):
-        gla_parameters = int(np.prod(result.gla_parameters.shape[2:])) if name == "two_observe" else 0
-        lines.append(f"{gw.LABELS[name]:24s} {m[f'steps_{name}']:6.2f} {m[f'reward_{name}']:7.1f} "
+        gla_parameters = registry.get(name).gla_parameters(settings, gridmap) // gridmap.n_agents
+        lines.append(f"{registry.label(name):24s} {m[f'steps_{name}']:6.2f} {m[f'reward_{name}']:7.1f} "
                      f"{m[f'collisions_{name}']:10.3f} {m[f'coordinations_{name}']:13.2f} "
                      f"{m[f'convergence_{name}']:12.0f} {m[f'q_entries_{name}']:15.0f} "
                      f"{result.reward_samples[k]:13d} {gla_parameters:16d}")
@@ -236,10 +226,10 @@ def plot_coordinations(ax, result: RelatedWorkResult):
     """Steps per episode on which the agents observed each other: both 2observe GLAs chose to
     coordinate, sparse MAQ's agents were in a coordination state, or a CQ agent acted on a marked
     joint state."""
-    for name in ("two_observe", "sparse_maq", "cq"):
-        if name in result.names():
-            plot_mean_band(ax, result.episodes, result.curves(name, ep.COORDINATIONS), gw.LABELS[name],
-                           **learner_style(name))
+    for name in result.names():
+        coordinations = result.curves(name, "coordinations")
+        if coordinations.any():  # the learners that never observe each other draw nothing
+            plot_mean_band(ax, result.episodes, coordinations, registry.label(name), **learner_style(name))
     ax.set_xscale("log")
     ax.set_xlabel("episode")
     ax.set_ylabel("steps observing the other agent")
@@ -257,7 +247,7 @@ def plot_size_and_reward(ax, result: RelatedWorkResult, config: RelatedWorkConfi
     for name in result.names():
         points.setdefault((m[f"q_entries_{name}"], round(m[f"reward_{name}"], 1)), []).append(name)
     for (entries, reward), names in points.items():
-        ax.plot(entries, reward, markersize=8, linestyle="none", label=" = ".join(gw.LABELS[n] for n in names),
+        ax.plot(entries, reward, markersize=8, linestyle="none", label=" = ".join(registry.label(n) for n in names),
                 **learner_style(names[0], marker=True))
     for k, name in enumerate(result.names()):
         if result.reward_samples[k] > 0:
@@ -273,7 +263,7 @@ def _plot_with_samples(ax, name: str, entries: float, reward: float, samples: in
     """An open marker at ``entries + samples``, labelled, and an arrow to it from the Q-entries point."""
     style = learner_style(name, marker=True)
     ax.plot(entries + samples, reward, markersize=8, linestyle="none", mfc="none",
-            label=f"{gw.LABELS[name]}: Q entries + {samples} reward samples", **style)
+            label=f"{registry.label(name)}: Q entries + {samples} reward samples", **style)
     ax.annotate("", (entries + samples, reward), xytext=(entries, reward),
                 arrowprops={"arrowstyle": "->", "color": style["color"], "shrinkA": 6, "shrinkB": 6})
 
@@ -302,8 +292,6 @@ def plot_marked_distances(ax, result: RelatedWorkResult, config: RelatedWorkConf
 
 # --- figure scripts (paper_figures/related_*.py) ----------------------------------------------
 
-RESULT_NAME = "related_work"
-"""Result file shared by the related_* figure scripts: the comparison runs once for all of them."""
 _DRAW = {"related_steps": lambda ax, r, c: gw.plot_steps(ax, r, gw.optimum(c.gridworld)),
          "related_reward": lambda ax, r, c: gw.plot_reward(ax, r, gw.optimum(c.gridworld)),
          "related_collisions": lambda ax, r, c: gw.plot_collisions(ax, r, gw.optimum(c.gridworld)),

@@ -4,71 +4,86 @@ exponentially in the number of agents while independent learners and 2observe st
 
 Every map ``warehouse_N.txt`` is the same 5 x 7 warehouse (one one-track aisle to the shared goal,
 entered from the right end) with N agents starting along the top and bottom rows, so only the
-number of agents changes between the maps. ``run`` allocates a learner's Q tables only when they
-fit the memory budget (computed before allocating; otherwise the learner is skipped at that N and
-the reason recorded), trains it and keeps agent-mean learning curves. ``measure`` turns the curves
+number of agents changes between the maps. Every learner runs through its registered spec
+(:mod:`glamas.learners.registry`), so a new learner joins the study by its name. ``run`` allocates
+a learner's tables only when they fit the memory budget (computed from its spec before allocating;
+otherwise the learner is skipped at that N and the reason recorded), trains it and keeps
+agent-mean learning curves. ``measure`` turns the curves
 and the measured table sizes into per-(method, N) numbers and growth rates fitted over N, from
 which the claims of ``data/chapter/scaling.json`` get their verdicts.
 
 The related-work learners of :mod:`glamas.experiments.related_work` join the study in their N-agent
-forms: sparse tabular MAQ with pairwise coordination (:func:`glamas.learners.sparse_maq.run_pairs`)
+forms: sparse tabular MAQ with pairwise coordination (:mod:`glamas.learners.sparse_maq`)
 and CQ-learning observing the nearest other agent (:mod:`glamas.learners.cq`). Besides their local
 Q tables they store joint values (sparse MAQ: every pair's joint table; CQ: 4 per marked joint
 state, measured) and CQ its reward windows; all of it counts in their values per run.
 """
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 import matplotlib.pyplot as plt
 import numpy as np
 
+from glamas import checks, cli, results
 from glamas import claims as chapter
-from glamas import cli, runs
-from glamas.experiments import checks
-from glamas.experiments.gridworld import GridworldConfig, convergence_episode, delta_scale, final
-from glamas.gridworld import BOUNCE_MODES, GridMap, load_map, rules
+from glamas.experiments.gridworld import convergence_episode, final
+from glamas.gridworld import GridMap, load_map
 from glamas.learners import episode as ep
-from glamas.learners import cq, group_observe, independent, joint_state, mmdp, sparse_maq, two_observe
-from glamas.paths import MAPS
+from glamas.learners import registry, spec
+from glamas.learners.settings import LearnerSettings, LearningSettings, RelatedSettings, combine
+from glamas.learners.spec import BYTES_PER_VALUE, Learner
+from glamas.paths import MAPS, RESULTS
 from glamas.plotting import BAND_DRAWS, learner_style, legend_right, new_figure, plot_mean_band, save_figure
 
 EXPERIMENT = "scaling"
-CHAPTER_METHODS = ("independent", "joint_state", "mmdp", "two_observe", "two_observe_rule")
-RELATED_METHODS = ("sparse_maq", "cq")
-METHODS = CHAPTER_METHODS + RELATED_METHODS
-LABELS = {"independent": "independent Q-learners", "joint_state": "joint-state learners",
-          "mmdp": "MMDP learner", "two_observe": "2observe (N agents)",
-          "two_observe_rule": "2observe, fixed rule", "sparse_maq": "sparse MAQ (pairs)",
-          "cq": "CQ-learning (nearest)"}
-_MODULES = {"independent": independent, "joint_state": joint_state, "mmdp": mmdp,
-            "two_observe": group_observe, "two_observe_rule": group_observe}
-RELATED_SEED_OFFSET = 2 ** 32
-"""The related-work methods draw their master seeds from ``RELATED_SEED_OFFSET`` on (:func:`seed_of`)."""
-MAX_AGENTS = 9
-"""The map format numbers agents 1-9."""
-BYTES_PER_ENTRY = 8
-"""Q values are float64."""
-MACHINE_MEMORY_GIB = 24
-"""A workstation's memory, 24 GiB, drawn for scale: one run's tables beyond it fit no such machine."""
-
-# Columns of the agent-mean log kept per (method, N).
-STEPS, REWARD, COLLISIONS, COORDINATIONS, CAPPED = range(5)
-N_METRICS = 5
+RESULT_NAME = "scaling"
+"""Result file shared by the scaling_* figure scripts: the study runs once for all of them."""
 
 
 @dataclass(frozen=True)
-class ScalingConfig:
-    """Settings of the scaling study; learner settings are the Section 5.3 experiment's."""
+class Variant:
+    """A method of the study that is a registered learner with one setting changed."""
+
+    learner: str
+    """The learner it runs."""
+    label: str
+    """Its name in figures and tables."""
+
+
+VARIANTS = {"two_observe_rule": Variant("two_observe", "2observe, fixed rule")}
+"""The study's variants: 'two_observe_rule' is a diagnostic outside the chapter, 2observe with its
+GLAs replaced by the rule "coordinate when delta < ScalingConfig.rule_distance"."""
+CHAPTER_METHODS = registry.family("chapter") + tuple(VARIANTS)
+RELATED_METHODS = registry.family("related")
+METHODS = CHAPTER_METHODS + RELATED_METHODS
+"""The study's methods by default."""
+
+
+def known_methods() -> tuple:
+    """What a ScalingConfig can train, and what a ScalingResult's codes index: METHODS, then every
+    other registered learner."""
+    return METHODS + registry.family("other")
+MAX_AGENTS = 9
+"""The map format numbers agents 1-9."""
+MACHINE_MEMORY_GIB = 24
+"""A workstation's memory, 24 GiB, drawn for scale: one run's tables beyond it fit no such machine."""
+METRICS = ("steps", "reward", "collisions", "coordinations", "capped")
+"""What the study keeps of each episode log (glamas.learners.episode.METRICS, agent means)."""
+
+
+@dataclass(frozen=True)
+class ScalingConfig(RelatedSettings):
+    """Settings of the scaling study: the learners' settings (``learning`` and the related-work
+    learners' own, :class:`glamas.learners.settings.RelatedSettings`), the maps and the schedule."""
 
     agents: tuple = (2, 3, 4, 5, 6)
     """Numbers of agents N; map ``map_pattern.format(n=N)`` is used for each."""
     map_pattern: str = "warehouse_{n}.txt"
     """Map file name (in data/maps, or a path) with ``{n}`` for the number of agents."""
     methods: tuple = METHODS
-    """Learners to train, a subset of METHODS; 'two_observe_rule' is a diagnostic outside the
-    chapter: 2observe with its GLAs replaced by the rule "coordinate when delta < rule_distance"."""
+    """Learners to train: distinct names of :func:`known_methods` (the registered learners and VARIANTS)."""
     rule_distance: int = 3
     """The fixed rule's distance for 'two_observe_rule' (3: delta at most 2, where every collision
     of two agents comes from)."""
@@ -81,26 +96,14 @@ class ScalingConfig:
     memory_budget_gib: float = 4.0
     """Memory the Q tables of all runs of one (method, N) may take, in GiB (a sixth of a 24 GiB
     workstation, leaving room for other work); a learner whose tables would need more is skipped at that N."""
-    learning: GridworldConfig = field(default_factory=lambda: GridworldConfig(max_steps=1000))
+    learning: LearningSettings = field(default_factory=lambda: LearningSettings(max_steps=1000))
     """Q-learning, GLA and collision settings (the Section 5.3 experiment's defaults, with a
     1000-step cap per episode: with three or more agents an agent often gets trapped early on, see
-    the notebook); its map_file, learners, episodes, runs and bin_size are not used here."""
-    coordination_distance: int = 2
-    """Sparse MAQ: a pair of agents coordinates in the joint states of their cells at Manhattan
-    distance at most this (as in the TunnelToGoal comparison, notebook 06)."""
-    cq_window: int = 30
-    """CQ-learning: rewards kept per state-action, in the baseline and in the recent window."""
-    cq_significance: float = 0.05
-    """CQ-learning: significance level of the two-sided Student t-test on immediate rewards."""
-    cq_solo_episodes: int = 1000
-    """CQ-learning: episodes each agent first learns alone, not counted in ``episodes``."""
+    the notebook)."""
 
     def __post_init__(self):
-        checks.field_types(self)
-        checks.whole_numbers(self, {"episodes": 1, "runs": 1, "bin_size": 1, "coordination_distance": 1,
-                                    "cq_window": 2, "cq_solo_episodes": 1})
-        if not (isinstance(self.cq_significance, float) and 0.0 < self.cq_significance < 1.0):
-            raise ValueError(f"cq_significance must be a number in (0, 1) such as 0.05, got {self.cq_significance!r}")
+        super().__post_init__()
+        checks.whole_numbers(self, {"episodes": 1, "runs": 1, "bin_size": 1})
         if self.episodes % self.bin_size:
             raise ValueError(f"bin_size ({self.bin_size}) must divide episodes ({self.episodes}); "
                              "choose a bin size such as 100 that divides the episode count")
@@ -110,15 +113,13 @@ class ScalingConfig:
             raise ValueError(f"agents must be distinct whole numbers from 2 to {MAX_AGENTS}, got {self.agents!r}")
         object.__setattr__(self, "agents", tuple(sorted(agents)))
         methods = tuple(self.methods) if isinstance(self.methods, (tuple, list)) else ()
-        if not methods or len(set(methods)) != len(methods) or not set(methods) <= set(METHODS):
-            raise ValueError(f"methods must be distinct names from {METHODS}, got {self.methods!r}")
+        if not methods or len(set(methods)) != len(methods) or not set(methods) <= set(known_methods()):
+            raise ValueError(f"methods must be distinct names from {known_methods()}, got {self.methods!r}")
         object.__setattr__(self, "methods", methods)
         if isinstance(self.rule_distance, bool) or not isinstance(self.rule_distance, int) or self.rule_distance < 0:
             raise ValueError(f"rule_distance must be a whole number >= 0, got {self.rule_distance!r}")
         if not (isinstance(self.memory_budget_gib, (int, float)) and self.memory_budget_gib > 0):
             raise ValueError(f"memory_budget_gib must be a number > 0, got {self.memory_budget_gib!r}")
-        if not isinstance(self.learning, GridworldConfig):
-            raise ValueError(f"learning must be a GridworldConfig, got {type(self.learning).__name__}")
         if "{n}" not in self.map_pattern:
             raise ValueError(f"map_pattern must contain '{{n}}' for the number of agents, got {self.map_pattern!r}")
         for n in self.agents:
@@ -136,54 +137,40 @@ class ScalingConfig:
     def n_bins(self) -> int:
         return self.episodes // self.bin_size
 
-    def edges(self) -> np.ndarray:
-        """The learning curves' blocks: ``bin_size`` episodes each."""
-        return ep.uniform_edges(self.episodes, self.bin_size)
+    def schedule(self) -> ep.Schedule:
+        """The runs' schedule: ``bin_size`` episodes per block of the learning curves."""
+        return ep.Schedule(self.episodes, ep.uniform_edges(self.episodes, self.bin_size), self.learning.max_steps)
+
+    def settings(self, method: str) -> LearnerSettings:
+        """The settings ``method`` runs with: ``learning`` and the related-work learners' own, and
+        for the fixed-rule variant its rule distance."""
+        settings = combine(self.learning, self)
+        return replace(settings, rule_distance=self.rule_distance) if method in VARIANTS else settings
 
 
-def table_shape(method: str, n_cells: int, n_agents: int) -> tuple:
-    """(tables, states, actions) of a learner's Q tables, computed without allocating them."""
-    return {"independent": (n_agents, n_cells, 4), "two_observe": (n_agents, n_cells, 4),
-            "two_observe_rule": (n_agents, n_cells, 4), "sparse_maq": (n_agents, n_cells, 4),
-            "cq": (n_agents, n_cells, 4),
-            "joint_state": (n_agents, n_cells ** n_agents, 4),
-            "mmdp": (1, n_cells ** n_agents, 4 ** n_agents)}[method]
+def learner_of(method: str) -> Learner:
+    """The registered learner a method runs (a variant's learner, or the method itself)."""
+    return registry.get(VARIANTS[method].learner if method in VARIANTS else method)
 
 
-def gla_parameter_count(method: str, n_agents: int) -> int:
-    """2observe's GLA parameters (2 actions x 2 inputs per agent); the other learners (and the
-    fixed rule) have none."""
-    return int(np.prod(group_observe.new_gla_parameters(n_agents).shape)) if method == "two_observe" else 0
-
-
-def related_storage(config: ScalingConfig, method: str, gridmap: GridMap) -> tuple[int, int]:
-    """(joint values allocated, reward samples) per run beyond the local Q tables: sparse MAQ's
-    pair tables (pairs x coordination states x 16), CQ's room for a joint-state row per agent and
-    joint state (only marked rows are learned) and its recent reward windows; (0, 0) otherwise."""
-    n, c = gridmap.n_agents, gridmap.n_cells
-    if method == "sparse_maq":
-        index = sparse_maq.pair_coordination_index(gridmap, config.coordination_distance)
-        return math.prod(sparse_maq.new_pair_tables(index, n).shape[-2:]) * sparse_maq.n_pairs(n), 0
-    if method == "cq":
-        return n * c * c * 4, n * c * 4 * config.cq_window
-    return 0, 0
+def label(method: str) -> str:
+    """A method's name in figures and tables (its N-agent form's, where that differs)."""
+    return VARIANTS[method].label if method in VARIANTS else (learner_of(method).n_agent_label or registry.label(method))
 
 
 def memory_needed(config: ScalingConfig, method: str, n_agents: int) -> int:
     """Bytes the tables of all of ``config.runs`` runs take together (CQ: with its marks)."""
-    gridmap = config.gridmap(n_agents)
-    shape = table_shape(method, gridmap.n_cells, n_agents)
-    joint, samples = related_storage(config, method, gridmap)
-    marks = n_agents * gridmap.n_cells ** 2 if method == "cq" else 0
-    return config.runs * ((math.prod(shape) + joint + samples) * BYTES_PER_ENTRY + marks)
+    return config.runs * learner_of(method).bytes_per_run(config.settings(method), config.gridmap(n_agents))
 
 
 @dataclass(frozen=True)
 class ScalingResult:
     """Agent-mean learning curves and measured table sizes for every (method, N), all arrays."""
 
+    config: ScalingConfig
+    """The configuration that produced the arrays."""
     methods: np.ndarray
-    """int (methods,): index into METHODS of each method, in the order of the other arrays."""
+    """int (methods,): index into :func:`known_methods` of each method, in the order of the other arrays."""
     agents: np.ndarray
     """int (agents,): the numbers of agents N."""
     ran: np.ndarray
@@ -202,17 +189,18 @@ class ScalingResult:
     bytes_needed: np.ndarray
     """int (methods, agents): bytes of Q tables for all runs together."""
     log: np.ndarray
-    """(methods, agents, runs, bins, N_METRICS): block means of steps to goal and reward (means
+    """(methods, agents, runs, bins, METRICS): block means of steps to goal and reward (means
     over the agents), collisions, coordinations, capped episodes; NaN where skipped."""
     episodes: np.ndarray
     """int (bins,): the episode count at the end of each block."""
 
     def names(self) -> list[str]:
-        return [METHODS[k] for k in self.methods]
+        known = known_methods()
+        return [known[k] for k in self.methods]
 
-    def curves(self, method: str, n: int, metric: int) -> np.ndarray:
-        """(runs, bins) block means of one metric for one method and number of agents."""
-        return self.log[self.names().index(method), list(self.agents).index(n), :, :, metric]
+    def curves(self, method: str, n: int, metric: str) -> np.ndarray:
+        """(runs, bins) block means of one of METRICS for one method and number of agents."""
+        return self.log[self.names().index(method), list(self.agents).index(n), :, :, METRICS.index(metric)]
 
     def q_entries(self) -> np.ndarray:
         """(methods, agents): Q-table entries per run (all agents' tables together)."""
@@ -225,12 +213,12 @@ class ScalingResult:
 
 
 def seed_of(seed: int, method: str, n_agents: int) -> int:
-    """Master seed of one (method, N): distinct for every (seed, method, N); a method gets the same
-    streams at a given N whatever else is trained with it (the related-work methods from
-    RELATED_SEED_OFFSET on, apart from the chapter's for every seed below 2**24)."""
-    if method in RELATED_METHODS:
-        return RELATED_SEED_OFFSET + (seed * 16 + n_agents) * len(RELATED_METHODS) + RELATED_METHODS.index(method)
-    return (seed * 16 + n_agents) * len(CHAPTER_METHODS) + CHAPTER_METHODS.index(method)
+    """Master seed of one (method, N) (:func:`glamas.learners.registry.master_seed` with the key
+    ``16 seed + N``): distinct for every (seed, method, N), and a method gets the same streams at a
+    given N whatever else is trained with it."""
+    family = learner_of(method).family
+    members = RELATED_METHODS if family == "related" else CHAPTER_METHODS
+    return registry.master_seed(seed * 16 + n_agents, members, method, family)
 
 
 def run(config: ScalingConfig = ScalingConfig(), seed: int = 0, workers=None, progress=None) -> ScalingResult:
@@ -242,92 +230,39 @@ def run(config: ScalingConfig = ScalingConfig(), seed: int = 0, workers=None, pr
     joints = np.zeros((m, a))
     samples = np.zeros((m, a), dtype=np.int64)
     needed = np.zeros((m, a), dtype=np.int64)
-    log = np.full((m, a, config.runs, config.n_bins, N_METRICS), np.nan)
+    log = np.full((m, a, config.runs, config.n_bins, len(METRICS)), np.nan)
     budget = config.memory_budget_gib * 2 ** 30
     for j, n in enumerate(config.agents):
         gridmap = config.gridmap(n)
         for k, method in enumerate(config.methods):
-            shapes[k, j] = table_shape(method, gridmap.n_cells, n)
-            glas[k, j] = gla_parameter_count(method, n)
-            joints[k, j], samples[k, j] = related_storage(config, method, gridmap)
+            learner, settings = learner_of(method), config.settings(method)
+            shapes[k, j] = learner.table_shape(gridmap.n_cells, n)
+            glas[k, j] = learner.gla_parameters(settings, gridmap)
+            joints[k, j], samples[k, j] = learner.joint_room(settings, gridmap), learner.reward_samples(settings, gridmap)
             needed[k, j] = memory_needed(config, method, n)
             if needed[k, j] > budget:
                 continue
             label = None if progress is None else f"{progress}: {method}, N={n}"
-            if method in RELATED_METHODS:
-                q, joints[k, j], full_log = train_related(config, gridmap, method, seed_of(seed, method, n),
-                                                          workers, label)
-            else:
-                q, full_log = train(config, gridmap, method, seed_of(seed, method, n), workers, label)
-            shapes[k, j] = q.shape[1:]
+            outputs = spec.train(learner, settings, gridmap, config.schedule(), config.runs, seed_of(seed, method, n),
+                                 workers, label)
+            shapes[k, j] = outputs["q"].shape[1:]
+            joints[k, j] = learner.joint_learned(outputs, settings, gridmap).mean()
             ran[k, j] = True
-            log[k, j] = agent_means(full_log, n)
-    codes = np.array([METHODS.index(name) for name in config.methods], dtype=np.int64)
-    episodes = np.arange(1, config.n_bins + 1, dtype=np.int64) * config.bin_size
-    return ScalingResult(methods=codes, agents=np.array(config.agents, dtype=np.int64), ran=ran,
+            log[k, j] = agent_means(outputs["log"])
+    codes = np.array([known_methods().index(name) for name in config.methods], dtype=np.int64)
+    return ScalingResult(config=config, methods=codes, agents=np.array(config.agents, dtype=np.int64), ran=ran,
                          table_shapes=shapes, gla_parameters=glas, joint_entries=joints, reward_samples=samples,
-                         bytes_needed=needed, log=log, episodes=episodes)
+                         bytes_needed=needed, log=log, episodes=config.schedule().edges[1:])
 
 
-def train(config: ScalingConfig, gridmap: GridMap, method: str, master_seed: int, workers=None, label=None):
-    """``config.runs`` runs of one method on one map: its final Q tables (runs, tables, states,
-    actions) and its full N-agent log (runs, bins, columns of glamas.learners.episode)."""
-    n, c = gridmap.n_agents, config.learning
-    q = np.full((config.runs,) + table_shape(method, gridmap.n_cells, n), c.q_initial)
-    log = np.zeros((config.runs, config.n_bins, ep.n_columns(n)))
-    world = (gridmap.next_cell, gridmap.is_goal, gridmap.starts, BOUNCE_MODES[c.bounce])
-    learning = (c.q_learning_rate, c.discount, c.exploit_prob)
-    schedule = (config.episodes, config.edges(), c.max_steps)
-    if method in ("two_observe", "two_observe_rule"):
-        p = c.gla_params()
-        rule = config.rule_distance if method == "two_observe_rule" else (
-            -1 if c.rule_distance is None else c.rule_distance)
-        automata = (p.learning_rate, p.temperature, p.K, p.L, p.bounding_code, float(c.gla_init_range),
-                    np.array(c.gla_feedback), float(c.coordination_penalty_per_cell),
-                    two_observe.NEEDS[c.gla_need], delta_scale(c.gla_delta_scale, gridmap), rule)
-        inputs = world + (gridmap.n_cols,) + learning + automata + schedule
-        u = np.zeros((config.runs,) + group_observe.new_gla_parameters(n).shape)
-        needs = np.zeros((config.runs,) + group_observe.new_need_counts(gridmap.n_rows, gridmap.n_cols).shape)
-        outputs = (q, u, needs, log)
-    else:
-        inputs, outputs = world + learning + schedule, (q, log)
-    runs.run_batches(_MODULES[method].run, inputs, outputs, master_seed, workers=workers, progress=label)
-    return q, log
+def load(config: ScalingConfig = ScalingConfig(), seed: int = 0, results_dir: Path = RESULTS) -> ScalingResult:
+    """The committed (or ``results_dir``'s) result of ``config`` and ``seed``, its configuration checked."""
+    return ScalingResult(config=config, **results.load(Path(results_dir) / f"{RESULT_NAME}.npz", config, seed=seed))
 
 
-def train_related(config: ScalingConfig, gridmap: GridMap, method: str, master_seed: int, workers=None,
-                  label=None):
-    """``config.runs`` runs of sparse MAQ (pairwise) or CQ-learning (nearest agent) on one map: the
-    final local Q tables (runs, agents, cells, actions), the joint values learned per run (sparse
-    MAQ: all pair tables; CQ: 4 per marked joint state, mean over runs) and the full N-agent log."""
-    n, c = gridmap.n_agents, config.learning
-    q = np.full((config.runs,) + table_shape(method, gridmap.n_cells, n), c.q_initial)
-    log = np.zeros((config.runs, config.n_bins, ep.n_columns(n)))
-    world = (gridmap.next_cell, gridmap.is_goal, gridmap.starts, BOUNCE_MODES[c.bounce], gridmap.n_cols)
-    learning = (c.q_learning_rate, c.discount, c.exploit_prob)
-    schedule = (config.episodes, config.edges(), c.max_steps)
-    if method == "sparse_maq":
-        index = sparse_maq.pair_coordination_index(gridmap, config.coordination_distance)
-        q_pairs = np.full((config.runs,) + sparse_maq.new_pair_tables(index, n).shape, c.q_initial)
-        runs.run_batches(sparse_maq.run_pairs, world + (index, config.coordination_distance) + learning + schedule,
-                         (q, q_pairs, log), master_seed, workers=workers, progress=label)
-        return q, float(q_pairs[0].size), log
-    q_aug, marked = (np.stack([table] * config.runs) for table in cq.new_augmented_tables(gridmap.n_cells, n))
-    t_critical = cq.t_critical_values(2 * config.cq_window - 2, config.cq_significance)
-    inputs = world + learning + (config.cq_window, t_critical, config.cq_solo_episodes) + schedule
-    runs.run_batches(cq.run, inputs, (q, q_aug, marked, log), master_seed, workers=workers, progress=label)
-    return q, float(marked.sum(axis=(1, 2, 3)).mean() * rules.N_ACTIONS), log
-
-
-def agent_means(log: np.ndarray, n: int) -> np.ndarray:
-    """(runs, bins, N_METRICS) from an N-agent log (glamas.learners.episode layout)."""
-    out = np.empty(log.shape[:2] + (N_METRICS,))
-    out[..., STEPS] = log[..., ep.STEPS:ep.STEPS + n].mean(axis=2)
-    out[..., REWARD] = log[..., ep.reward_column(n, 0):ep.reward_column(n, n)].mean(axis=2)
-    out[..., COLLISIONS] = log[..., ep.column(n, ep.COLLISIONS)]
-    out[..., COORDINATIONS] = log[..., ep.column(n, ep.COORDINATIONS)]
-    out[..., CAPPED] = log[..., ep.column(n, ep.CAPPED)]
-    return out
+def agent_means(log: np.ndarray) -> np.ndarray:
+    """(runs, bins, METRICS) from an N-agent log (glamas.learners.episode layout)."""
+    return np.stack([ep.metric(log, name) for name in METRICS], axis=-1)
 
 
 # --- measurements and claims -----------------------------------------------------------------
@@ -356,13 +291,13 @@ def measure(result: ScalingResult) -> dict:
             m[f"parameters_{method}_{n}"] = float(params[k, j])
             if not result.ran[k, j]:
                 continue
-            m[f"steps_{method}_{n}"] = final(result.curves(method, n, STEPS), result.episodes)
-            m[f"reward_{method}_{n}"] = final(result.curves(method, n, REWARD), result.episodes)
-            m[f"collisions_{method}_{n}"] = final(result.curves(method, n, COLLISIONS), result.episodes)
-            m[f"coordinations_{method}_{n}"] = final(result.curves(method, n, COORDINATIONS), result.episodes)
-            m[f"capped_{method}_{n}"] = final(result.curves(method, n, CAPPED), result.episodes)
-            m[f"convergence_{method}_{n}"] = convergence_episode(result.curves(method, n, STEPS), result.episodes)
-            capped = result.curves(method, n, CAPPED)
+            m[f"steps_{method}_{n}"] = final(result.curves(method, n, "steps"), result.episodes)
+            m[f"reward_{method}_{n}"] = final(result.curves(method, n, "reward"), result.episodes)
+            m[f"collisions_{method}_{n}"] = final(result.curves(method, n, "collisions"), result.episodes)
+            m[f"coordinations_{method}_{n}"] = final(result.curves(method, n, "coordinations"), result.episodes)
+            m[f"capped_{method}_{n}"] = final(result.curves(method, n, "capped"), result.episodes)
+            m[f"convergence_{method}_{n}"] = convergence_episode(result.curves(method, n, "steps"), result.episodes)
+            capped = result.curves(method, n, "capped")
             m[f"capped_runs_{method}_{n}"] = float(sum(final(run[None], result.episodes) > 0 for run in capped))
         fit = growth(ran_at, [params[k, list(result.agents).index(n)] for n in ran_at])
         m[f"growth_factor_{method}"] = fit["factor_per_agent"]
@@ -405,7 +340,7 @@ def size_table(result: ScalingResult) -> str:
         for j, n in enumerate(result.agents):
             t, s, a = result.table_shapes[k, j]
             status = "ran" if result.ran[k, j] else "skipped: exceeds the memory budget"
-            lines.append(f"{LABELS[method]:22s} {n:2d} {f'{t} x {s} x {a}':>27s} {result.joint_entries[k, j]:8.4g} "
+            lines.append(f"{label(method):22s} {n:2d} {f'{t} x {s} x {a}':>27s} {result.joint_entries[k, j]:8.4g} "
                          f"{result.reward_samples[k, j]:8d} {params[k, j]:15.3g} "
                          f"{result.bytes_needed[k, j] / 2 ** 30:14.3g}  {status}")
     return "\n".join(lines)
@@ -422,7 +357,7 @@ def performance_table(result: ScalingResult) -> str:
         for j, n in enumerate(result.agents):
             if not result.ran[k, j]:
                 continue
-            lines.append(f"{LABELS[method]:22s} {n:2d} {m[f'steps_{method}_{n}']:7.2f} {m[f'reward_{method}_{n}']:7.1f} "
+            lines.append(f"{label(method):22s} {n:2d} {m[f'steps_{method}_{n}']:7.2f} {m[f'reward_{method}_{n}']:7.1f} "
                          f"{m[f'collisions_{method}_{n}']:10.2f} {m[f'coordinations_{method}_{n}']:13.2f} "
                          f"{m[f'convergence_{method}_{n}']:12.0f} {100 * m[f'capped_{method}_{n}']:8.1f}")
     return "\n".join(lines)
@@ -443,7 +378,7 @@ def pivot_table(result: ScalingResult, metric: str) -> str:
     for k, method in enumerate(result.names()):
         cells = [PIVOT_METRICS[metric].format(m[f"{metric}_{method}_{n}"]) if ok else "-"
                  for n, ok in zip(result.agents, result.ran[k])]
-        lines.append(f"{LABELS[method]:22s}" + "".join(f"{cell:>9s}" for cell in cells))
+        lines.append(f"{label(method):22s}" + "".join(f"{cell:>9s}" for cell in cells))
     return "\n".join(lines)
 
 
@@ -454,7 +389,7 @@ def growth_table(result: ScalingResult) -> str:
     for k, method in enumerate(result.names()):
         ran_at = [int(n) for n, ok in zip(result.agents, result.ran[k]) if ok]
         span = f"{min(ran_at)}-{max(ran_at)}" if ran_at else "none"
-        lines.append(f"{LABELS[method]:22s} {span:>10s} {m[f'growth_factor_{method}']:16.3g} "
+        lines.append(f"{label(method):22s} {span:>10s} {m[f'growth_factor_{method}']:16.3g} "
                      f"{m[f'loglog_slope_{method}']:13.2f}")
     return "\n".join(lines)
 
@@ -478,15 +413,15 @@ def plot_sizes(ax, result: ScalingResult, config: ScalingConfig | None = None, l
     for k, method in enumerate(result.names()):
         x = result.agents + shifts[k]
         ax.plot(x, params[k], "-", **learner_style(method))
-        ax.plot([], [], "-", label=LABELS[method], **learner_style(method, marker=True))  # the legend's entry
+        ax.plot([], [], "-", label=label(method), **learner_style(method, marker=True))  # the legend's entry
         ok = result.ran[k]
         ax.plot(x[ok], params[k, ok], linestyle="none", **learner_style(method, marker=True))
         ax.plot(x[~ok], params[k, ~ok], linestyle="none", mfc="none", **learner_style(method, marker=True))
     ax.plot([], [], "o", color="0.4", mfc="none", linestyle="none", label="open: skipped (tables computed, not run)")
-    ax.axhline(MACHINE_MEMORY_GIB * 2 ** 30 / BYTES_PER_ENTRY, color="black", linestyle=":", linewidth=1,
+    ax.axhline(MACHINE_MEMORY_GIB * 2 ** 30 / BYTES_PER_VALUE, color="black", linestyle=":", linewidth=1,
                label=f"a {MACHINE_MEMORY_GIB} GiB workstation, one run")
     if config is not None:
-        entries = config.memory_budget_gib * 2 ** 30 / BYTES_PER_ENTRY / config.runs
+        entries = config.memory_budget_gib * 2 ** 30 / BYTES_PER_VALUE / config.runs
         ax.axhline(entries, color="black", linestyle="--", linewidth=1,
                    label=f"memory budget ({config.memory_budget_gib:g} GiB for {config.runs} runs)")
     ax.set_yscale("log")
@@ -494,7 +429,7 @@ def plot_sizes(ax, result: ScalingResult, config: ScalingConfig | None = None, l
     ax.set_xlabel("agents N")
     ax.set_ylabel("values stored per run")
     if groups:
-        names = "; ".join(" = ".join(LABELS[result.names()[k]] for k in group) for group in groups)
+        names = "; ".join(" = ".join(label(result.names()[k]) for k in group) for group in groups)
         ax.set_title(f"drawn side by side, as they store within {COINCIDE - 1:.0%} of each other at every N:\n{names}",
                      fontsize="small")
     if legend:
@@ -522,7 +457,6 @@ def _coinciding_shifts(params: np.ndarray) -> tuple[np.ndarray, list[list[int]]]
 _METRIC_LABELS = {"steps": "final steps to goal (agent mean)", "reward": "final reward (agent mean)",
                   "collisions": "final collisions per episode", "coordinations": "final coordinations per episode",
                   "convergence": "episodes until within 5 % of final steps"}
-_METRIC_COLUMNS = {"steps": STEPS, "reward": REWARD, "collisions": COLLISIONS, "coordinations": COORDINATIONS}
 
 
 def plot_final(ax, result: ScalingResult, metric: str, legend: bool = True):
@@ -548,7 +482,7 @@ def plot_final(ax, result: ScalingResult, metric: str, legend: bool = True):
         below = np.fmax(shown - np.where(unsettled, np.nan, low), 0.0)
         above = np.fmax(np.where(unsettled, np.nan, high) - shown, 0.0)
         ax.errorbar(x, shown, yerr=[below, above],
-                    capsize=2, linewidth=1.2, label=LABELS[method], **learner_style(method, marker=True))
+                    capsize=2, linewidth=1.2, label=label(method), **learner_style(method, marker=True))
         if unsettled.any():
             never_settled = True
             ax.plot(x[unsettled], np.full(unsettled.sum(), result.episodes[-1] * 1.05), linestyle="none",
@@ -573,7 +507,7 @@ def _mark_never_settled(ax, last: int):
 def _final_with_band(result: ScalingResult, method: str, n: int, metric: str) -> tuple[float, float, float]:
     """The final value of ``metric`` (as :func:`measure`) and its 95 % bootstrap interval: runs
     resampled with replacement, the statistic recomputed from each resample's mean curve."""
-    curves = result.curves(method, n, STEPS if metric == "convergence" else _METRIC_COLUMNS[metric])
+    curves = result.curves(method, n, "steps" if metric == "convergence" else metric)
     statistic = convergence_episode if metric == "convergence" else final
     draws = np.random.default_rng(0).integers(0, curves.shape[0], (BAND_DRAWS, curves.shape[0]))
     values = [statistic(curves[pick], result.episodes) for pick in draws]
@@ -581,28 +515,29 @@ def _final_with_band(result: ScalingResult, method: str, n: int, metric: str) ->
     return statistic(curves, result.episodes), float(low), float(high)
 
 
-def plot_curves(ax, result: ScalingResult, n: int, metric: int = STEPS, legend: bool = True):
+CURVE_LABELS = {"steps": "steps to goal (agent mean)", "reward": "reward (agent mean)",
+                "collisions": "collisions per episode", "coordinations": "coordinations per episode",
+                "capped": "capped episodes"}
+"""The y axis of :func:`plot_curves` for each of METRICS."""
+
+
+def plot_curves(ax, result: ScalingResult, n: int, metric: str = "steps", legend: bool = True):
     """Learning curves (mean and 95 % band over runs) of every method that ran with ``n`` agents."""
     if n not in result.agents:
         raise ValueError(f"no results for N = {n}; the study has N in {result.agents.tolist()}")
     j = list(result.agents).index(n)
     for k, method in enumerate(result.names()):
         if result.ran[k, j]:
-            plot_mean_band(ax, result.episodes, result.curves(method, n, metric), LABELS[method],
+            plot_mean_band(ax, result.episodes, result.curves(method, n, metric), label(method),
                            **learner_style(method))
     ax.set_xscale("log")
     ax.set_xlabel("episode")
-    ax.set_ylabel(["steps to goal (agent mean)", "reward (agent mean)", "collisions per episode",
-                   "coordinations per episode", "capped episodes"][metric] + f", N = {n}")
+    ax.set_ylabel(f"{CURVE_LABELS[metric]}, N = {n}")
     if legend:
         legend_right(ax)
 
 
 # --- figure scripts (paper_figures/scaling_*.py) ----------------------------------------------
-
-RESULT_NAME = "scaling"
-"""Result file shared by the scaling figure scripts: the study runs once for all of them."""
-
 
 def figure_main(name: str, description: str, argv=None) -> list[Path]:
     """The body of ``paper_figures/<name>.py``: parse the command line, get the study's result

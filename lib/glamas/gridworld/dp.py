@@ -112,15 +112,14 @@ def joint_mdp(gridmap: GridMap, bounce: str = "previous") -> JointMDP:
                   agent_rewards=np.empty(shape + (gridmap.n_agents,)), collisions=np.empty(shape, np.int64),
                   bumped=np.empty(shape + (gridmap.n_agents,), bool),
                   reached=np.empty(shape + (gridmap.n_agents,), bool), valid=np.empty(n_states, bool))
-    _tabulate(gridmap.next_cell, gridmap.is_goal, gridmap.blocked, gridmap.starts, rules.BOUNCE_MODES[bounce],
-              *tables.values())
+    _tabulate(rules.world(gridmap, bounce), gridmap.blocked, *tables.values())
     return JointMDP(gridmap, bounce, **tables)
 
 
 @njit(cache=True)
-def _tabulate(next_cell, is_goal, blocked, starts, bounce, next_state, reward, agent_rewards, collisions,
-              agent_bumped, agent_reached, valid):
-    n_cells, n = next_cell.shape[0], starts.shape[0]
+def _tabulate(world, blocked, next_state, reward, agent_rewards, collisions, agent_bumped, agent_reached, valid):
+    is_goal = world.is_goal
+    n_cells, n = world.next_cell.shape[0], world.starts.shape[0]
     cells, done, actions = np.empty(n, np.int64), np.empty(n, np.bool_), np.empty(n, np.int64)
     new_cells, rewards = np.empty(n, np.int64), np.empty(n)
     bumped, collided, reached = np.empty(n, np.bool_), np.empty(n, np.bool_), np.empty(n, np.bool_)
@@ -139,8 +138,7 @@ def _tabulate(next_cell, is_goal, blocked, starts, bounce, next_state, reward, a
                 agent_reached[s, ja, :] = False
                 continue
             split_index(ja, N_ACTIONS, actions)
-            collisions[s, ja] = rules.step(next_cell, is_goal, starts, bounce, cells, done, actions,
-                                           new_cells, rewards, bumped, collided, reached)
+            collisions[s, ja] = rules.step(world, cells, done, actions, new_cells, rewards, bumped, collided, reached)
             all_done_after = True
             for i in range(n):
                 all_done_after = all_done_after and (done[i] or reached[i])

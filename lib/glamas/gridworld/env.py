@@ -29,6 +29,7 @@ class GridworldEnv:
             raise ValueError(f"max_steps must be a positive integer, got {max_steps!r}")
         self.gridmap = gridmap
         self.bounce = bounce
+        self._world = rules.world(gridmap, bounce)
         self.max_steps = int(max_steps)
         self.possible_agents = [f"agent_{k}" for k in range(1, gridmap.n_agents + 1)]
         self.agents: list[str] = []
@@ -58,8 +59,7 @@ class GridworldEnv:
         live = list(self.agents)
         for i, name in enumerate(self.possible_agents):
             self._actions[i] = actions[name] if name in actions else 0
-        collisions = rules.step(self.gridmap.next_cell, self.gridmap.is_goal, self.gridmap.starts,
-                                rules.BOUNCE_MODES[self.bounce], self._cells, self._done, self._actions,
+        collisions = rules.step(self._world, self._cells, self._done, self._actions,
                                 self._new_cells, self._rewards, self._bumped, self._collided, self._reached)
         self._cells[:] = self._new_cells
         self._done |= self._reached

@@ -21,6 +21,8 @@ Precondition of :func:`step`: the acting agents are on distinct non-goal cells (
 start cells on, since the rules preserve it).
 """
 
+from typing import NamedTuple
+
 import numpy as np
 from numba import njit
 
@@ -37,6 +39,26 @@ BOUNCE_START = 1
 BOUNCE_MODES = {"previous": BOUNCE_PREVIOUS, "start": BOUNCE_START}
 
 
+class World(NamedTuple):
+    """The map and the collision rule as the compiled kernels read them (:func:`world`)."""
+
+    next_cell: np.ndarray
+    """int (cells, 4): the cell each action leads to (the cell itself for a bump)."""
+    is_goal: np.ndarray
+    """bool (cells,): goal cells."""
+    starts: np.ndarray
+    """int (agents,): each agent's start cell."""
+    bounce: int
+    """Where a collided agent goes: BOUNCE_PREVIOUS or BOUNCE_START."""
+    n_cols: int
+    """The map's width (cell = row * n_cols + col), for distances."""
+
+
+def world(gridmap, bounce: str = "previous") -> World:
+    """The kernels' view of ``gridmap`` with the collision rule ``bounce`` ('previous' or 'start')."""
+    return World(gridmap.next_cell, gridmap.is_goal, gridmap.starts, BOUNCE_MODES[bounce], gridmap.n_cols)
+
+
 @njit(cache=True)
 def _collide(i, j, rewards, collided):
     rewards[i] += COLLISION_PENALTY
@@ -46,15 +68,16 @@ def _collide(i, j, rewards, collided):
 
 
 @njit(cache=True)
-def step(next_cell, is_goal, starts, bounce, cells, done, actions,
-         new_cells, rewards, bumped, collided, reached):
-    """One joint move of all agents; fills the output arrays, returns the number of collisions.
+def step(world, cells, done, actions, new_cells, rewards, bumped, collided, reached):
+    """One joint move of all agents in ``world``; fills the output arrays, returns the number of
+    collisions.
 
     ``cells``, ``done`` and ``actions`` are the agents' current cells, whether each is already in
     the goal (then its action is ignored) and their actions. Writes each agent's ``new_cells``,
     ``rewards`` (goal +100, bump -1, -10 per collision, summed), and whether it ``bumped``,
     ``collided`` or ``reached`` the goal in this step. Returns the number of colliding pairs.
     """
+    next_cell, is_goal, starts, bounce = world.next_cell, world.is_goal, world.starts, world.bounce
     n = cells.shape[0]
     for i in range(n):
         rewards[i] = 0.0
@@ -113,8 +136,7 @@ def step(next_cell, is_goal, starts, bounce, cells, done, actions,
 
 
 @njit(cache=True, inline="always")
-def step_two(next_cell, is_goal, starts, bounce, cells, done, actions,
-             new_cells, rewards, bumped, collided, reached):
+def step_two(world, cells, done, actions, new_cells, rewards, bumped, collided, reached):
     """:func:`step` for two agents (the chapter's case). Two agents collide at most once and
     bounce to distinct cells, so the later rounds of :func:`step` never find anything.
 
@@ -122,6 +144,7 @@ def step_two(next_cell, is_goal, starts, bounce, cells, done, actions,
     between: inlined into a kernel, numba can then drop the reference counting of the arrays,
     which would cost more than the step itself.
     """
+    next_cell, is_goal, starts, bounce = world.next_cell, world.is_goal, world.starts, world.bounce
     cell0, cell1, done0, done1 = cells[0], cells[1], done[0], done[1]
     target0, target1 = next_cell[cell0, actions[0]], next_cell[cell1, actions[1]]  # a done agent's is ignored
     start0, start1 = starts[0], starts[1]

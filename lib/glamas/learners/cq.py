@@ -23,7 +23,7 @@ count, sum and sum of squares of its last ``window`` rewards, the recent window 
 
 **N agents** (beyond the paper's two-agent experiments): the augmented state pairs an agent's cell
 with the cell of its *nearest* other acting agent (Manhattan distance, lowest number on ties, as
-2observe's GLA context in :mod:`glamas.learners.group_observe`), whoever that agent is: agent k's
+2observe's GLA context in :mod:`glamas.learners.two_observe`), whoever that agent is: agent k's
 tables stay (own cell, other's cell) whatever N, and a mark means "observe the nearest agent when
 it is on that cell". An agent whose every other agent is in the goal has nobody to observe and
 neither acts on nor marks joint states. With two agents the nearest other agent is simply the
@@ -31,26 +31,66 @@ other one, so this is the two-agent algorithm, unchanged.
 """
 
 import math
+from typing import NamedTuple
 
 import numpy as np
 from numba import njit
 
-from glamas.gridworld import rules
+from glamas.gridworld import GridMap, rules
 from glamas.learners import episode as ep
-from glamas.learners.group_observe import NOBODY, nearest_others
-from glamas.learners.independent import new_tables  # noqa: F401 (re-exported: the local tables are the independent learners')
+from glamas.learners.independent import table_shape
+from glamas.learners.spec import Learner
+from glamas.learners.two_observe import NOBODY, nearest_others
 from glamas.qlearning import epsilon_greedy, q_update, row_max
 
 COUNT, SUM, SUM_SQUARES = 0, 1, 2
 """Fields of a reward window's summary."""
 
 
-def new_augmented_tables(n_cells: int, n_agents: int) -> tuple[np.ndarray, np.ndarray]:
-    """Room for the joint-state values Q_j (agents, own cell, other's cell, 4 actions) and for the
-    marks of the joint states each agent observes (agents, own cell, other's cell); only marked
+class TTest(NamedTuple):
+    """CQ-learning's test and schedule as the kernel reads them, named as the settings
+    (:class:`glamas.learners.settings.RelatedSettings`)."""
+
+    cq_window: int
+    """Rewards kept per state-action, in the baseline and in the recent window."""
+    t_critical: np.ndarray
+    """Two-sided critical values of Student's t per degrees of freedom (:func:`t_critical_values`)."""
+    cq_solo_episodes: int
+    """Episodes each agent first learns alone."""
+
+
+def t_test(settings, gridmap: GridMap) -> tuple:
+    """The kernel's own input: the TTest bundle of ``settings``."""
+    t_critical = t_critical_values(2 * settings.cq_window - 2, settings.cq_significance)
+    return (TTest(settings.cq_window, t_critical, settings.cq_solo_episodes),)
+
+
+def outputs(settings, gridmap: GridMap) -> dict:
+    """One run's joint-state values ``q_aug`` (agents, own cell, other's cell, 4 actions) and
+    ``marked``, the joint states each agent observes (agents, own cell, other's cell); only marked
     rows are ever used, so the learned table is 4 entries per marked joint state."""
-    return (np.zeros((n_agents, n_cells, n_cells, rules.N_ACTIONS)),
-            np.zeros((n_agents, n_cells, n_cells), dtype=np.bool_))
+    n, c = gridmap.n_agents, gridmap.n_cells
+    return {"q_aug": np.zeros((n, c, c, rules.N_ACTIONS)), "marked": np.zeros((n, c, c), dtype=np.bool_)}
+
+
+def joint_room(settings, gridmap: GridMap) -> int:
+    """Joint values per run allocated: a row for every agent and joint state."""
+    return gridmap.n_agents * gridmap.n_cells ** 2 * rules.N_ACTIONS
+
+
+def reward_samples(settings, gridmap: GridMap) -> int:
+    """Rewards kept per run for the test: a recent window per agent and state-action."""
+    return gridmap.n_agents * gridmap.n_cells * rules.N_ACTIONS * settings.cq_window
+
+
+def mark_bytes(settings, gridmap: GridMap) -> int:
+    """The marks per run: a flag per agent and joint state."""
+    return gridmap.n_agents * gridmap.n_cells ** 2
+
+
+def joint_learned(outputs: dict, settings, gridmap: GridMap) -> np.ndarray:
+    """Per run, the joint values learned: 4 per marked joint state."""
+    return outputs["marked"].sum(axis=(1, 2, 3)) * float(rules.N_ACTIONS)
 
 
 # --- the test: Student's two-sample t-test ---------------------------------------------------
@@ -145,10 +185,11 @@ def add_reward(samples, added, summary, r):
 # --- the learner ------------------------------------------------------------------------------
 
 @njit(cache=True)
-def learn_alone(next_cell, is_goal, starts, bounce, alpha, gamma, exploit, n_episodes, max_steps,
-                q, samples, added, summary, state):
+def learn_alone(world, learning, n_episodes, max_steps, q, samples, added, summary, state):
     """The single-agent phase: each agent in turn learns ``n_episodes`` episodes alone (the other
     counts as already in the goal, so it neither acts nor collides) and fills its reward windows."""
+    alpha, gamma, exploit = learning.q_learning_rate, learning.discount, learning.exploit_prob
+    starts = world.starts
     n_agents = starts.shape[0]
     cells, done, actions, new_cells, rewards, bumped, collided, reached, acc = ep.buffers(n_agents)
     for k in range(n_agents):
@@ -160,8 +201,7 @@ def learn_alone(next_cell, is_goal, starts, bounce, alpha, gamma, exploit, n_epi
             while t < max_steps and not done[k]:
                 s, a = cells[k], epsilon_greedy(q[k, cells[k]], exploit, state)
                 actions[k] = a
-                rules.step(next_cell, is_goal, starts, bounce, cells, done, actions, new_cells, rewards,
-                           bumped, collided, reached)
+                rules.step(world, cells, done, actions, new_cells, rewards, bumped, collided, reached)
                 q_update(q[k], s, a, rewards[k], new_cells[k], reached[k], alpha, gamma)
                 added[k, s, a] = add_reward(samples[k, s, a], added[k, s, a], summary[k, s, a], rewards[k])
                 t += 1
@@ -193,25 +233,26 @@ def mark_if_conflict(q_aug, marked, q, s, other, r, baseline, recent, t_critical
 
 
 @njit(cache=True, nogil=True)
-def run(next_cell, is_goal, starts, bounce, n_cols, alpha, gamma, exploit, window, t_critical, solo_episodes,
-        n_episodes, edges, max_steps, q, q_aug, marked, log, state):
-    """One run: ``solo_episodes`` episodes alone per agent, then ``n_episodes`` episodes together;
-    learns in ``q``, ``q_aug`` and ``marked``, writes the binned ``log`` of the joint episodes
-    (COORDINATIONS: steps on which an agent acted on a marked joint state)."""
-    n_agents, n_cells = starts.shape[0], next_cell.shape[0]
+def run(world, learning, t_test, schedule, q, q_aug, marked, log, state):
+    """One run: ``cq_solo_episodes`` episodes alone per agent, then ``schedule.episodes`` episodes
+    together; learns in ``q``, ``q_aug`` and ``marked``, writes the binned ``log`` of the joint
+    episodes (coordinations: steps on which an agent acted on a marked joint state)."""
+    alpha, gamma, exploit = learning.q_learning_rate, learning.discount, learning.exploit_prob
+    window, t_critical = t_test.cq_window, t_test.t_critical
+    starts, n_cols, edges, max_steps = world.starts, world.n_cols, schedule.edges, schedule.max_steps
+    n_agents, n_cells = starts.shape[0], world.next_cell.shape[0]
     coordinations_column = ep.column(n_agents, ep.COORDINATIONS)
     samples = np.zeros((n_agents, n_cells, rules.N_ACTIONS, window))
     added = np.zeros((n_agents, n_cells, rules.N_ACTIONS), np.int64)
     summary = np.zeros((n_agents, n_cells, rules.N_ACTIONS, 3))
-    learn_alone(next_cell, is_goal, starts, bounce, alpha, gamma, exploit, solo_episodes, max_steps,
-                q, samples, added, summary, state)
+    learn_alone(world, learning, t_test.cq_solo_episodes, max_steps, q, samples, added, summary, state)
     baseline = summary.copy()  # frozen: the rewards of the task alone
     summary[:] = 0.0
     added[:] = 0
     cells, done, actions, new_cells, rewards, bumped, collided, reached, acc = ep.buffers(n_agents)
     joint = np.zeros(n_agents, np.bool_)
     nearest, deltas = np.empty(n_agents, np.int64), np.empty(n_agents, np.int64)
-    for episode in range(n_episodes):
+    for episode in range(schedule.episodes):
         ep.start_episode(starts, cells, done, acc)
         t = 0
         while t < max_steps and not ep.all_done(done):
@@ -226,8 +267,7 @@ def run(next_cell, is_goal, starts, bounce, n_cols, alpha, gamma, exploit, windo
                 observed = observed or joint[k]
             if observed:
                 acc[coordinations_column] += 1
-            collisions = rules.step(next_cell, is_goal, starts, bounce, cells, done, actions,
-                                    new_cells, rewards, bumped, collided, reached)
+            collisions = rules.step(world, cells, done, actions, new_cells, rewards, bumped, collided, reached)
             for k in range(n_agents):
                 if done[k]:
                     continue
@@ -243,3 +283,9 @@ def run(next_cell, is_goal, starts, bounce, n_cols, alpha, gamma, exploit, windo
             t += 1
             ep.end_step(t, cells, done, new_cells, rewards, reached, collisions, acc)
         ep.end_episode(log, episode, edges, acc, t, done)
+
+
+LEARNER = Learner(name="cq", label="CQ-learning", n_agent_label="CQ-learning (nearest)",
+                  kernel=run, table_shape=table_shape, inputs=t_test, outputs=outputs,
+                  joint_room=joint_room, reward_samples=reward_samples, extra_bytes=mark_bytes,
+                  joint_learned=joint_learned, family="related")

@@ -15,23 +15,37 @@ can (a value read before an ``if``, not inside it): numba counts references on e
 to an inlined function, and only removes that counting, which costs more than a whole step, when
 the array is used on every path through the function.
 
-The constants below are the columns for two agents (the chapter's case). With N agents a row has
-N steps columns, then N reward columns, then length, collisions, coordinations and capped
-(:func:`n_columns`, :func:`reward_column`, :func:`column`): for two agents the same layout.
+A log row has the same layout for any number of agents N (:func:`n_columns`): N columns of steps
+(the steps agent i took to reach the goal, the cap if it did not), N columns of reward (agent i's
+undiscounted environment reward in the episode), then the episode's ``MEASURES``. Kernels address
+a column with :func:`steps_column`, :func:`reward_column` and :func:`column`; analyses read a
+metric of ``METRICS`` (agent means for steps and reward) with :func:`metric`.
 """
+
+from typing import NamedTuple
 
 import numpy as np
 from numba import njit
 
-# Columns of a log row (two agents).
-STEPS = 0  # STEPS + i: steps agent i took to reach the goal (the cap if it did not)
-REWARD = 2  # REWARD + i: agent i's undiscounted reward in the episode (environment rewards)
-LENGTH = 4  # steps until every agent was in the goal
-COLLISIONS = 5  # agent-agent collision events
-COORDINATIONS = 6  # steps on which both agents chose to coordinate (2observe only)
-CAPPED = 7  # 1 when the episode hit the step cap
-N_COLUMNS = 8
-N_AGENTS = 2
+MEASURES = ("length", "collisions", "coordinations", "capped")
+"""The per-episode measurements after the agents' columns: steps until every agent was in the goal,
+agent-agent collision events, coordinations (what counts as one is the learner's: 2observe's steps
+on which both agents chose to coordinate), 1 when the episode hit the step cap."""
+LENGTH, COLLISIONS, COORDINATIONS, CAPPED = range(len(MEASURES))
+"""The kernels' codes of MEASURES (:func:`column`)."""
+METRICS = ("steps", "reward") + MEASURES
+"""What :func:`metric` reads from a log: steps and reward as agent means, then MEASURES."""
+
+
+class Schedule(NamedTuple):
+    """How long a run lasts and how its log is binned, as the kernels read it."""
+
+    episodes: int
+    """Episodes per run."""
+    edges: np.ndarray
+    """int (blocks + 1,): the log's block edges (:func:`uniform_edges`, :func:`log_edges`)."""
+    max_steps: int
+    """Step cap per episode."""
 
 
 def uniform_edges(n_episodes: int, block: int) -> np.ndarray:
@@ -48,20 +62,37 @@ def log_edges(n_episodes: int, blocks: int) -> np.ndarray:
 
 @njit(cache=True, inline="always")
 def n_columns(n_agents):
-    """Columns of a log row for ``n_agents`` agents (N_COLUMNS for two)."""
-    return 2 * n_agents + 4
+    """Columns of a log row for ``n_agents`` agents."""
+    return 2 * n_agents + len(MEASURES)
+
+
+@njit(cache=True, inline="always")
+def steps_column(n_agents, i):
+    """The column of agent i's steps to the goal."""
+    return i
 
 
 @njit(cache=True, inline="always")
 def reward_column(n_agents, i):
-    """The column of agent i's reward (REWARD + i for two agents)."""
+    """The column of agent i's reward."""
     return n_agents + i
 
 
 @njit(cache=True, inline="always")
-def column(n_agents, two_agent_column):
-    """The column of LENGTH, COLLISIONS, COORDINATIONS or CAPPED in an ``n_agents`` row."""
-    return two_agent_column + 2 * (n_agents - N_AGENTS)
+def column(n_agents, measure):
+    """The column of a measure (LENGTH, COLLISIONS, COORDINATIONS or CAPPED)."""
+    return 2 * n_agents + measure
+
+
+def metric(log: np.ndarray, name: str) -> np.ndarray:
+    """Metric ``name`` of METRICS from a log whose last axis is a row: steps and reward averaged
+    over the agents, the others as they are (shape: the log's without its last axis)."""
+    n_agents = (log.shape[-1] - len(MEASURES)) // 2
+    if name == "steps":
+        return log[..., :n_agents].mean(axis=-1)
+    if name == "reward":
+        return log[..., n_agents:2 * n_agents].mean(axis=-1)
+    return log[..., 2 * n_agents + MEASURES.index(name)]
 
 
 @njit(cache=True, inline="always")
@@ -100,7 +131,7 @@ def end_step(t, cells, done, new_cells, rewards, reached, collisions, acc):
             continue
         acc[reward_column(n, i)] += rewards[i]
         if reached[i]:
-            acc[STEPS + i] = t
+            acc[steps_column(n, i)] = t
             done[i] = True
         cells[i] = new_cells[i]
 
@@ -113,7 +144,7 @@ def end_episode(log, episode, edges, acc, t, done):
     acc[column(n, LENGTH)] = t
     for i in range(n):
         if not done[i]:
-            acc[STEPS + i] = t
+            acc[steps_column(n, i)] = t
             acc[column(n, CAPPED)] = 1.0
     row = np.searchsorted(edges, episode, side="right") - 1
     width = edges[row + 1] - edges[row]

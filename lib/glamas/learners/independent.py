@@ -1,26 +1,27 @@
 """Independent Q-learners (Section 5.3): each agent runs Alg. 3 on its own cell only, with its own
 reward, ignoring the other agent (a 25 x 4 table each on TunnelToGoal)."""
 
-import numpy as np
 from numba import njit
 
 from glamas.gridworld import rules
 from glamas.learners import episode as ep
+from glamas.learners.spec import Learner
 from glamas.qlearning import epsilon_greedy, q_update
 
 
-def new_tables(n_cells: int, n_agents: int) -> np.ndarray:
-    """Q initial tables: one (cells x 4 actions) table per agent."""
-    return np.zeros((n_agents, n_cells, 4))
+def table_shape(n_cells: int, n_agents: int) -> tuple:
+    """One (cells x 4 actions) table per agent."""
+    return n_agents, n_cells, rules.N_ACTIONS
 
 
 @njit(cache=True, nogil=True, error_model="numpy")
-def run(next_cell, is_goal, starts, bounce, alpha, gamma, exploit, n_episodes, edges, max_steps,
-        q, log, state):
-    """One run of ``n_episodes`` episodes; learns in ``q`` and writes the binned ``log``."""
+def run(world, learning, schedule, q, log, state):
+    """One run of ``schedule.episodes`` episodes; learns in ``q`` and writes the binned ``log``."""
+    alpha, gamma, exploit = learning.q_learning_rate, learning.discount, learning.exploit_prob
+    starts, edges, max_steps = world.starts, schedule.edges, schedule.max_steps
     n_agents = starts.shape[0]
     cells, done, actions, new_cells, rewards, bumped, collided, reached, acc = ep.buffers(n_agents)
-    for episode in range(n_episodes):
+    for episode in range(schedule.episodes):
         ep.start_episode(starts, cells, done, acc)
         t = 0
         while t < max_steps and not ep.all_done(done):
@@ -28,15 +29,16 @@ def run(next_cell, is_goal, starts, bounce, alpha, gamma, exploit, n_episodes, e
                 if not done[i]:
                     actions[i] = epsilon_greedy(q[i, cells[i]], exploit, state)
             if n_agents == 2:  # the chapter's case, on the rules' fast path
-                collisions = rules.step_two(next_cell, is_goal, starts, bounce, cells, done, actions,
-                                            new_cells, rewards, bumped, collided, reached)
+                collisions = rules.step_two(world, cells, done, actions, new_cells, rewards, bumped, collided, reached)
             else:
-                collisions = rules.step(next_cell, is_goal, starts, bounce, cells, done, actions,
-                                        new_cells, rewards, bumped, collided, reached)
+                collisions = rules.step(world, cells, done, actions, new_cells, rewards, bumped, collided, reached)
             for i in range(n_agents):
                 if not done[i]:
-                    q_update(q[i], cells[i], actions[i], rewards[i], new_cells[i], reached[i],
-                             alpha, gamma)
+                    q_update(q[i], cells[i], actions[i], rewards[i], new_cells[i], reached[i], alpha, gamma)
             t += 1
             ep.end_step(t, cells, done, new_cells, rewards, reached, collisions, acc)
         ep.end_episode(log, episode, edges, acc, t, done)
+
+
+LEARNER = Learner(name="independent", label="independent Q-learners", kernel=run, table_shape=table_shape,
+                  family="chapter")

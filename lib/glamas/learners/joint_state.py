@@ -1,27 +1,28 @@
 """Joint-state learners (Section 5.3): each agent runs Alg. 3 over the joint cells of both agents
 (625 states on TunnelToGoal) with its own reward, still choosing only its own action (4)."""
 
-import numpy as np
 from numba import njit
 
 from glamas.gridworld import rules
 from glamas.gridworld.joint import joint_index
 from glamas.learners import episode as ep
+from glamas.learners.spec import Learner
 from glamas.qlearning import epsilon_greedy, q_update
 
 
-def new_tables(n_cells: int, n_agents: int) -> np.ndarray:
-    """Q initial tables: one (joint cells x 4 actions) table per agent."""
-    return np.zeros((n_agents, n_cells ** n_agents, 4))
+def table_shape(n_cells: int, n_agents: int) -> tuple:
+    """One (joint cells x 4 actions) table per agent."""
+    return n_agents, n_cells ** n_agents, rules.N_ACTIONS
 
 
 @njit(cache=True, nogil=True, error_model="numpy")
-def run(next_cell, is_goal, starts, bounce, alpha, gamma, exploit, n_episodes, edges, max_steps,
-        q, log, state):
-    """One run of ``n_episodes`` episodes; learns in ``q`` and writes the binned ``log``."""
-    n_agents, n_cells = starts.shape[0], next_cell.shape[0]
+def run(world, learning, schedule, q, log, state):
+    """One run of ``schedule.episodes`` episodes; learns in ``q`` and writes the binned ``log``."""
+    alpha, gamma, exploit = learning.q_learning_rate, learning.discount, learning.exploit_prob
+    starts, edges, max_steps = world.starts, schedule.edges, schedule.max_steps
+    n_agents, n_cells = starts.shape[0], world.next_cell.shape[0]
     cells, done, actions, new_cells, rewards, bumped, collided, reached, acc = ep.buffers(n_agents)
-    for episode in range(n_episodes):
+    for episode in range(schedule.episodes):
         ep.start_episode(starts, cells, done, acc)
         t = 0
         while t < max_steps and not ep.all_done(done):
@@ -30,11 +31,9 @@ def run(next_cell, is_goal, starts, bounce, alpha, gamma, exploit, n_episodes, e
                 if not done[i]:
                     actions[i] = epsilon_greedy(q[i, s], exploit, state)
             if n_agents == 2:  # the chapter's case, on the rules' fast path
-                collisions = rules.step_two(next_cell, is_goal, starts, bounce, cells, done, actions,
-                                            new_cells, rewards, bumped, collided, reached)
+                collisions = rules.step_two(world, cells, done, actions, new_cells, rewards, bumped, collided, reached)
             else:
-                collisions = rules.step(next_cell, is_goal, starts, bounce, cells, done, actions,
-                                        new_cells, rewards, bumped, collided, reached)
+                collisions = rules.step(world, cells, done, actions, new_cells, rewards, bumped, collided, reached)
             s_next = joint_index(new_cells, n_cells)
             for i in range(n_agents):
                 if not done[i]:
@@ -42,3 +41,7 @@ def run(next_cell, is_goal, starts, bounce, alpha, gamma, exploit, n_episodes, e
             t += 1
             ep.end_step(t, cells, done, new_cells, rewards, reached, collisions, acc)
         ep.end_episode(log, episode, edges, acc, t, done)
+
+
+LEARNER = Learner(name="joint_state", label="joint-state learners", kernel=run, table_shape=table_shape,
+                  joint_tables=True, family="chapter")

@@ -1,18 +1,18 @@
 """The MMDP learner (Sections 3.1 and 5.3): one central Q-learner over the joint cells and the joint
 actions (625 x 16 on TunnelToGoal) that learns from the single shared reward."""
 
-import numpy as np
 from numba import njit
 
 from glamas.gridworld import rules
 from glamas.gridworld.joint import joint_index, split_index
 from glamas.learners import episode as ep
+from glamas.learners.spec import Learner
 from glamas.qlearning import epsilon_greedy, q_update
 
 
-def new_tables(n_cells: int, n_agents: int) -> np.ndarray:
-    """Q initial table: a single (joint cells x joint actions) table, shape (1, states, actions)."""
-    return np.zeros((1, n_cells ** n_agents, 4 ** n_agents))
+def table_shape(n_cells: int, n_agents: int) -> tuple:
+    """A single (joint cells x joint actions) table."""
+    return 1, n_cells ** n_agents, rules.N_ACTIONS ** n_agents
 
 
 @njit(cache=True, inline="always")
@@ -22,16 +22,17 @@ def split_joint_action(joint, actions):
 
 
 @njit(cache=True, nogil=True, error_model="numpy")
-def run(next_cell, is_goal, starts, bounce, alpha, gamma, exploit, n_episodes, edges, max_steps,
-        q, log, state):
-    """One run of ``n_episodes`` episodes; learns in ``q[0]`` and writes the binned ``log``.
+def run(world, learning, schedule, q, log, state):
+    """One run of ``schedule.episodes`` episodes; learns in ``q[0]`` and writes the binned ``log``.
 
     An agent in the goal no longer acts, so its component of the chosen joint action is ignored.
     """
-    n_agents, n_cells = starts.shape[0], next_cell.shape[0]
+    alpha, gamma, exploit = learning.q_learning_rate, learning.discount, learning.exploit_prob
+    starts, edges, max_steps = world.starts, schedule.edges, schedule.max_steps
+    n_agents, n_cells = starts.shape[0], world.next_cell.shape[0]
     table = q[0]
     cells, done, actions, new_cells, rewards, bumped, collided, reached, acc = ep.buffers(n_agents)
-    for episode in range(n_episodes):
+    for episode in range(schedule.episodes):
         ep.start_episode(starts, cells, done, acc)
         t = 0
         while t < max_steps and not ep.all_done(done):
@@ -39,11 +40,9 @@ def run(next_cell, is_goal, starts, bounce, alpha, gamma, exploit, n_episodes, e
             joint = epsilon_greedy(table[s], exploit, state)
             split_joint_action(joint, actions)
             if n_agents == 2:  # the chapter's case, on the rules' fast path
-                collisions = rules.step_two(next_cell, is_goal, starts, bounce, cells, done, actions,
-                                            new_cells, rewards, bumped, collided, reached)
+                collisions = rules.step_two(world, cells, done, actions, new_cells, rewards, bumped, collided, reached)
             else:
-                collisions = rules.step(next_cell, is_goal, starts, bounce, cells, done, actions,
-                                        new_cells, rewards, bumped, collided, reached)
+                collisions = rules.step(world, cells, done, actions, new_cells, rewards, bumped, collided, reached)
             finished = True
             for i in range(n_agents):
                 finished = finished and (done[i] or reached[i])
@@ -52,3 +51,6 @@ def run(next_cell, is_goal, starts, bounce, alpha, gamma, exploit, n_episodes, e
             t += 1
             ep.end_step(t, cells, done, new_cells, rewards, reached, collisions, acc)
         ep.end_episode(log, episode, edges, acc, t, done)
+
+
+LEARNER = Learner(name="mmdp", label="MMDP learner", kernel=run, table_shape=table_shape, joint_tables=True, family="chapter")

@@ -13,15 +13,39 @@ three readings (``NEEDS``):
   when a collision is possible.
 * ``sampled``: the actions the agents' Q-learners prefer in this step would collide.
 * ``outcome``: a collision happened in this step.
+
+**N agents** (the chapter has two; :func:`run_group`). Each agent keeps the first level: one
+2-action GLA with the context [delta, 1], delta now the Manhattan distance to the *nearest* other
+agent still acting (lowest agent number on ties). An agent alone in the world (every other agent
+in the goal) acts on its Q-learner and its GLA is not updated, as with two agents. The second level
+generalises Section 5.2's coordination to groups: among the agents that chose to coordinate, those
+whose preferred action would collide with another coordinating agent's preferred action go in a
+random order; each keeps its preferred action unless it would collide with an agent earlier in the
+order that kept its own, and then takes an action drawn uniformly from its other three. For two
+agents this is the chapter's rule and draws the very same random numbers as
+:func:`yield_at_random`. Need is read per agent: ``in_range``, it could collide with some other
+acting agent; ``sampled``, its preferred action would collide with another acting agent's;
+``outcome``, it collided. "Both coordinated" means it and its nearest other agent both chose to
+coordinate. The log's coordinations count agent-steps coordinating with their nearest agent,
+halved: for two agents, the steps on which both coordinated.
+
+With two agents :func:`run_group` plays exactly :func:`run_two` (same random numbers, log, Q
+tables and GLA parameters, under every reading), so :func:`run`, the learner's kernel, runs two
+agents on :func:`run_two`, the chapter's Alg. 4 written for two, which is faster. ``need_counts``
+counts observing agent-steps per distance, without and with need: for two agents both observe at
+the same distance with the same need, so each step counts twice.
 """
+
+from typing import NamedTuple
 
 import numpy as np
 from numba import njit
 
 from glamas import gla, rng
-from glamas.gridworld import rules
+from glamas.gridworld import GridMap, rules
 from glamas.learners import episode as ep
-from glamas.learners.independent import new_tables  # noqa: F401 (re-exported: the same state-action space, Section 5.3)
+from glamas.learners.independent import table_shape
+from glamas.learners.spec import Learner
 from glamas.qlearning import epsilon_greedy, q_update
 
 ACT_ALONE = 0
@@ -30,24 +54,74 @@ COORDINATE = 1
 """GLA action: coordinate with the other agent this step."""
 N_GLA_INPUTS = 2
 """The GLA context [delta * delta_scale, 1]: the agents' Manhattan distance and a bias input."""
+NOBODY = -1
+"""The nearest other agent of an agent that has nobody to observe (:func:`nearest_others`)."""
 
 NEED_IN_RANGE = 0
 NEED_SAMPLED = 1
 NEED_OUTCOME = 2
 NEEDS = {"in_range": NEED_IN_RANGE, "sampled": NEED_SAMPLED, "outcome": NEED_OUTCOME}
 """The readings of Fig. 10's "need to coordinate" (module docstring), by name."""
+DELTA_SCALES = ("cells", "unit")
+"""How the GLA context holds delta: in cells, or divided by the map's largest distance."""
 
 
-def new_need_counts(n_rows: int, n_cols: int) -> np.ndarray:
-    """Room for the count of observed steps per distance delta (0 .. n_rows + n_cols - 2) without
-    and with need, shape (deltas, 2): what the GLA's feedback depends on."""
-    return np.zeros((n_rows + n_cols - 1, 2))
+class Automata(NamedTuple):
+    """2observe's first level as the kernel reads it, named as the settings
+    (:class:`glamas.learners.settings.LearningSettings`); codes where the settings hold names."""
+
+    gla_learning_rate: float
+    gla_temperature: float
+    gla_K: float
+    gla_L: float
+    gla_bounding: int
+    """A code of glamas.gla.BOUNDING_MODES."""
+    gla_init_range: float
+    gla_feedback: np.ndarray
+    """(2, 2): feedback[choice, need]."""
+    coordination_penalty_per_cell: float
+    gla_need: int
+    """A code of NEEDS."""
+    gla_delta_scale: float
+    """The factor of delta in the context (:func:`delta_scale`)."""
+    rule_distance: int
+    """-1: the GLAs learn (Alg. 4); d >= 0: the fixed rule "coordinate when delta < d"."""
 
 
-def new_gla_parameters(n_agents: int) -> np.ndarray:
-    """Room for one 2-action GLA per agent, shape (agents, 2 actions, 2 inputs); the kernel
-    draws the initial values from the run's own random stream."""
-    return np.zeros((n_agents, 2, N_GLA_INPUTS))
+def delta_scale(mode: str, gridmap: GridMap) -> float:
+    """The factor of delta in the GLA context: 1 for 'cells', one over the map's largest
+    Manhattan distance for 'unit'."""
+    return 1.0 if mode == "cells" else 1.0 / (gridmap.n_rows + gridmap.n_cols - 2)
+
+
+def automata(settings, gridmap: GridMap) -> tuple:
+    """The kernel's own input: the Automata bundle of ``settings`` on ``gridmap``."""
+    p = settings.gla_params()
+    rule = -1 if settings.rule_distance is None else settings.rule_distance
+    return (Automata(p.learning_rate, p.temperature, p.K, p.L, p.bounding_code, float(settings.gla_init_range),
+                     np.array(settings.gla_feedback), float(settings.coordination_penalty_per_cell),
+                     NEEDS[settings.gla_need], delta_scale(settings.gla_delta_scale, gridmap), rule),)
+
+
+def outputs(settings, gridmap: GridMap) -> dict:
+    """One run's GLA parameters ``u`` (agents, 2 actions, 2 inputs; drawn by the kernel from the
+    run's stream) and ``need_counts`` (distances 0 .. rows + cols - 2, without / with need)."""
+    return {"u": np.zeros((gridmap.n_agents, 2, N_GLA_INPUTS)),
+            "need_counts": np.zeros((gridmap.n_rows + gridmap.n_cols - 1, 2))}
+
+
+def gla_parameters(settings, gridmap: GridMap) -> int:
+    """The GLAs' parameters per run (none when the fixed rule replaces them)."""
+    return 0 if settings.rule_distance is not None else gridmap.n_agents * 2 * N_GLA_INPUTS
+
+
+@njit(cache=True, inline="always")
+def init_glas(u, init_range, state):
+    """Every GLA parameter uniform in [-init_range, init_range] ("initialised randomly", Section 5.3)."""
+    for i in range(u.shape[0]):
+        for j in range(2):
+            for k in range(N_GLA_INPUTS):
+                u[i, j, k] = init_range * (2.0 * rng.uniform(state) - 1.0)
 
 
 @njit(cache=True, inline="always")
@@ -94,39 +168,140 @@ def gla_feedback(table, penalty_per_cell, choice, need, both, delta):
     return beta
 
 
-@njit(cache=True, nogil=True, error_model="numpy")
-def run(next_cell, is_goal, starts, bounce, n_cols, alpha, gamma, exploit, gla_rate, temperature,
-        K, L, bounding, init_range, feedback_table, penalty_per_cell, need, delta_scale,
-        rule_distance, n_episodes, edges, max_steps, q, u, need_counts, log, state):
-    """One run of ``n_episodes`` episodes of Alg. 4; learns in ``q`` and ``u``, writes ``log``
-    and counts the observed steps per (delta, need) in ``need_counts``.
+@njit(cache=True, inline="always")
+def nearest_others(n_cols, cells, done, nearest, deltas):
+    """For every acting agent: the nearest other acting agent (lowest number on ties) and its
+    Manhattan distance; ``nearest`` is NOBODY for agents that are done or alone."""
+    n = cells.shape[0]
+    for i in range(n):
+        nearest[i] = NOBODY
+        deltas[i] = 0
+        if done[i]:
+            continue
+        for j in range(n):
+            if j == i or done[j]:
+                continue
+            d = rules.manhattan(n_cols, cells[i], cells[j])
+            if nearest[i] == NOBODY or d < deltas[i]:
+                nearest[i] = j
+                deltas[i] = d
 
-    ``need`` is a code of ``NEEDS``; the GLAs see ``[delta * delta_scale, 1]``. When one agent is
-    in the goal there is nobody to observe: the other acts on its Q alone and the GLAs are not
-    updated. ``rule_distance`` >= 0 replaces the GLAs by the fixed rule "coordinate when delta <
-    rule_distance" (a diagnostic; -1: the GLAs learn, as in Alg. 4).
+
+@njit(cache=True, inline="always")
+def random_order(members, count, state):
+    """Shuffle ``members[:count]`` uniformly (Durstenfeld: from the back, one draw per place)."""
+    for i in range(count - 1, 0, -1):
+        j = rng.integer(state, i + 1)
+        members[i], members[j] = members[j], members[i]
+
+
+@njit(cache=True, inline="always")
+def collision_coming(next_cell, is_goal, cells, done, preferred, i):
+    """Whether agent i's preferred action would collide with another agent's preferred action."""
+    for j in range(cells.shape[0]):
+        if j != i and rules.would_collide(next_cell, is_goal, cells, done, preferred, i, j):
+            return True
+    return False
+
+
+@njit(cache=True, inline="always")
+def in_range_of_any(in_range, cells, done, i):
+    """Whether acting agent i could collide with some other acting agent in this step
+    (``in_range``: the table of rules.in_range_table)."""
+    for j in range(cells.shape[0]):
+        if j != i and not done[j] and in_range[cells[i], cells[j]]:
+            return True
+    return False
+
+
+@njit(cache=True, inline="always")
+def need_of(need, in_range, cells, done, coming, collided, i):
+    """Agent i's need under reading ``need`` (module docstring); ``collided`` is the step's."""
+    if need == NEED_IN_RANGE:
+        return in_range_of_any(in_range, cells, done, i)
+    if need == NEED_SAMPLED:
+        return coming[i]
+    return need == NEED_OUTCOME and collided[i]
+
+
+@njit(cache=True, inline="always")
+def coordinate_group(next_cell, is_goal, cells, done, choices, preferred, actions, order, kept, state):
+    """Section 5.2's coordination for a group (module docstring): fill ``actions`` from the
+    ``preferred`` ones; return how many coordinating agents were in a coming collision.
+
+    ``order`` and ``kept`` are per-run buffers of one entry per agent.
     """
+    n = cells.shape[0]
+    count = 0
+    for i in range(n):
+        actions[i] = preferred[i]
+        if done[i] or choices[i] != COORDINATE:
+            continue
+        for j in range(n):
+            if j != i and choices[j] == COORDINATE and rules.would_collide(
+                    next_cell, is_goal, cells, done, preferred, i, j):
+                order[count] = i
+                count += 1
+                break
+    random_order(order, count, state)
+    for k in range(count):
+        i = order[k]
+        kept[i] = True
+        for m in range(k):
+            j = order[m]
+            if kept[j] and rules.would_collide(next_cell, is_goal, cells, done, preferred, i, j):
+                kept[i] = False
+                break
+        if not kept[i]:
+            other = rng.integer(state, 3)
+            actions[i] = other + 1 if other >= preferred[i] else other
+    return count
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def run(world, learning, automata, schedule, q, u, need_counts, log, state):
+    """One run of ``schedule.episodes`` episodes of Alg. 4 for any number of agents: two on
+    :func:`run_two`, more on :func:`run_group` (module docstring)."""
+    if world.starts.shape[0] == 2:
+        run_two(world, learning, automata, schedule, q, u, need_counts, log, state)
+    else:
+        run_group(world, learning, automata, schedule, q, u, need_counts, log, state)
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def run_two(world, learning, automata, schedule, q, u, need_counts, log, state):
+    """One run of Alg. 4 for two agents; learns in ``q`` and ``u``, writes ``log`` and counts the
+    observing agent-steps per (delta, need) in ``need_counts``.
+
+    The GLAs see ``[delta * gla_delta_scale, 1]``. When one agent is in the goal there is nobody
+    to observe: the other acts on its Q alone and the GLAs are not updated. ``rule_distance`` >= 0
+    replaces the GLAs by the fixed rule "coordinate when delta < rule_distance" (a diagnostic).
+    """
+    next_cell, is_goal, starts, n_cols = world.next_cell, world.is_goal, world.starts, world.n_cols
+    alpha, gamma, exploit = learning.q_learning_rate, learning.discount, learning.exploit_prob
+    rate, temperature, K, L = automata.gla_learning_rate, automata.gla_temperature, automata.gla_K, automata.gla_L
+    bounding, feedback, penalty = automata.gla_bounding, automata.gla_feedback, automata.coordination_penalty_per_cell
+    need, rule_distance = automata.gla_need, automata.rule_distance
+    edges, max_steps = schedule.edges, schedule.max_steps
     learn_first_level = rule_distance < 0
     n_agents = starts.shape[0]
     cells, done, actions, new_cells, rewards, bumped, collided, reached, acc = ep.buffers(n_agents)
+    coordinations_column = ep.column(n_agents, ep.COORDINATIONS)
     choices = np.empty(n_agents, np.int64)
     preferred = np.zeros(n_agents, np.int64)  # one of the actions even for done agents (rules.would_collide)
     probs = np.empty((n_agents, 2))
     x = np.ones(N_GLA_INPUTS)
     in_range = rules.in_range_table(next_cell, is_goal)
     needed = False
-    for i in range(n_agents):  # "initialised randomly" (Section 5.3)
-        for j in range(2):
-            for k in range(N_GLA_INPUTS):
-                u[i, j, k] = init_range * (2.0 * rng.uniform(state) - 1.0)
-    for episode in range(n_episodes):
+    init_glas(u, automata.gla_init_range, state)
+    for episode in range(schedule.episodes):
         ep.start_episode(starts, cells, done, acc)
         t = 0
         while t < max_steps and not ep.all_done(done):
             observing = not (done[0] or done[1])
             if observing:
                 delta = rules.manhattan(n_cols, cells[0], cells[1])
-                x[0] = delta * delta_scale
+                x[0] = delta * automata.gla_delta_scale
                 for i in range(n_agents):
                     if learn_first_level:
                         choices[i] = gla.act(u[i], x, temperature, L, bounding, probs[i], state)
@@ -140,25 +315,98 @@ def run(next_cell, is_goal, starts, bounce, n_cols, alpha, gamma, exploit, gla_r
                     yield_at_random(preferred, actions, state)
                 needed = need_before_step(need, in_range, cells, 0, 1, coming)
                 if both:
-                    acc[ep.COORDINATIONS] += 1
+                    acc[coordinations_column] += 1
             else:
                 for i in range(n_agents):
                     if not done[i]:
                         actions[i] = epsilon_greedy(q[i, cells[i]], exploit, state)
-            collisions = rules.step_two(next_cell, is_goal, starts, bounce, cells, done, actions,
-                                        new_cells, rewards, bumped, collided, reached)
+            collisions = rules.step_two(world, cells, done, actions, new_cells, rewards, bumped, collided, reached)
             if observing:
                 if need == NEED_OUTCOME:
                     needed = collisions > 0
-                need_counts[delta, 1 if needed else 0] += 1
+                need_counts[delta, 1 if needed else 0] += 2  # both agents observe: same delta, same need
             for i in range(n_agents):
                 if not done[i]:
-                    q_update(q[i], cells[i], actions[i], rewards[i], new_cells[i], reached[i],
-                             alpha, gamma)
+                    q_update(q[i], cells[i], actions[i], rewards[i], new_cells[i], reached[i], alpha, gamma)
             if observing and learn_first_level:
                 for i in range(n_agents):
-                    beta = gla_feedback(feedback_table, penalty_per_cell, choices[i], needed, both, delta)
-                    gla.update(u[i], x, choices[i], beta, gla_rate, temperature, K, L, bounding, probs[i])
+                    beta = gla_feedback(feedback, penalty, choices[i], needed, both, delta)
+                    gla.update(u[i], x, choices[i], beta, rate, temperature, K, L, bounding, probs[i])
             t += 1
             ep.end_step(t, cells, done, new_cells, rewards, reached, collisions, acc)
         ep.end_episode(log, episode, edges, acc, t, done)
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def run_group(world, learning, automata, schedule, q, u, need_counts, log, state):
+    """:func:`run_two` for any number of agents, with the group coordination of the module docstring."""
+    next_cell, is_goal, starts, n_cols = world.next_cell, world.is_goal, world.starts, world.n_cols
+    alpha, gamma, exploit = learning.q_learning_rate, learning.discount, learning.exploit_prob
+    rate, temperature, K, L = automata.gla_learning_rate, automata.gla_temperature, automata.gla_K, automata.gla_L
+    bounding, feedback, penalty = automata.gla_bounding, automata.gla_feedback, automata.coordination_penalty_per_cell
+    need, rule_distance = automata.gla_need, automata.rule_distance
+    edges, max_steps = schedule.edges, schedule.max_steps
+    learn_first_level = rule_distance < 0
+    n_agents = starts.shape[0]
+    coordinations_column = ep.column(n_agents, ep.COORDINATIONS)
+    cells, done, actions, new_cells, rewards, bumped, collided, reached, acc = ep.buffers(n_agents)
+    choices = np.empty(n_agents, np.int64)
+    preferred = np.zeros(n_agents, np.int64)  # one of the actions even for done agents (rules.would_collide)
+    nearest = np.empty(n_agents, np.int64)
+    deltas = np.empty(n_agents, np.int64)
+    coming = np.empty(n_agents, np.bool_)
+    needed = np.empty(n_agents, np.bool_)
+    order = np.empty(n_agents, np.int64)
+    kept = np.empty(n_agents, np.bool_)
+    probs = np.empty((n_agents, 2))
+    x = np.ones((n_agents, N_GLA_INPUTS))
+    in_range = rules.in_range_table(next_cell, is_goal)
+    init_glas(u, automata.gla_init_range, state)
+    for episode in range(schedule.episodes):
+        ep.start_episode(starts, cells, done, acc)
+        t = 0
+        while t < max_steps and not ep.all_done(done):
+            nearest_others(n_cols, cells, done, nearest, deltas)
+            for i in range(n_agents):
+                choices[i] = ACT_ALONE
+                if nearest[i] == NOBODY:
+                    continue
+                x[i, 0] = deltas[i] * automata.gla_delta_scale
+                if learn_first_level:
+                    choices[i] = gla.act(u[i], x[i], temperature, L, bounding, probs[i], state)
+                elif deltas[i] < rule_distance:
+                    choices[i] = COORDINATE
+            for i in range(n_agents):
+                if not done[i]:
+                    preferred[i] = epsilon_greedy(q[i, cells[i]], exploit, state)
+            for i in range(n_agents):
+                coming[i] = collision_coming(next_cell, is_goal, cells, done, preferred, i)
+            coordinate_group(next_cell, is_goal, cells, done, choices, preferred, actions, order, kept, state)
+            paired = 0
+            for i in range(n_agents):
+                if nearest[i] != NOBODY and choices[i] == COORDINATE and choices[nearest[i]] == COORDINATE:
+                    paired += 1
+            acc[coordinations_column] += paired / 2
+            collisions = rules.step(world, cells, done, actions, new_cells, rewards, bumped, collided, reached)
+            for i in range(n_agents):
+                if nearest[i] != NOBODY:
+                    needed[i] = need_of(need, in_range, cells, done, coming, collided, i)
+                    need_counts[deltas[i], 1 if needed[i] else 0] += 1
+            for i in range(n_agents):
+                if not done[i]:
+                    q_update(q[i], cells[i], actions[i], rewards[i], new_cells[i], reached[i], alpha, gamma)
+            if learn_first_level:
+                for i in range(n_agents):
+                    if nearest[i] == NOBODY:
+                        continue
+                    both = choices[i] == COORDINATE and choices[nearest[i]] == COORDINATE
+                    beta = gla_feedback(feedback, penalty, choices[i], needed[i], both, deltas[i])
+                    gla.update(u[i], x[i], choices[i], beta, rate, temperature, K, L, bounding, probs[i])
+            t += 1
+            ep.end_step(t, cells, done, new_cells, rewards, reached, collisions, acc)
+        ep.end_episode(log, episode, edges, acc, t, done)
+
+
+LEARNER = Learner(name="two_observe", label="2observe", n_agent_label="2observe (N agents)",
+                  kernel=run, table_shape=table_shape, inputs=automata,
+                  outputs=outputs, gla_parameters=gla_parameters, family="chapter")
