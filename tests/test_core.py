@@ -111,7 +111,7 @@ def _parse(argv):
 @pytest.mark.parametrize("argv, message", [
     (["--runs", "0"], "--runs: must be at least 1, got 0"),
     (["--iterations", "ten"], "--iterations: expected a whole number, got 'ten'"),
-    (["--seed", "-3"], "--seed: must be 0 or more, got -3"),
+    (["--seed", "-3"], "--seed: must be at least 0, got -3"),
     (["--workers", "x"], "--workers: expected a whole number"),
     (["--bogus"], "unrecognized arguments: --bogus"),
 ])

@@ -108,22 +108,19 @@ def joint_learned(outputs: dict, settings, gridmap: GridMap) -> np.ndarray:
     return np.full(outputs["q"].shape[0], float(joint_room(settings, gridmap)))
 
 
-@njit(cache=True)
-def coordinated_to_coordinated(q_joint, k, joint, rewards, k_next, alpha, gamma):
-    """c -> c: the MMDP update of the joint value on the summed reward."""
-    total = 0.0
-    for i in range(rewards.shape[0]):
-        total += rewards[i]
-    q_joint[k, joint] += alpha * (total + gamma * row_max(q_joint, k_next) - q_joint[k, joint])
+@njit(cache=True, inline="always")
+def coordinated_to_coordinated(q_joint, k, joint, reward, k_next, alpha, gamma):
+    """c -> c: the MMDP update of the joint value on the pair's summed ``reward``."""
+    q_joint[k, joint] += alpha * (reward + gamma * row_max(q_joint, k_next) - q_joint[k, joint])
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def pair_number(i, j, n_agents):
     """The joint table of agents i < j: pairs numbered (0, 1), (0, 2), ..., (1, 2), ..."""
     return i * n_agents - i * (i + 1) // 2 + j - i - 1
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def match_pairs(coordination, n_cols, n_cells, cells, acting, partner, rows):
     """Match the ``acting`` agents into coordinating pairs, closest pairs first (ties: lowest i,
     then lowest j; agents already matched are skipped): ``partner[i]`` is i's partner or
@@ -149,7 +146,7 @@ def match_pairs(coordination, n_cols, n_cells, cells, acting, partner, rows):
     return pairs
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def choose_actions(q, q_pairs, cells, done, partner, rows, exploit, actions, joint, state):
     """Epsilon-greedy on the pair's joint row for matched agents (drawn once per pair, by its lower
     agent, first component to the lower agent), on the own row for the others."""
@@ -165,7 +162,7 @@ def choose_actions(q, q_pairs, cells, done, partner, rows, exploit, actions, joi
             actions[i], actions[j] = joint[i] // rules.N_ACTIONS, joint[i] % rules.N_ACTIONS
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def next_value(q, q_pairs, i, new_cells, reached, partner_next, rows_next):
     """Agent i's value of its next state: none after entering the goal, half the best joint value
     of the pair it coordinates in next, else its own best value."""
@@ -177,7 +174,7 @@ def next_value(q, q_pairs, i, new_cells, reached, partner_next, rows_next):
     return row_max(q_pairs[pair_number(min(i, j), max(i, j), q.shape[0])], rows_next[i]) / PAIR
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def learn_pairs(q, q_pairs, cells, done, actions, rewards, new_cells, reached, matches, learning):
     """The four updates per pair and per single agent (module docstring). ``matches`` holds the
     step's (partner, rows, joint actions) and the next state's (partner, rows)."""
@@ -195,8 +192,7 @@ def learn_pairs(q, q_pairs, cells, done, actions, rewards, new_cells, reached, m
             share = next_value(q, q_pairs, i, new_cells, reached, partner_next, rows_next)
             q[i, cells[i], actions[i]] = old + alpha * (rewards[i] + gamma * share - old)
         elif partner_next[i] == j:  # c -> c, the same pair
-            pair_rewards = rewards[i:j + 1:j - i]  # (r_i, r_j)
-            coordinated_to_coordinated(q_pairs[pair_number(i, j, n)], rows[i], joint[i], pair_rewards,
+            coordinated_to_coordinated(q_pairs[pair_number(i, j, n)], rows[i], joint[i], rewards[i] + rewards[j],
                                        rows_next[i], alpha, gamma)
         else:  # c -> u: the pair breaks up
             target = 0.0
@@ -207,7 +203,7 @@ def learn_pairs(q, q_pairs, cells, done, actions, rewards, new_cells, reached, m
             table[rows[i], joint[i]] += alpha * (target - table[rows[i], joint[i]])
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def run(world, learning, coordination, schedule, q, q_pairs, log, state):
     """One run of ``schedule.episodes`` episodes with pairwise coordination; learns in ``q`` and
     ``q_pairs``, writes the binned ``log`` (coordinations: coordinating pairs summed over the steps)."""

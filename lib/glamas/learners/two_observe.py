@@ -277,12 +277,10 @@ def run_two(world, learning, automata, schedule, q, u, need_counts, log, state):
     to observe: the other acts on its Q alone and the GLAs are not updated. ``rule_distance`` >= 0
     replaces the GLAs by the fixed rule "coordinate when delta < rule_distance" (a diagnostic).
     """
-    next_cell, is_goal, starts, n_cols = world.next_cell, world.is_goal, world.starts, world.n_cols
+    next_cell, is_goal, starts = world.next_cell, world.is_goal, world.starts
     alpha, gamma, exploit = learning.q_learning_rate, learning.discount, learning.exploit_prob
-    rate, temperature, K, L = automata.gla_learning_rate, automata.gla_temperature, automata.gla_K, automata.gla_L
-    bounding, feedback, penalty = automata.gla_bounding, automata.gla_feedback, automata.coordination_penalty_per_cell
-    need, rule_distance = automata.gla_need, automata.rule_distance
-    edges, max_steps = schedule.edges, schedule.max_steps
+    temperature, L, bounding = automata.gla_temperature, automata.gla_L, automata.gla_bounding
+    need, rule_distance, feedback = automata.gla_need, automata.rule_distance, automata.gla_feedback
     learn_first_level = rule_distance < 0
     n_agents = starts.shape[0]
     cells, done, actions, new_cells, rewards, bumped, collided, reached, acc = ep.buffers(n_agents)
@@ -297,10 +295,10 @@ def run_two(world, learning, automata, schedule, q, u, need_counts, log, state):
     for episode in range(schedule.episodes):
         ep.start_episode(starts, cells, done, acc)
         t = 0
-        while t < max_steps and not ep.all_done(done):
+        while t < schedule.max_steps and not ep.all_done(done):
             observing = not (done[0] or done[1])
             if observing:
-                delta = rules.manhattan(n_cols, cells[0], cells[1])
+                delta = rules.manhattan(world.n_cols, cells[0], cells[1])
                 x[0] = delta * automata.gla_delta_scale
                 for i in range(n_agents):
                     if learn_first_level:
@@ -330,24 +328,20 @@ def run_two(world, learning, automata, schedule, q, u, need_counts, log, state):
                     q_update(q[i], cells[i], actions[i], rewards[i], new_cells[i], reached[i], alpha, gamma)
             if observing and learn_first_level:
                 for i in range(n_agents):
-                    beta = gla_feedback(feedback, penalty, choices[i], needed, both, delta)
-                    gla.update(u[i], x, choices[i], beta, rate, temperature, K, L, bounding, probs[i])
+                    beta = gla_feedback(feedback, automata.coordination_penalty_per_cell, choices[i], needed, both, delta)
+                    gla.update(u[i], x, choices[i], beta, automata.gla_learning_rate, temperature, automata.gla_K, L,
+                               bounding, probs[i])
             t += 1
             ep.end_step(t, cells, done, new_cells, rewards, reached, collisions, acc)
-        ep.end_episode(log, episode, edges, acc, t, done)
+        ep.end_episode(log, episode, schedule.edges, acc, t, done)
 
 
 @njit(cache=True, nogil=True, error_model="numpy")
 def run_group(world, learning, automata, schedule, q, u, need_counts, log, state):
     """:func:`run_two` for any number of agents, with the group coordination of the module docstring."""
-    next_cell, is_goal, starts, n_cols = world.next_cell, world.is_goal, world.starts, world.n_cols
-    alpha, gamma, exploit = learning.q_learning_rate, learning.discount, learning.exploit_prob
-    rate, temperature, K, L = automata.gla_learning_rate, automata.gla_temperature, automata.gla_K, automata.gla_L
-    bounding, feedback, penalty = automata.gla_bounding, automata.gla_feedback, automata.coordination_penalty_per_cell
-    need, rule_distance = automata.gla_need, automata.rule_distance
-    edges, max_steps = schedule.edges, schedule.max_steps
-    learn_first_level = rule_distance < 0
-    n_agents = starts.shape[0]
+    next_cell, is_goal, n_agents = world.next_cell, world.is_goal, world.starts.shape[0]
+    alpha, gamma = learning.q_learning_rate, learning.discount
+    learn_first_level = automata.rule_distance < 0
     coordinations_column = ep.column(n_agents, ep.COORDINATIONS)
     cells, done, actions, new_cells, rewards, bumped, collided, reached, acc = ep.buffers(n_agents)
     choices = np.empty(n_agents, np.int64)
@@ -363,22 +357,23 @@ def run_group(world, learning, automata, schedule, q, u, need_counts, log, state
     in_range = rules.in_range_table(next_cell, is_goal)
     init_glas(u, automata.gla_init_range, state)
     for episode in range(schedule.episodes):
-        ep.start_episode(starts, cells, done, acc)
+        ep.start_episode(world.starts, cells, done, acc)
         t = 0
-        while t < max_steps and not ep.all_done(done):
-            nearest_others(n_cols, cells, done, nearest, deltas)
+        while t < schedule.max_steps and not ep.all_done(done):
+            nearest_others(world.n_cols, cells, done, nearest, deltas)
             for i in range(n_agents):
                 choices[i] = ACT_ALONE
                 if nearest[i] == NOBODY:
                     continue
                 x[i, 0] = deltas[i] * automata.gla_delta_scale
                 if learn_first_level:
-                    choices[i] = gla.act(u[i], x[i], temperature, L, bounding, probs[i], state)
-                elif deltas[i] < rule_distance:
+                    choices[i] = gla.act(u[i], x[i], automata.gla_temperature, automata.gla_L, automata.gla_bounding,
+                                         probs[i], state)
+                elif deltas[i] < automata.rule_distance:
                     choices[i] = COORDINATE
             for i in range(n_agents):
                 if not done[i]:
-                    preferred[i] = epsilon_greedy(q[i, cells[i]], exploit, state)
+                    preferred[i] = epsilon_greedy(q[i, cells[i]], learning.exploit_prob, state)
             for i in range(n_agents):
                 coming[i] = collision_coming(next_cell, is_goal, cells, done, preferred, i)
             coordinate_group(next_cell, is_goal, cells, done, choices, preferred, actions, order, kept, state)
@@ -390,7 +385,7 @@ def run_group(world, learning, automata, schedule, q, u, need_counts, log, state
             collisions = rules.step(world, cells, done, actions, new_cells, rewards, bumped, collided, reached)
             for i in range(n_agents):
                 if nearest[i] != NOBODY:
-                    needed[i] = need_of(need, in_range, cells, done, coming, collided, i)
+                    needed[i] = need_of(automata.gla_need, in_range, cells, done, coming, collided, i)
                     need_counts[deltas[i], 1 if needed[i] else 0] += 1
             for i in range(n_agents):
                 if not done[i]:
@@ -400,11 +395,13 @@ def run_group(world, learning, automata, schedule, q, u, need_counts, log, state
                     if nearest[i] == NOBODY:
                         continue
                     both = choices[i] == COORDINATE and choices[nearest[i]] == COORDINATE
-                    beta = gla_feedback(feedback, penalty, choices[i], needed[i], both, deltas[i])
-                    gla.update(u[i], x[i], choices[i], beta, rate, temperature, K, L, bounding, probs[i])
+                    beta = gla_feedback(automata.gla_feedback, automata.coordination_penalty_per_cell, choices[i],
+                                        needed[i], both, deltas[i])
+                    gla.update(u[i], x[i], choices[i], beta, automata.gla_learning_rate, automata.gla_temperature,
+                               automata.gla_K, automata.gla_L, automata.gla_bounding, probs[i])
             t += 1
             ep.end_step(t, cells, done, new_cells, rewards, reached, collisions, acc)
-        ep.end_episode(log, episode, edges, acc, t, done)
+        ep.end_episode(log, episode, schedule.edges, acc, t, done)
 
 
 LEARNER = Learner(name="two_observe", label="2observe", n_agent_label="2observe (N agents)",
