@@ -67,7 +67,7 @@ def _collide(i, j, rewards, collided):
     collided[j] = True
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def step(world, cells, done, actions, new_cells, rewards, bumped, collided, reached):
     """One joint move of all agents in ``world``; fills the output arrays, returns the number of
     collisions.
