@@ -1,5 +1,5 @@
 """The gridworld learners of Section 5.3 (independent, joint-state and MMDP Q-learners, 2observe of
-Alg. 4, and its N-agent form for two agents): the compiled run kernels against a plain-C reference
+Alg. 4): the compiled run kernels against a plain-C reference
 of the same work (``reference_gridworld.c``, built here with ``cc -O2``) and their plain-Python
 references (benchmarks.python_gridworld).
 
@@ -10,12 +10,8 @@ jobs on a shared machine then count little); the ratio is C time / kernel time, 
 over the pairs: 1 would be the speed of plain C. The Python references (which play the kernels'
 episodes on the kernels' stream: tests/test_benchmark_references.py) run fewer episodes with
 random.Random and are compared per environment step (one joint move with its learning).
-
-The N-agent 2observe (glamas.learners.group_observe) for two agents plays 2observe's steps (its
-need counts aside), so it is timed against the 2observe C and Python references.
 """
 
-import dataclasses
 import random
 import statistics
 import time
@@ -24,9 +20,7 @@ import numpy as np
 
 from benchmarks import c_reference, kernels, python_gridworld, timing
 
-LEARNERS = ("independent", "joint_state", "mmdp", "two_observe", "group_observe")
-REFERENCE_OF = {"group_observe": "two_observe"}
-"""The C and Python references a kernel is timed against, when not its own."""
+LEARNERS = ("independent", "joint_state", "mmdp", "two_observe")
 SIZES = {"full": (1_000, 20_000, 7), "quick": (100, 2_000, 3)}
 """Episodes of the Python run, episodes of each compiled and C run, kernel / C pairs."""
 
@@ -39,10 +33,9 @@ def workload(name: str, episodes: int) -> kernels.Workload:
 def compare_with_c(reference, name: str, episodes: int, pairs: int):
     """(median C time / kernel time over the pairs, kernel seconds per step, logs identical)."""
     compiled = workload(name, episodes)
-    in_c = dataclasses.replace(compiled, learner=REFERENCE_OF.get(name, name))
     ratios, per_step, same = [], [], True
     for seed in range(pairs):
-        kernel, c = kernels.run_compiled(compiled, seed), reference.run(in_c, seed)
+        kernel, c = kernels.run_compiled(compiled, seed), reference.run(compiled, seed)
         ratios.append(c.seconds / kernel.seconds)
         per_step.append(kernel.seconds / kernel.steps())
         same = same and np.array_equal(kernel.log, c.log)
@@ -57,7 +50,7 @@ def kernel_per_step(name: str, episodes: int) -> float:
 
 def python_per_step(name: str, episodes: int) -> float:
     """The Python reference's seconds per step on one run, by the thread's CPU time."""
-    reference = kernels.Workload(REFERENCE_OF.get(name, name), episodes)
+    reference = kernels.Workload(name, episodes)
     start = time.thread_time()
     steps = python_gridworld.steps(python_gridworld.run(reference, random.Random(0)))
     return (time.thread_time() - start) / steps
@@ -79,8 +72,6 @@ def main():
             ratio, per_step, identical = compare_with_c(reference, name, episodes, pairs)
             vs_c, same = f"{ratio:10.2f}x", ("yes" if identical else "no")
         print(f"{name:15s} {per_step * 1e9:8.1f} {vs_c:>11s} {same:>14s} {python * 1e9:15.0f} {python / per_step:15.0f}x")
-    for name, other in REFERENCE_OF.items():
-        print(f"({name}: two agents, against the C and Python references of {other})")
 
 
 if __name__ == "__main__":

@@ -22,11 +22,10 @@ def main():
     n_steps, reference_steps = SIZES["quick" if timing.quick(__doc__) else "full"]
     gridmap = tunnel_to_goal()
     actions = np.random.default_rng(0).integers(0, rules.N_ACTIONS, size=(n_steps, gridmap.n_agents))
-    args = (gridmap.next_cell, gridmap.is_goal, gridmap.starts, rules.BOUNCE_PREVIOUS)
-    kernels.compiled_walk(*args, actions[:10])  # compile (or load the cache) outside the timing
+    kernels.walk_compiled(gridmap, "previous", actions[:10])  # compile (or load the cache) outside the timing
 
     start = time.perf_counter()
-    kernels.compiled_walk(*args, actions)
+    kernels.walk_compiled(gridmap, "previous", actions)
     compiled_time = time.perf_counter() - start
 
     world, reference_actions = python_gridworld.World(gridmap), actions[:reference_steps].tolist()
@@ -34,7 +33,7 @@ def main():
     reference = python_gridworld.walk(world, reference_actions)
     reference_time = time.perf_counter() - start
 
-    check = kernels.compiled_walk(*args, actions[:reference_steps])
+    check = kernels.walk_compiled(gridmap, "previous", actions[:reference_steps])
     if check != reference:
         raise SystemExit(f"the compiled rules and the reference disagree: {check} vs {reference}")
     compiled_per_step = compiled_time / n_steps

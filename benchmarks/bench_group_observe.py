@@ -1,5 +1,5 @@
-"""2observe for N agents (glamas.learners.group_observe) on the four-agent warehouse: the compiled
-kernel against its plain-Python reference (benchmarks.python_gridworld.group_observe: the same
+"""2observe for N agents (glamas.learners.two_observe.run_group) on the four-agent warehouse: the
+compiled kernel against its plain-Python reference (benchmarks.python_gridworld.two_observe_group: the same
 N-agent rules with bounce rounds, eq. 11, epsilon-greedy with random tie-breaking, the GLAs of eq.
 13-15 on the distance to the nearest other agent, the group coordination; tests/
 test_benchmark_references.py checks that it plays the kernel's episodes).
@@ -13,7 +13,7 @@ from benchmarks import kernels, timing
 from glamas.experiments.scaling import ScalingConfig
 
 N_AGENTS = 4
-SETTINGS = ScalingConfig().learning  # the scaling study's: the chapter's rates, a 1000-step cap
+SETTINGS = ScalingConfig().settings("two_observe")  # the scaling study's: the chapter's rates, a 1000-step cap
 SIZES = {"full": (300, 3_000, 4), "quick": (30, 300, 2)}
 """Episodes of the Python run, episodes and runs of the compiled ones."""
 
@@ -23,8 +23,8 @@ def main():
     map_file = f"warehouse_{N_AGENTS}.txt"
     timing.compare_gridworld(
         f"2observe, {N_AGENTS} agents",
-        kernels.Workload("group_observe", reference_episodes, map_file, learning=SETTINGS),
-        kernels.Workload("group_observe", episodes, map_file, block=episodes // 100, learning=SETTINGS), n_runs)
+        kernels.Workload("two_observe", reference_episodes, map_file, settings=SETTINGS),
+        kernels.Workload("two_observe", episodes, map_file, block=episodes // 100, settings=SETTINGS), n_runs)
 
 
 if __name__ == "__main__":

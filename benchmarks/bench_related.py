@@ -11,6 +11,7 @@ after a warm-up call, on one thread and on all threads.
 """
 
 from benchmarks import kernels, timing
+from glamas.learners.settings import LearnerSettings
 
 SIZES = {"full": (2_000, 20_000, 4), "quick": (200, 2_000, 2)}
 """Episodes of the Python run, episodes and runs of the compiled ones."""
@@ -19,7 +20,7 @@ SOLO_SHARE = 20
 
 
 def workload(name: str, episodes: int, block: int = 1) -> kernels.Workload:
-    return kernels.Workload(name, episodes, block=block, cq_solo_episodes=episodes // SOLO_SHARE)
+    return kernels.Workload(name, episodes, block=block, settings=LearnerSettings(cq_solo_episodes=episodes // SOLO_SHARE))
 
 
 def main():

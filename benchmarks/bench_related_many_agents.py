@@ -1,6 +1,6 @@
 """Sparse tabular MAQ with pairwise coordination and CQ-learning observing the nearest agent
-(glamas.learners.sparse_maq.run_pairs, glamas.learners.cq) on the four-agent warehouse: the compiled
-run kernels against their plain-Python references (benchmarks.python_gridworld.sparse_maq_pairs and
+(glamas.learners.sparse_maq, glamas.learners.cq) on the four-agent warehouse: the compiled
+run kernels against their plain-Python references (benchmarks.python_gridworld.sparse_maq and
 .cq: the same N-agent rules, eq. 11, epsilon-greedy with random tie-breaking, the pair matching and
 the four update cases per pair, CQ-learning's phase alone, reward windows, t-test and marks on the
 nearest agent's cell; tests/test_benchmark_references.py checks that they play the kernels' episodes).
@@ -11,19 +11,21 @@ joint phase (one joint move with its learning; CQ-learning's phase alone is time
 The compiled kernels are timed after a warm-up call, on one thread and on all threads.
 """
 
+import dataclasses
+
 from benchmarks import kernels, timing
 from benchmarks.bench_related import SOLO_SHARE
 from glamas.experiments.scaling import ScalingConfig
 
 N_AGENTS = 4
-SETTINGS = ScalingConfig().learning  # the scaling study's: the chapter's rates, a 1000-step cap
+SETTINGS = ScalingConfig().settings("cq")  # the scaling study's: the chapter's rates, a 1000-step cap
 SIZES = {"full": (300, 3_000, 4), "quick": (30, 300, 2)}
 """Episodes of the Python run, episodes and runs of the compiled ones."""
 
 
 def workload(name: str, episodes: int, block: int = 1) -> kernels.Workload:
-    return kernels.Workload(name, episodes, f"warehouse_{N_AGENTS}.txt", block, SETTINGS,
-                            cq_solo_episodes=episodes // SOLO_SHARE)
+    settings = dataclasses.replace(SETTINGS, cq_solo_episodes=episodes // SOLO_SHARE)
+    return kernels.Workload(name, episodes, f"warehouse_{N_AGENTS}.txt", block, settings)
 
 
 def main():

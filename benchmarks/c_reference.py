@@ -51,7 +51,7 @@ class Reference:
         thread's CPU time in the C call."""
         if workload.learner not in LEARNERS:
             raise ValueError(f"the C reference has the learners {LEARNERS}, not {workload.learner!r}")
-        g, c = workload.gridmap(), workload.learning
+        g, c = workload.gridmap(), workload.settings
         if g.n_agents != 2:
             raise ValueError(f"the C reference is written for two agents, got {g.n_agents}")
         arrays = kernels.new_outputs(workload, 1)
@@ -60,7 +60,7 @@ class Reference:
         world = _World(*(a.ctypes.data for a in world_arrays), BOUNCE_MODES[c.bounce], g.n_cells, g.n_cols)
         double, state = ctypes.c_double, kernels.run_state(seed)
         common = (ctypes.byref(world), double(c.q_learning_rate), double(c.discount), double(c.exploit_prob))
-        schedule = (ctypes.c_int64(workload.episodes), _pointer(workload.edges(), np.int64), ctypes.c_int64(c.max_steps))
+        schedule = (ctypes.c_int64(workload.episodes), _pointer(workload.schedule().edges, np.int64), ctypes.c_int64(c.max_steps))
         q, log = _pointer(arrays["q"][0], np.float64), _pointer(arrays["log"][0], np.float64)
         start = time.thread_time()
         if workload.learner == "two_observe":

@@ -106,7 +106,7 @@ class World:
 
 def walk(world, actions):
     """Play the joint ``actions`` with World.step, restarting from the starts whenever every agent
-    is in the goal: (total reward, collisions, episodes), as kernels.compiled_walk."""
+    is in the goal: (total reward, collisions, episodes), as kernels.walk_compiled."""
     n = len(world.starts)
     cells, done = list(world.starts), [False] * n
     total, collisions, episodes = 0.0, 0, 0
@@ -197,7 +197,7 @@ def nearest_others(world, cells, done):
 # --- the learners: each returns the step of one joint move with its learning ------------------------
 
 def independent(world, workload, rnd):
-    c = workload.learning
+    c = workload.settings
     alpha, gamma, exploit = c.q_learning_rate, c.discount, c.exploit_prob
     q = tables(2, world.n_cells, N_ACTIONS)
 
@@ -210,7 +210,7 @@ def independent(world, workload, rnd):
 
 
 def joint_state(world, workload, rnd):
-    c, n_cells = workload.learning, world.n_cells
+    c, n_cells = workload.settings, world.n_cells
     alpha, gamma, exploit = c.q_learning_rate, c.discount, c.exploit_prob
     q = tables(2, n_cells ** 2, N_ACTIONS)
 
@@ -241,7 +241,7 @@ def shared_reward(rewards, reached, finished):
 
 
 def mmdp(world, workload, rnd):
-    c, n_cells = workload.learning, world.n_cells
+    c, n_cells = workload.settings, world.n_cells
     alpha, gamma, exploit = c.q_learning_rate, c.discount, c.exploit_prob
     q = [[0.0] * N_ACTIONS ** 2 for _ in range(n_cells ** 2)]
 
@@ -258,8 +258,10 @@ def mmdp(world, workload, rnd):
 
 
 def two_observe(world, workload, rnd):
-    """Alg. 4 for two agents (glamas.learners.two_observe.run)."""
-    c = workload.learning
+    """Alg. 4: two agents as glamas.learners.two_observe.run_two, more as run_group."""
+    if len(world.starts) != 2:
+        return two_observe_group(world, workload, rnd)
+    c = workload.settings
     alpha, gamma, exploit = c.q_learning_rate, c.discount, c.exploit_prob
     q = tables(2, world.n_cells, N_ACTIONS)
     glas = Automata(c, 2, rnd)
@@ -290,7 +292,7 @@ def two_observe(world, workload, rnd):
 
 
 def coordinate_group(world, cells, done, choices, preferred, rnd):
-    """The group coordination of glamas.learners.group_observe: the coordinating agents in a coming
+    """The group coordination of glamas.learners.two_observe.coordinate_group: the coordinating agents in a coming
     collision with another coordinating agent go in a random order; each keeps its preferred
     action unless it would collide with an earlier one that kept its own."""
     n = len(cells)
@@ -309,9 +311,9 @@ def coordinate_group(world, cells, done, choices, preferred, rnd):
     return actions
 
 
-def group_observe(world, workload, rnd):
-    """2observe for N agents (glamas.learners.group_observe.run_group)."""
-    c, n = workload.learning, len(world.starts)
+def two_observe_group(world, workload, rnd):
+    """2observe for N agents (glamas.learners.two_observe.run_group)."""
+    c, n = workload.settings, len(world.starts)
     alpha, gamma, exploit = c.q_learning_rate, c.discount, c.exploit_prob
     q = tables(n, world.n_cells, N_ACTIONS)
     glas = Automata(c, n, rnd)
@@ -345,47 +347,6 @@ def coordination_states(world, distance):
     return [(a, b) for a in usable for b in usable if a != b and world.distance(a, b) <= distance]
 
 
-def sparse_maq(world, workload, rnd):
-    """Sparse tabular MAQ: two agents as sparse_maq.run, more as sparse_maq.run_pairs."""
-    if len(world.starts) != 2:
-        return sparse_maq_pairs(world, workload, rnd)
-    c = workload.learning
-    alpha, gamma, exploit = c.q_learning_rate, c.discount, c.exploit_prob
-    q = tables(2, world.n_cells, N_ACTIONS)
-    q_joint = {state: [0.0] * N_ACTIONS ** 2 for state in coordination_states(world, workload.coordination_distance)}
-
-    def step(cells, done):
-        row, joint = q_joint.get((cells[0], cells[1])), 0
-        if row is not None:
-            joint = epsilon_greedy(row, exploit, rnd)
-            actions = [joint // N_ACTIONS, joint % N_ACTIONS]
-        else:
-            actions = [0 if done[i] else epsilon_greedy(q[i][cells[i]], exploit, rnd) for i in range(2)]
-        new, rewards, reached, collisions = world.step(cells, done, actions)
-        row_next = q_joint.get((new[0], new[1]))
-        if row is not None and row_next is not None:  # c -> c
-            total = 0.0
-            for r in rewards:
-                total += r
-            row[joint] += alpha * (total + gamma * max(row_next) - row[joint])
-        elif row is not None:  # c -> u
-            target = 0.0
-            for i in range(2):
-                target += rewards[i]
-                if not reached[i]:
-                    target += gamma * max(q[i][new[i]])
-            row[joint] += alpha * (target - row[joint])
-        elif row_next is not None:  # u -> c
-            share = max(row_next) / 2
-            for i in range(2):
-                old = q[i][cells[i]][actions[i]]
-                q[i][cells[i]][actions[i]] = old + alpha * (rewards[i] + gamma * share - old)
-        else:  # u -> u
-            learn_own_cells(q, cells, done, actions, rewards, new, reached, alpha, gamma)
-        return new, rewards, reached, collisions, int(row is not None)
-    return step
-
-
 def match_pairs(world, states, distance, cells, acting):
     """Coordinating pairs, closest first (ties: lowest i, then lowest j): each agent's partner or
     None, and the number of pairs (sparse_maq.match_pairs)."""
@@ -404,9 +365,9 @@ def match_pairs(world, states, distance, cells, acting):
     return partner, pairs
 
 
-def sparse_maq_pairs(world, workload, rnd):
-    """Sparse tabular MAQ with pairwise coordination among N agents (sparse_maq.run_pairs)."""
-    c, n, distance = workload.learning, len(world.starts), workload.coordination_distance
+def sparse_maq(world, workload, rnd):
+    """Sparse tabular MAQ with pairwise coordination among any number of agents (sparse_maq.run)."""
+    c, n, distance = workload.settings, len(world.starts), workload.settings.coordination_distance
     alpha, gamma, exploit = c.q_learning_rate, c.discount, c.exploit_prob
     q = tables(n, world.n_cells, N_ACTIONS)
     states = set(coordination_states(world, distance))
@@ -513,11 +474,11 @@ def windows(n_agents, n_cells, size):
 def learn_alone(world, workload, q, baseline, rnd):
     """CQ-learning's first phase: each agent in turn learns alone (the others count as in the goal)
     and fills its baseline reward windows (cq.learn_alone)."""
-    c, n = workload.learning, len(world.starts)
+    c, n = workload.settings, len(world.starts)
     alpha, gamma, exploit = c.q_learning_rate, c.discount, c.exploit_prob
     actions = [0] * n
     for k in range(n):
-        for _ in range(workload.cq_solo_episodes):
+        for _ in range(workload.settings.cq_solo_episodes):
             cells, done, t = list(world.starts), [i != k for i in range(n)], 0
             while t < c.max_steps and not done[k]:
                 s = cells[k]
@@ -531,12 +492,12 @@ def learn_alone(world, workload, q, baseline, rnd):
 
 def cq(world, workload, rnd):
     """CQ-learning for any number of agents, each observing its nearest other agent (cq.run)."""
-    c, n = workload.learning, len(world.starts)
+    c, n = workload.settings, len(world.starts)
     alpha, gamma, exploit = c.q_learning_rate, c.discount, c.exploit_prob
     q = tables(n, world.n_cells, N_ACTIONS)
-    baseline = windows(n, world.n_cells, workload.cq_window)
+    baseline = windows(n, world.n_cells, workload.settings.cq_window)
     learn_alone(world, workload, q, baseline, rnd)
-    recent = windows(n, world.n_cells, workload.cq_window)
+    recent = windows(n, world.n_cells, workload.settings.cq_window)
     t_critical = workload.t_critical().tolist()
     q_joint = [{} for _ in range(n)]  # agent k: marked (own cell, nearest agent's cell) -> 4 values
 
@@ -567,7 +528,7 @@ def cq(world, workload, rnd):
             else:
                 q_update(q[k], s, a, r, new[k], reached[k], alpha, gamma)
             recent[k][s][a].add(r)
-            if keys[k] is not None and recent[k][s][a].added >= workload.cq_window:
+            if keys[k] is not None and recent[k][s][a].added >= workload.settings.cq_window:
                 mark_if_conflict(k, s, a, keys[k], r)
         observed = any(joint[k] and not done[k] for k in range(n))
         return new, rewards, reached, collisions, int(observed)
@@ -575,7 +536,7 @@ def cq(world, workload, rnd):
 
 
 LEARNERS = {"independent": independent, "joint_state": joint_state, "mmdp": mmdp, "two_observe": two_observe,
-            "group_observe": group_observe, "sparse_maq": sparse_maq, "cq": cq}
+            "sparse_maq": sparse_maq, "cq": cq}
 
 
 def play(world, episodes, max_steps, step):
@@ -607,9 +568,9 @@ def play(world, episodes, max_steps, step):
 def run(workload, rnd):
     """One run of the workload's learner in plain Python, drawing from ``rnd``: its log, a row per
     episode."""
-    world = World(workload.gridmap(), workload.learning.bounce)
+    world = World(workload.gridmap(), workload.settings.bounce)
     step = LEARNERS[workload.learner](world, workload, rnd)
-    return play(world, workload.episodes, workload.learning.max_steps, step)
+    return play(world, workload.episodes, workload.settings.max_steps, step)
 
 
 def steps(log):

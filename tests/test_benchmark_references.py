@@ -8,16 +8,18 @@ episodes: its log (a row per episode: steps, rewards, length, collisions, coordi
 and, for the line-world experiments, its learned parameters equal the kernel's number for number.
 """
 
+from dataclasses import replace
+
 import numpy as np
 import pytest
 
 from benchmarks import kernels, python_gridworld, python_lineworld
 from glamas import rng, runs
 from glamas.experiments import and_network, single_gla
-from glamas.experiments.gridworld import GridworldConfig
 from glamas.experiments.scaling import ScalingConfig
 from glamas.gridworld import BOUNCE_MODES, rules
 from glamas.learners import episode as ep
+from glamas.learners.settings import LearnerSettings
 
 MASK = (1 << 64) - 1
 
@@ -55,23 +57,22 @@ def test_the_python_stream_is_glamas_rng():
 
 TUNNEL = "tunnel_to_goal.txt"
 WAREHOUSE = "warehouse_4.txt"
-SCALING = ScalingConfig().learning  # the scaling study's settings: a 1000-step cap
+SCALING = ScalingConfig().settings("cq")  # the scaling study's settings: a 1000-step cap
 WORKLOADS = {
     "independent": kernels.Workload("independent", 200),
-    "independent, bounce to start": kernels.Workload("independent", 200, learning=GridworldConfig(bounce="start")),
+    "independent, bounce to start": kernels.Workload("independent", 200, settings=LearnerSettings(bounce="start")),
     "joint_state": kernels.Workload("joint_state", 200),
     "mmdp": kernels.Workload("mmdp", 200),
     "two_observe": kernels.Workload("two_observe", 200),
-    "group_observe, 2 agents": kernels.Workload("group_observe", 200),
     "sparse_maq": kernels.Workload("sparse_maq", 200),
-    "cq": kernels.Workload("cq", 200, cq_solo_episodes=20),
-    "group_observe, 4 agents": kernels.Workload("group_observe", 20, WAREHOUSE, learning=SCALING),
-    "sparse_maq, 4 agents": kernels.Workload("sparse_maq", 20, WAREHOUSE, learning=SCALING),
+    "cq": kernels.Workload("cq", 200, settings=LearnerSettings(cq_solo_episodes=20)),
+    "two_observe, 4 agents": kernels.Workload("two_observe", 20, WAREHOUSE, settings=SCALING),
+    "sparse_maq, 4 agents": kernels.Workload("sparse_maq", 20, WAREHOUSE, settings=SCALING),
     "sparse_maq, 4 agents, bounce to start": kernels.Workload(
-        "sparse_maq", 20, WAREHOUSE, learning=GridworldConfig(max_steps=1000, bounce="start")),
-    "cq, 4 agents": kernels.Workload("cq", 20, WAREHOUSE, learning=SCALING, cq_solo_episodes=10),
+        "sparse_maq", 20, WAREHOUSE, settings=replace(SCALING, bounce="start")),
+    "cq, 4 agents": kernels.Workload("cq", 20, WAREHOUSE, settings=replace(SCALING, cq_solo_episodes=10)),
 }
-COORDINATING = ("two_observe", "group_observe", "sparse_maq", "cq")
+COORDINATING = ("two_observe", "sparse_maq", "cq")
 
 
 @pytest.mark.parametrize("case", WORKLOADS)
@@ -79,11 +80,10 @@ def test_gridworld_reference_plays_the_kernels_episodes(case):
     workload = WORKLOADS[case]
     compiled = kernels.run_compiled(workload, seed=5)
     log = compiled.log[0]
-    n_agents = workload.gridmap().n_agents
     np.testing.assert_array_equal(python_gridworld.run(workload, Xoshiro256(kernels.run_state(5))), log)
-    assert log[:, ep.column(n_agents, ep.COLLISIONS)].sum() > 0  # the episodes have collisions
+    assert ep.metric(log, "collisions").sum() > 0  # the episodes have collisions
     if workload.learner in COORDINATING:
-        assert log[:, ep.column(n_agents, ep.COORDINATIONS)].sum() > 0  # and coordinated steps
+        assert ep.metric(log, "coordinations").sum() > 0  # and coordinated steps
     if workload.learner == "cq":
         assert compiled.arrays["marked"].any()  # CQ-learning's t-test marked joint states
 
@@ -93,7 +93,7 @@ def test_gridworld_reference_plays_the_kernels_episodes(case):
 def test_rules_reference_ends_with_the_compiled_totals(map_file, bounce):
     gridmap = kernels.Workload("independent", 1, map_file).gridmap()
     actions = np.random.default_rng(0).integers(0, rules.N_ACTIONS, size=(20_000, gridmap.n_agents))
-    compiled = kernels.compiled_walk(gridmap.next_cell, gridmap.is_goal, gridmap.starts, BOUNCE_MODES[bounce], actions)
+    compiled = kernels.walk_compiled(gridmap, bounce, actions)
     python = python_gridworld.walk(python_gridworld.World(gridmap, bounce), actions.tolist())
     assert python == compiled
     assert compiled[1] > 0 and compiled[2] > 0  # collisions and finished episodes

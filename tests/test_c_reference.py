@@ -9,8 +9,8 @@ import numpy as np
 import pytest
 
 from benchmarks import c_reference, kernels
-from glamas.experiments.gridworld import GridworldConfig
 from glamas.learners import episode as ep
+from glamas.learners.settings import LearnerSettings
 
 pytestmark = pytest.mark.skipif(shutil.which("cc") is None, reason="no C compiler (cc)")
 
@@ -23,16 +23,16 @@ def reference(tmp_path_factory):
 @pytest.mark.parametrize("name", c_reference.LEARNERS)
 @pytest.mark.parametrize("bounce", ["previous", "start"])
 def test_c_reference_plays_the_kernels_episodes(reference, name, bounce):
-    workload = kernels.Workload(name, 1500, block=75, learning=GridworldConfig(bounce=bounce))
+    workload = kernels.Workload(name, 1500, block=75, settings=LearnerSettings(bounce=bounce))
     kernel, c = kernels.run_compiled(workload, seed=11), reference.run(workload, seed=11)
     log = kernel.log[0]
-    assert log[:, ep.LENGTH].min() >= 1 and log[:, ep.COLLISIONS].sum() > 0  # episodes with collisions
+    assert ep.metric(log, "length").min() >= 1 and ep.metric(log, "collisions").sum() > 0  # episodes with collisions
     assert list(c.arrays) == list(kernel.arrays)  # log, Q tables (and 2observe's GLAs and need counts)
     for got, expected in zip(c.arrays.values(), kernel.arrays.values()):
         np.testing.assert_array_equal(got, expected)
 
 
 def test_c_reference_refuses_settings_it_does_not_implement(reference):
-    workload = kernels.Workload("two_observe", 10, learning=GridworldConfig(gla_need="outcome"))
+    workload = kernels.Workload("two_observe", 10, settings=LearnerSettings(gla_need="outcome"))
     with pytest.raises(ValueError, match="gla_need"):
         reference.run(workload)
