@@ -50,8 +50,11 @@ ledger: $(READY)
 	$(PY) -m glamas.ledger --write
 
 ## benchmark: compiled kernels against plain-Python references, and the time of `make figures`
-benchmark: $(READY)
-	@for script in $(sort $(wildcard benchmarks/bench_*.py)); do echo "== $$script"; $(PY) $$script || exit 1; done
+## (each benchmark is a module of the package benchmarks: `python -m benchmarks.bench_gla --quick`)
+BENCHMARKS := $(patsubst benchmarks/%.py,benchmarks.%,$(sort $(wildcard benchmarks/bench_*.py)))
+
+benchmark: $(READY) $(EXTRAS)
+	@for module in $(BENCHMARKS); do echo "== python -m $$module"; $(PY) -m $$module || exit 1; done
 
 ## reproduce: recompute every experiment of the chapter (Fig. 5-12) into $(OUT)/results and draw
 ## its figures into $(OUT)/figures, e.g. `make reproduce OUT=out/reproduce`. The results directory

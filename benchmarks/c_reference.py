@@ -1,6 +1,7 @@
 """The plain-C reference of the gridworld learners (``reference_gridworld.c``), built with the
-system C compiler (``cc -O2``) into a temporary shared library and called through ctypes with the
-compiled kernels' own arguments, so that both are timed in one process on the same work.
+system C compiler (``cc -O2``) into a temporary shared library and called through ctypes on a
+:class:`benchmarks.kernels.Workload`, so that it and the compiled kernel are timed in one process
+on the same work.
 
 ``load()`` returns None, after a one-line message, where there is no C compiler.
 """
@@ -9,12 +10,19 @@ import ctypes
 import shutil
 import subprocess
 import tempfile
+import time
 from pathlib import Path
 
 import numpy as np
 
+from benchmarks import kernels
+from glamas.gridworld import BOUNCE_MODES
+
 SOURCE = Path(__file__).with_name("reference_gridworld.c")
 LEARNERS = ("independent", "joint_state", "mmdp", "two_observe")
+TWO_OBSERVE_SETTINGS = {"gla_bounding": "clip", "gla_need": "in_range", "gla_delta_scale": "cells",
+                        "rule_distance": None}
+"""The settings the C reference of 2observe is written for."""
 
 
 class _World(ctypes.Structure):
@@ -32,59 +40,47 @@ def _pointer(array, dtype):
 
 
 class Reference:
-    """The C learners, each with the signature of its compiled kernel's ``run`` (two agents;
-    2observe with the default need, ``in_range``, and delta in cells)."""
+    """The C learners: :meth:`run` is :func:`benchmarks.kernels.run_compiled` for one run (two
+    agents; 2observe with the settings of TWO_OBSERVE_SETTINGS)."""
 
     def __init__(self, library: ctypes.CDLL):
         self._lib = library
-        self._keep = []  # arrays the current World points into
 
-    def _world(self, world):
-        arrays = (np.ascontiguousarray(world.next_cell, np.int64), np.ascontiguousarray(world.is_goal, np.uint8),
-                  np.ascontiguousarray(world.starts, np.int64))
-        if arrays[2].shape != (2,):
-            raise ValueError(f"the C reference is written for two agents, got {arrays[2].shape[0]}")
-        self._keep = arrays
-        return _World(*(a.ctypes.data for a in arrays), world.bounce, arrays[0].shape[0], world.n_cols)
+    def run(self, workload: kernels.Workload, seed: int = 0) -> kernels.Outputs:
+        """One run of the workload in C on the stream of run 0 of ``seed``; ``seconds`` is this
+        thread's CPU time in the C call."""
+        if workload.learner not in LEARNERS:
+            raise ValueError(f"the C reference has the learners {LEARNERS}, not {workload.learner!r}")
+        g, c = workload.gridmap(), workload.settings
+        if g.n_agents != 2:
+            raise ValueError(f"the C reference is written for two agents, got {g.n_agents}")
+        arrays = kernels.new_outputs(workload, 1)
+        world_arrays = (np.ascontiguousarray(g.next_cell, np.int64), np.ascontiguousarray(g.is_goal, np.uint8),
+                        np.ascontiguousarray(g.starts, np.int64))
+        world = _World(*(a.ctypes.data for a in world_arrays), BOUNCE_MODES[c.bounce], g.n_cells, g.n_cols)
+        double, state = ctypes.c_double, kernels.run_state(seed)
+        common = (ctypes.byref(world), double(c.q_learning_rate), double(c.discount), double(c.exploit_prob))
+        schedule = (ctypes.c_int64(workload.episodes), _pointer(workload.schedule().edges, np.int64), ctypes.c_int64(c.max_steps))
+        q, log = _pointer(arrays["q"][0], np.float64), _pointer(arrays["log"][0], np.float64)
+        start = time.thread_time()
+        if workload.learner == "two_observe":
+            self._lib.run_two_observe(*common, *self._automata(c), *schedule, q,
+                                      _pointer(arrays["u"][0], np.float64), _pointer(arrays["need_counts"][0], np.float64),
+                                      log, _pointer(state, np.uint64))
+        else:
+            getattr(self._lib, "run_" + workload.learner)(*common, *schedule, q, log, _pointer(state, np.uint64))
+        return kernels.Outputs(arrays, time.thread_time() - start, workload.block)
 
-    def _q_learner(self, name, world, learning, schedule, q, log, state):
-        c_world = self._world(world)
-        edges = np.ascontiguousarray(schedule.edges, np.int64)
-        getattr(self._lib, "run_" + name)(
-            ctypes.byref(c_world), ctypes.c_double(learning.q_learning_rate), ctypes.c_double(learning.discount),
-            ctypes.c_double(learning.exploit_prob), ctypes.c_int64(schedule.episodes), _pointer(edges, np.int64),
-            ctypes.c_int64(schedule.max_steps), _pointer(q, np.float64), _pointer(log, np.float64),
-            _pointer(state, np.uint64))
-
-    def independent(self, *args):
-        self._q_learner("independent", *args)
-
-    def joint_state(self, *args):
-        self._q_learner("joint_state", *args)
-
-    def mmdp(self, *args):
-        self._q_learner("mmdp", *args)
-
-    def two_observe(self, world, learning, automata, schedule, q, u, need_counts, log, state):
-        a = automata
-        if (a.gla_bounding, a.gla_need, a.gla_delta_scale, a.rule_distance) != (0, 0, 1.0, -1):
-            raise ValueError("the C reference of 2observe has clip bounding, need in_range, delta in "
-                             "cells and learning GLAs only")
-        c_world = self._world(world)
-        edges = np.ascontiguousarray(schedule.edges, np.int64)
-        table = np.ascontiguousarray(a.gla_feedback, np.float64)
+    @staticmethod
+    def _automata(c) -> tuple:
+        """2observe's GLA settings as the C function takes them."""
+        wrong = {name: getattr(c, name) for name, value in TWO_OBSERVE_SETTINGS.items() if getattr(c, name) != value}
+        if wrong:
+            raise ValueError(f"the C reference of 2observe is written for {TWO_OBSERVE_SETTINGS}, got {wrong}")
+        table = np.ascontiguousarray(c.gla_feedback, np.float64)
         double = ctypes.c_double
-        self._lib.run_two_observe(
-            ctypes.byref(c_world), double(learning.q_learning_rate), double(learning.discount),
-            double(learning.exploit_prob), double(a.gla_learning_rate), double(a.gla_temperature), double(a.gla_K),
-            double(a.gla_L), double(a.gla_init_range), _pointer(table, np.float64),
-            double(a.coordination_penalty_per_cell), ctypes.c_int64(schedule.episodes), _pointer(edges, np.int64),
-            ctypes.c_int64(schedule.max_steps), _pointer(q, np.float64), _pointer(u, np.float64),
-            _pointer(need_counts, np.float64), _pointer(log, np.float64), _pointer(state, np.uint64))
-
-    def run(self, name):
-        """The C counterpart of ``glamas.learners.<name>.run``."""
-        return getattr(self, name)
+        return (double(c.gla_learning_rate), double(c.gla_temperature), double(c.gla_K), double(c.gla_L),
+                double(c.gla_init_range), table.ctypes.data_as(ctypes.c_void_p), double(c.coordination_penalty_per_cell))
 
 
 def load(build_dir=None):

@@ -1,0 +1,34 @@
+"""Generalized learning automata (Section 4.1, eq. 12-15) in plain Python for the references: the
+arithmetic of glamas.gla in its order, with 'clip' bounding (the experiments' setting)."""
+
+import math
+
+
+def bound(eta, L):
+    """h of eq. 14, 'clip'."""
+    return max(-L, min(L, eta))
+
+
+def probabilities(u, x, temperature, L):
+    """Eq. 15 at h(u): one probability per row (action) of u."""
+    z = [sum(xk * bound(v, L) for xk, v in zip(x, row)) / temperature for row in u]
+    top = max(z)
+    e = [math.exp(v - top) for v in z]
+    total = sum(e)
+    return [v / total for v in e]
+
+
+def act(u, x, temperature, L, rnd):
+    """Eq. 12 for a 2-action GLA: (action, the probabilities it acted with), one uniform draw."""
+    probs = probabilities(u, x, temperature, L)
+    return (0 if rnd.random() < probs[0] else 1), probs
+
+
+def update(u, x, action, beta, probs, learning_rate, temperature, K, L):
+    """Eq. 13 in place, with the probabilities ``probs`` the GLA acted with."""
+    for j, row in enumerate(u):
+        indicator = 1.0 if j == action else 0.0
+        for k in range(len(row)):
+            gradient = x[k] / temperature * (indicator - probs[j])
+            h = bound(row[k], L)
+            row[k] += learning_rate * beta * gradient + learning_rate * K * (h - row[k])

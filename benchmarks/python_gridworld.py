@@ -1,0 +1,579 @@
+"""Plain-Python references of the gridworld learners (lists, loops and one random source; no
+NumPy, nothing compiled): the rules of glamas.gridworld.rules, eq. 11 with epsilon-greedy and
+random tie-breaking, the GLAs of eq. 13-15 ('clip' bounding, need 'in_range', delta in cells: the
+experiments' settings), 2observe (Alg. 4) and its N-agent form, sparse tabular MAQ and
+CQ-learning.
+
+Each reference does what its compiled kernel does, step for step: it draws the same random numbers
+in the same order (``rnd.random()`` for a uniform in [0, 1), :func:`below` for glamas.rng.integer)
+and does the same arithmetic in the same order. Given a stream equal to the kernel's (the tests
+drive it with glamas.rng's xoshiro256** in Python) it plays the kernel's very episodes; the
+benchmarks drive it with ``random.Random``. :func:`run` returns the log the kernel writes with
+blocks of one episode: a row per episode in the columns of glamas.learners.episode.
+"""
+
+import math
+
+from benchmarks import python_gla
+from glamas.gridworld.rules import BUMP_PENALTY, COLLISION_PENALTY, GOAL_REWARD, N_ACTIONS
+
+COORDINATE = 1
+"""The GLA action "coordinate" of 2observe (0: act alone)."""
+
+
+def below(rnd, n):
+    """An integer in [0, n) from one uniform draw, as glamas.rng.integer."""
+    return min(int(rnd.random() * n), n - 1)
+
+
+class World:
+    """A map as lists, with the rules of glamas.gridworld.rules: ``step`` for any number of
+    agents (rules.step), ``step_two`` for two (rules.step_two, the chapter learners' fast path)."""
+
+    def __init__(self, gridmap, bounce="previous"):
+        self.next_cell = gridmap.next_cell.tolist()
+        self.is_goal = gridmap.is_goal.tolist()
+        self.usable = (~(gridmap.is_goal | gridmap.blocked)).tolist()
+        self.starts = gridmap.starts.tolist()
+        self.n_cols, self.n_cells = gridmap.n_cols, gridmap.n_cells
+        self.bounce_to_start = bounce == "start"
+
+    def distance(self, a, b):
+        return abs(a // self.n_cols - b // self.n_cols) + abs(a % self.n_cols - b % self.n_cols)
+
+    def bounced(self, cells):
+        """Where collided agents go: their start cells or the cells they came from."""
+        return self.starts if self.bounce_to_start else cells
+
+    def would_collide(self, cells, done, actions, i, j):
+        """Whether acting agents i and j playing ``actions`` target one non-goal cell or swap."""
+        if done[i] or done[j]:
+            return False
+        a, b = self.next_cell[cells[i]][actions[i]], self.next_cell[cells[j]][actions[j]]
+        return (a == b and not self.is_goal[a]) or (a == cells[j] and b == cells[i])
+
+    def in_range_table(self):
+        """rules.in_range_table: ``table[a][b]``, whether agents on cells a and b could collide in
+        one step, made once per run as the kernels make it."""
+        def could_collide(a, b):
+            return any((ta == tb and not self.is_goal[ta]) or (ta == b and tb == a)
+                       for ta in self.next_cell[a] for tb in self.next_cell[b])
+        return [[could_collide(a, b) for b in range(self.n_cells)] for a in range(self.n_cells)]
+
+    def step_two(self, cells, done, actions):
+        """One joint move of two agents: (new cells, rewards, reached, collisions)."""
+        (c0, c1), (d0, d1) = cells, done
+        new0 = c0 if d0 else self.next_cell[c0][actions[0]]
+        new1 = c1 if d1 else self.next_cell[c1][actions[1]]
+        r0 = BUMP_PENALTY if not d0 and new0 == c0 else 0.0
+        r1 = BUMP_PENALTY if not d1 and new1 == c1 else 0.0
+        hit = not d0 and not d1 and ((new0 == new1 and not self.is_goal[new0]) or (new0 == c1 and new1 == c0))
+        if hit:
+            r0 += COLLISION_PENALTY
+            r1 += COLLISION_PENALTY
+            new0, new1 = self.bounced(cells)
+        reached = [not d0 and self.is_goal[new0], not d1 and self.is_goal[new1]]
+        if reached[0]:
+            r0 += GOAL_REWARD
+        if reached[1]:
+            r1 += GOAL_REWARD
+        return [new0, new1], [r0, r1], reached, int(hit)
+
+    def step(self, cells, done, actions):
+        """One joint move of any number of agents, bounce rounds included (rules.step)."""
+        n = len(cells)
+        new = [c if d else self.next_cell[c][a] for c, d, a in zip(cells, done, actions)]
+        rewards = [BUMP_PENALTY if not d and m == c else 0.0 for c, d, m in zip(cells, done, new)]
+        pairs = [(i, j) for i in range(n) for j in range(i + 1, n) if not done[i] and not done[j]]
+        found = [(i, j) for i, j in pairs if (new[i] == new[j] and not self.is_goal[new[i]])
+                 or (new[i] == cells[j] and new[j] == cells[i])]
+        collided, collisions, back = [False] * n, 0, self.bounced(cells)
+        while found:  # bounced agents may land where another agent now is
+            for i, j in found:
+                rewards[i] += COLLISION_PENALTY
+                rewards[j] += COLLISION_PENALTY
+                collided[i] = collided[j] = True
+            collisions += len(found)
+            new = [back[i] if collided[i] else new[i] for i in range(n)]
+            found = [(i, j) for i, j in pairs if new[i] == new[j] and not self.is_goal[new[i]]
+                     and not (collided[i] and collided[j])]
+        reached = [not d and self.is_goal[m] for d, m in zip(done, new)]
+        for i in range(n):
+            if reached[i]:
+                rewards[i] += GOAL_REWARD
+        return new, rewards, reached, collisions
+
+
+def walk(world, actions):
+    """Play the joint ``actions`` with World.step, restarting from the starts whenever every agent
+    is in the goal: (total reward, collisions, episodes), as kernels.walk_compiled."""
+    n = len(world.starts)
+    cells, done = list(world.starts), [False] * n
+    total, collisions, episodes = 0.0, 0, 0
+    for joint in actions:
+        cells, rewards, reached, hits = world.step(cells, done, joint)
+        collisions += hits
+        for r in rewards:
+            total += r
+        done = [d or r for d, r in zip(done, reached)]
+        if all(done):
+            episodes += 1
+            cells, done = list(world.starts), [False] * n
+    return total, collisions, episodes
+
+
+# --- Q-learning (eq. 11) and 2observe's GLAs --------------------------------------------------
+
+def tables(count, states, actions):
+    return [[[0.0] * actions for _ in range(states)] for _ in range(count)]
+
+
+def epsilon_greedy(row, exploit, rnd):
+    """glamas.qlearning.epsilon_greedy: greedy with probability ``exploit`` (a draw only on a tie),
+    else a uniform action."""
+    if rnd.random() < exploit:
+        best = max(row)
+        ties = row.count(best)
+        pick = 0 if ties == 1 else below(rnd, ties)
+        return [a for a, v in enumerate(row) if v == best][pick]
+    return below(rnd, len(row))
+
+
+def q_update(q, s, a, r, s_next, terminal, alpha, gamma):
+    """Eq. 11 (no successor term after entering the goal)."""
+    target = r if terminal else r + gamma * max(q[s_next])
+    q[s][a] = (1.0 - alpha) * q[s][a] + alpha * target
+
+
+def learn_own_cells(q, cells, done, actions, rewards, new, reached, alpha, gamma):
+    """Eq. 11 for every acting agent on its own cell's table."""
+    for i in range(len(cells)):
+        if not done[i]:
+            q_update(q[i], cells[i], actions[i], rewards[i], new[i], reached[i], alpha, gamma)
+
+
+def gla_feedback(table, penalty_per_cell, choice, need, both, delta):
+    """r_c of Alg. 4 as glamas.learners.two_observe.gla_feedback."""
+    beta = table[choice][1 if need else 0]
+    if both and not need:
+        beta -= penalty_per_cell * delta
+    return beta
+
+
+class Automata:
+    """The agents' GLAs of 2observe with the workload's settings, initialised from ``rnd``."""
+
+    def __init__(self, settings, n_agents, rnd):
+        c, self.rnd = settings, rnd
+        self.u = [[[c.gla_init_range * (2.0 * rnd.random() - 1.0) for _ in range(2)] for _ in range(2)]
+                  for _ in range(n_agents)]
+        self.rate, self.temperature, self.K, self.L = c.gla_learning_rate, c.gla_temperature, c.gla_K, c.gla_L
+        self.feedback, self.penalty = c.gla_feedback, c.coordination_penalty_per_cell
+
+    def act(self, i, x):
+        """(choice, probabilities) of agent i's GLA in context x."""
+        return python_gla.act(self.u[i], x, self.temperature, self.L, self.rnd)
+
+    def learn(self, i, x, choice, probs, need, both, delta):
+        beta = gla_feedback(self.feedback, self.penalty, choice, need, both, delta)
+        python_gla.update(self.u[i], x, choice, beta, probs, self.rate, self.temperature, self.K, self.L)
+
+
+def yield_action(preferred, rnd):
+    """A uniform draw from the three actions other than ``preferred`` (one draw)."""
+    other = below(rnd, 3)
+    return other + 1 if other >= preferred else other
+
+
+def nearest_others(world, cells, done):
+    """For every agent: (distance, number) of the nearest other acting agent (lowest number on
+    ties), None when it is done or alone."""
+    n = len(cells)
+    return [None if done[i] or all(done[j] for j in range(n) if j != i)
+            else min((world.distance(cells[i], cells[j]), j) for j in range(n) if j != i and not done[j])
+            for i in range(n)]
+
+
+# --- the learners: each returns the step of one joint move with its learning ------------------------
+
+def independent(world, workload, rnd):
+    c = workload.settings
+    alpha, gamma, exploit = c.q_learning_rate, c.discount, c.exploit_prob
+    q = tables(2, world.n_cells, N_ACTIONS)
+
+    def step(cells, done):
+        actions = [0 if done[i] else epsilon_greedy(q[i][cells[i]], exploit, rnd) for i in range(2)]
+        new, rewards, reached, collisions = world.step_two(cells, done, actions)
+        learn_own_cells(q, cells, done, actions, rewards, new, reached, alpha, gamma)
+        return new, rewards, reached, collisions, 0
+    return step
+
+
+def joint_state(world, workload, rnd):
+    c, n_cells = workload.settings, world.n_cells
+    alpha, gamma, exploit = c.q_learning_rate, c.discount, c.exploit_prob
+    q = tables(2, n_cells ** 2, N_ACTIONS)
+
+    def step(cells, done):
+        s = cells[0] * n_cells + cells[1]
+        actions = [0 if done[i] else epsilon_greedy(q[i][s], exploit, rnd) for i in range(2)]
+        new, rewards, reached, collisions = world.step_two(cells, done, actions)
+        s_next = new[0] * n_cells + new[1]
+        for i in range(2):
+            if not done[i]:
+                q_update(q[i], s, actions[i], rewards[i], s_next, reached[i], alpha, gamma)
+        return new, rewards, reached, collisions, 0
+    return step
+
+
+def shared_reward(rewards, reached, finished):
+    """The MMDP learner's reward (rules.shared_reward): penalties summed, +100 when the last agent
+    enters the goal."""
+    total, arrived = 0.0, False
+    for r, entered in zip(rewards, reached):
+        total += r
+        if entered:
+            total -= GOAL_REWARD
+            arrived = True
+    if finished and arrived:
+        total += GOAL_REWARD
+    return total
+
+
+def mmdp(world, workload, rnd):
+    c, n_cells = workload.settings, world.n_cells
+    alpha, gamma, exploit = c.q_learning_rate, c.discount, c.exploit_prob
+    q = [[0.0] * N_ACTIONS ** 2 for _ in range(n_cells ** 2)]
+
+    def step(cells, done):
+        s = cells[0] * n_cells + cells[1]
+        joint = epsilon_greedy(q[s], exploit, rnd)
+        actions = [joint // N_ACTIONS, joint % N_ACTIONS]
+        new, rewards, reached, collisions = world.step_two(cells, done, actions)
+        finished = all(done[i] or reached[i] for i in range(2))
+        q_update(q, s, joint, shared_reward(rewards, reached, finished), new[0] * n_cells + new[1], finished,
+                 alpha, gamma)
+        return new, rewards, reached, collisions, 0
+    return step
+
+
+def two_observe(world, workload, rnd):
+    """Alg. 4: two agents as glamas.learners.two_observe.run_two, more as run_group."""
+    if len(world.starts) != 2:
+        return two_observe_group(world, workload, rnd)
+    c = workload.settings
+    alpha, gamma, exploit = c.q_learning_rate, c.discount, c.exploit_prob
+    q = tables(2, world.n_cells, N_ACTIONS)
+    glas = Automata(c, 2, rnd)
+    in_range = world.in_range_table()
+
+    def step(cells, done):
+        if done[0] or done[1]:  # nobody to observe: Q alone, the GLAs do not learn
+            actions = [0 if done[i] else epsilon_greedy(q[i][cells[i]], exploit, rnd) for i in range(2)]
+            new, rewards, reached, collisions = world.step_two(cells, done, actions)
+            learn_own_cells(q, cells, done, actions, rewards, new, reached, alpha, gamma)
+            return new, rewards, reached, collisions, 0
+        delta = world.distance(cells[0], cells[1])
+        x = [float(delta), 1.0]
+        (choice0, probs0), (choice1, probs1) = glas.act(0, x), glas.act(1, x)
+        preferred = [epsilon_greedy(q[i][cells[i]], exploit, rnd) for i in range(2)]
+        both = choice0 == COORDINATE and choice1 == COORDINATE
+        actions = list(preferred)
+        if both and world.would_collide(cells, done, preferred, 0, 1):  # one of them, at random, yields
+            yielder = below(rnd, 2)
+            actions[yielder] = yield_action(preferred[yielder], rnd)
+        need = in_range[cells[0]][cells[1]]
+        new, rewards, reached, collisions = world.step_two(cells, done, actions)
+        learn_own_cells(q, cells, done, actions, rewards, new, reached, alpha, gamma)
+        glas.learn(0, x, choice0, probs0, need, both, delta)
+        glas.learn(1, x, choice1, probs1, need, both, delta)
+        return new, rewards, reached, collisions, int(both)
+    return step
+
+
+def coordinate_group(world, cells, done, choices, preferred, rnd):
+    """The group coordination of glamas.learners.two_observe.coordinate_group: the coordinating agents in a coming
+    collision with another coordinating agent go in a random order; each keeps its preferred
+    action unless it would collide with an earlier one that kept its own."""
+    n = len(cells)
+    order = [i for i in range(n) if not done[i] and choices[i] == COORDINATE and any(
+        j != i and choices[j] == COORDINATE and world.would_collide(cells, done, preferred, i, j)
+        for j in range(n))]
+    for k in range(len(order) - 1, 0, -1):  # Durstenfeld's shuffle, from the back
+        m = below(rnd, k + 1)
+        order[k], order[m] = order[m], order[k]
+    actions, kept = list(preferred), []
+    for i in order:
+        if any(world.would_collide(cells, done, preferred, i, j) for j in kept):
+            actions[i] = yield_action(preferred[i], rnd)
+        else:
+            kept.append(i)
+    return actions
+
+
+def two_observe_group(world, workload, rnd):
+    """2observe for N agents (glamas.learners.two_observe.run_group)."""
+    c, n = workload.settings, len(world.starts)
+    alpha, gamma, exploit = c.q_learning_rate, c.discount, c.exploit_prob
+    q = tables(n, world.n_cells, N_ACTIONS)
+    glas = Automata(c, n, rnd)
+    in_range = world.in_range_table()
+
+    def step(cells, done):
+        near = nearest_others(world, cells, done)
+        xs = [None if seen is None else [float(seen[0]), 1.0] for seen in near]
+        acted = [(0, None) if x is None else glas.act(i, x) for i, x in enumerate(xs)]
+        choices = [choice for choice, _ in acted]
+        preferred = [0 if done[i] else epsilon_greedy(q[i][cells[i]], exploit, rnd) for i in range(n)]
+        actions = coordinate_group(world, cells, done, choices, preferred, rnd)
+        both = [seen is not None and choices[i] == COORDINATE and choices[seen[1]] == COORDINATE
+                for i, seen in enumerate(near)]
+        needs = [any(j != i and not done[j] and in_range[cells[i]][cells[j]] for j in range(n)) for i in range(n)]
+        new, rewards, reached, collisions = world.step(cells, done, actions)
+        learn_own_cells(q, cells, done, actions, rewards, new, reached, alpha, gamma)
+        for i, seen in enumerate(near):
+            if seen is not None:
+                glas.learn(i, xs[i], choices[i], acted[i][1], needs[i], both[i], seen[0])
+        return new, rewards, reached, collisions, sum(both) / 2
+    return step
+
+
+# --- sparse tabular MAQ (glamas.learners.sparse_maq) ---------------------------------------------------
+
+def coordination_states(world, distance):
+    """The joint states (a, b) of two agents in which they coordinate: distinct usable cells at
+    Manhattan distance at most ``distance``."""
+    usable = [a for a in range(world.n_cells) if world.usable[a]]
+    return [(a, b) for a in usable for b in usable if a != b and world.distance(a, b) <= distance]
+
+
+def match_pairs(world, states, distance, cells, acting):
+    """Coordinating pairs, closest first (ties: lowest i, then lowest j): each agent's partner or
+    None, and the number of pairs (sparse_maq.match_pairs)."""
+    n = len(cells)
+    partner, pairs = [None] * n, 0
+    for d in range(1, distance + 1):
+        for i in range(n):
+            if not acting[i] or partner[i] is not None:
+                continue
+            for j in range(i + 1, n):
+                if (acting[j] and partner[j] is None and world.distance(cells[i], cells[j]) == d
+                        and (cells[i], cells[j]) in states):
+                    partner[i], partner[j] = j, i
+                    pairs += 1
+                    break
+    return partner, pairs
+
+
+def sparse_maq(world, workload, rnd):
+    """Sparse tabular MAQ with pairwise coordination among any number of agents (sparse_maq.run)."""
+    c, n, distance = workload.settings, len(world.starts), workload.settings.coordination_distance
+    alpha, gamma, exploit = c.q_learning_rate, c.discount, c.exploit_prob
+    q = tables(n, world.n_cells, N_ACTIONS)
+    states = set(coordination_states(world, distance))
+    q_pairs = {(i, j): {state: [0.0] * N_ACTIONS ** 2 for state in states} for i in range(n) for j in range(i + 1, n)}
+
+    def pair_row(i, j, cells):
+        lo, hi = min(i, j), max(i, j)
+        return q_pairs[lo, hi][cells[lo], cells[hi]]
+
+    def next_value(m, after, new, reached):
+        """Agent m's value of its next state: none in the goal, half its next pair's best joint
+        value, else its own best value."""
+        if reached[m]:
+            return 0.0
+        return max(q[m][new[m]]) if after[m] is None else max(pair_row(m, after[m], new)) / 2
+
+    def step(cells, done):
+        partner, pairs = match_pairs(world, states, distance, cells, [not d for d in done])
+        actions, joint = [0] * n, [0] * n
+        for i in range(n):
+            j = partner[i]
+            if done[i] or (j is not None and j < i):  # the pair's lower agent acts for it
+                continue
+            if j is None:
+                actions[i] = epsilon_greedy(q[i][cells[i]], exploit, rnd)
+            else:
+                joint[i] = epsilon_greedy(pair_row(i, j, cells), exploit, rnd)
+                actions[i], actions[j] = divmod(joint[i], N_ACTIONS)
+        new, rewards, reached, collisions = world.step(cells, done, actions)
+        after, _ = match_pairs(world, states, distance, new, [not (done[i] or reached[i]) for i in range(n)])
+        for i in range(n):
+            j = partner[i]
+            if done[i] or (j is not None and j < i):  # the pair's lower agent learns for it
+                continue
+            if j is None and after[i] is None:  # u -> u
+                q_update(q[i], cells[i], actions[i], rewards[i], new[i], reached[i], alpha, gamma)
+            elif j is None:  # u -> c
+                old = q[i][cells[i]][actions[i]]
+                share = next_value(i, after, new, reached)
+                q[i][cells[i]][actions[i]] = old + alpha * (rewards[i] + gamma * share - old)
+            elif after[i] == j:  # c -> c, the same pair
+                row = pair_row(i, j, cells)
+                total = 0.0 + rewards[i] + rewards[j]
+                row[joint[i]] += alpha * (total + gamma * max(pair_row(i, j, new)) - row[joint[i]])
+            else:  # c -> u: the pair breaks up
+                target = 0.0
+                for m in (i, j):
+                    target += rewards[m]
+                    target += gamma * next_value(m, after, new, reached)
+                row = pair_row(i, j, cells)
+                row[joint[i]] += alpha * (target - row[joint[i]])
+        return new, rewards, reached, collisions, pairs
+    return step
+
+
+# --- CQ-learning (glamas.learners.cq) ----------------------------------------------------------------
+
+class RewardWindow:
+    """The last ``size`` rewards of a state-action in a ring buffer, with their count, sum and sum
+    of squares kept up to date (cq.add_reward)."""
+
+    __slots__ = ("samples", "added", "count", "total", "squares")
+
+    def __init__(self, size):
+        self.samples, self.added = [0.0] * size, 0
+        self.count = self.total = self.squares = 0.0
+
+    def add(self, r):
+        size = len(self.samples)
+        slot = self.added % size
+        if self.added >= size:
+            old = self.samples[slot]
+            self.total -= old
+            self.squares -= old * old
+        else:
+            self.count += 1.0
+        self.samples[slot] = r
+        self.total += r
+        self.squares += r * r
+        self.added += 1
+
+
+def significantly_lower(baseline, recent, t_critical):
+    """Student's two-sample t-test with pooled variance on window summaries: the recent mean is
+    significantly below the baseline's (cq.significantly_lower)."""
+    n1, n2 = baseline.count, recent.count
+    if n1 < 1.0 or n2 < 1.0 or n1 + n2 < 3.0:
+        return False
+    m1, m2 = baseline.total / n1, recent.total / n2
+    if m2 >= m1:
+        return False
+    squares = max(baseline.squares - baseline.total * m1, 0.0) + max(recent.squares - recent.total * m2, 0.0)
+    df = int(n1 + n2 - 2.0)
+    spread = squares / df * (1.0 / n1 + 1.0 / n2)
+    if spread <= 0.0:
+        return True
+    return (m1 - m2) / math.sqrt(spread) > t_critical[df]
+
+
+def windows(n_agents, n_cells, size):
+    return [[[RewardWindow(size) for _ in range(N_ACTIONS)] for _ in range(n_cells)] for _ in range(n_agents)]
+
+
+def learn_alone(world, workload, q, baseline, rnd):
+    """CQ-learning's first phase: each agent in turn learns alone (the others count as in the goal)
+    and fills its baseline reward windows (cq.learn_alone)."""
+    c, n = workload.settings, len(world.starts)
+    alpha, gamma, exploit = c.q_learning_rate, c.discount, c.exploit_prob
+    actions = [0] * n
+    for k in range(n):
+        for _ in range(workload.settings.cq_solo_episodes):
+            cells, done, t = list(world.starts), [i != k for i in range(n)], 0
+            while t < c.max_steps and not done[k]:
+                s = cells[k]
+                a = actions[k] = epsilon_greedy(q[k][s], exploit, rnd)
+                new, rewards, reached, _ = world.step(cells, done, actions)
+                q_update(q[k], s, a, rewards[k], new[k], reached[k], alpha, gamma)
+                baseline[k][s][a].add(rewards[k])
+                t += 1
+                done[k], cells = reached[k], new
+
+
+def cq(world, workload, rnd):
+    """CQ-learning for any number of agents, each observing its nearest other agent (cq.run)."""
+    c, n = workload.settings, len(world.starts)
+    alpha, gamma, exploit = c.q_learning_rate, c.discount, c.exploit_prob
+    q = tables(n, world.n_cells, N_ACTIONS)
+    baseline = windows(n, world.n_cells, workload.settings.cq_window)
+    learn_alone(world, workload, q, baseline, rnd)
+    recent = windows(n, world.n_cells, workload.settings.cq_window)
+    t_critical = workload.t_critical().tolist()
+    q_joint = [{} for _ in range(n)]  # agent k: marked (own cell, nearest agent's cell) -> 4 values
+
+    def mark_if_conflict(k, s, a, key, r):
+        """Mark ``key`` when the recent rewards of (s, a) are significantly below the baseline and
+        ``r`` is below the baseline mean; its values start from the local ones."""
+        base = baseline[k][s][a]
+        if key in q_joint[k] or base.count < 1.0 or r >= base.total / base.count:
+            return
+        if significantly_lower(base, recent[k][s][a], t_critical):
+            q_joint[k][key] = list(q[k][s])
+
+    def step(cells, done):
+        near = nearest_others(world, cells, done)
+        keys = [None if seen is None else (cells[k], cells[seen[1]]) for k, seen in enumerate(near)]
+        joint = [key is not None and key in q_joint[k] for k, key in enumerate(keys)]
+        actions = [0 if done[k] else epsilon_greedy(q_joint[k][keys[k]] if joint[k] else q[k][cells[k]], exploit, rnd)
+                   for k in range(n)]
+        new, rewards, reached, collisions = world.step(cells, done, actions)
+        for k in range(n):
+            if done[k]:
+                continue
+            s, a, r = cells[k], actions[k], rewards[k]
+            if joint[k]:  # Q_j learns r plus the local value of the next state
+                row = q_joint[k][keys[k]]
+                target = r if reached[k] else r + gamma * max(q[k][new[k]])
+                row[a] += alpha * (target - row[a])
+            else:
+                q_update(q[k], s, a, r, new[k], reached[k], alpha, gamma)
+            recent[k][s][a].add(r)
+            if keys[k] is not None and recent[k][s][a].added >= workload.settings.cq_window:
+                mark_if_conflict(k, s, a, keys[k], r)
+        observed = any(joint[k] and not done[k] for k in range(n))
+        return new, rewards, reached, collisions, int(observed)
+    return step
+
+
+LEARNERS = {"independent": independent, "joint_state": joint_state, "mmdp": mmdp, "two_observe": two_observe,
+            "sparse_maq": sparse_maq, "cq": cq}
+
+
+def play(world, episodes, max_steps, step):
+    """The episode loop of glamas.learners.episode: ``step(cells, done)`` makes one joint move with
+    its learning and returns (new cells, rewards, reached, collisions, coordinations); a log row
+    per episode (steps and reward per agent, length, collisions, coordinations, capped)."""
+    n = len(world.starts)
+    log = []
+    for _ in range(episodes):
+        cells, done = list(world.starts), [False] * n
+        steps, reward = [0] * n, [0.0] * n
+        t, collisions, coordinations = 0, 0, 0.0
+        while t < max_steps and not all(done):
+            new, rewards, reached, hits, coordinated = step(cells, done)
+            t += 1
+            collisions += hits
+            coordinations += coordinated
+            for i in range(n):
+                if not done[i]:
+                    reward[i] += rewards[i]
+                    if reached[i]:
+                        steps[i], done[i] = t, True
+            cells = new
+        log.append([s if d else t for s, d in zip(steps, done)] + reward
+                   + [t, collisions, coordinations, 0.0 if all(done) else 1.0])
+    return log
+
+
+def run(workload, rnd):
+    """One run of the workload's learner in plain Python, drawing from ``rnd``: its log, a row per
+    episode."""
+    world = World(workload.gridmap(), workload.settings.bounce)
+    step = LEARNERS[workload.learner](world, workload, rnd)
+    return play(world, workload.episodes, workload.settings.max_steps, step)
+
+
+def steps(log):
+    """Environment steps (joint moves) of a log's episodes."""
+    n_agents = (len(log[0]) - 4) // 2
+    return sum(row[2 * n_agents] for row in log)

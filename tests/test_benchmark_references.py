@@ -1,0 +1,116 @@
+"""The benchmarks' plain-Python references do the work of the compiled kernels they are timed
+against (benchmarks/python_*.py).
+
+A reference draws its random numbers from whatever source it is given; here it gets glamas.rng's
+own generator written in Python (:class:`Xoshiro256`), started from the state of the kernel's run.
+It then draws the kernel's random numbers in the kernel's order, so it must play the kernel's very
+episodes: its log (a row per episode: steps, rewards, length, collisions, coordinations, capped)
+and, for the line-world experiments, its learned parameters equal the kernel's number for number.
+"""
+
+from dataclasses import replace
+
+import numpy as np
+import pytest
+
+from benchmarks import kernels, python_gridworld, python_lineworld
+from glamas import rng, runs
+from glamas.experiments import and_network, single_gla
+from glamas.experiments.scaling import ScalingConfig
+from glamas.gridworld import BOUNCE_MODES, rules
+from glamas.learners import episode as ep
+from glamas.learners.settings import LearnerSettings
+
+MASK = (1 << 64) - 1
+
+
+def _rotl(x, k):
+    return ((x << k) | (x >> (64 - k))) & MASK
+
+
+class Xoshiro256:
+    """glamas.rng's xoshiro256** in plain Python: ``random()`` is glamas.rng.uniform."""
+
+    def __init__(self, state):
+        self.s = [int(word) for word in state]
+
+    def random(self):
+        s = self.s
+        result = (_rotl((s[1] * 5) & MASK, 7) * 9) & MASK
+        t = (s[1] << 17) & MASK
+        s[2] ^= s[0]
+        s[3] ^= s[1]
+        s[1] ^= s[2]
+        s[0] ^= s[3]
+        s[2] ^= t
+        s[3] = _rotl(s[3], 45)
+        return (result >> 11) * 2.0 ** -53
+
+
+def test_the_python_stream_is_glamas_rng():
+    state = kernels.run_state(3)
+    python = Xoshiro256(state)
+    for n in (1, 2, 3, 4, 16):
+        assert [rng.uniform(state) for _ in range(200)] == [python.random() for _ in range(200)]
+        assert [rng.integer(state, n) for _ in range(200)] == [python_gridworld.below(python, n) for _ in range(200)]
+
+
+TUNNEL = "tunnel_to_goal.txt"
+WAREHOUSE = "warehouse_4.txt"
+SCALING = ScalingConfig().settings("cq")  # the scaling study's settings: a 1000-step cap
+WORKLOADS = {
+    "independent": kernels.Workload("independent", 200),
+    "independent, bounce to start": kernels.Workload("independent", 200, settings=LearnerSettings(bounce="start")),
+    "joint_state": kernels.Workload("joint_state", 200),
+    "mmdp": kernels.Workload("mmdp", 200),
+    "two_observe": kernels.Workload("two_observe", 200),
+    "sparse_maq": kernels.Workload("sparse_maq", 200),
+    "cq": kernels.Workload("cq", 200, settings=LearnerSettings(cq_solo_episodes=20)),
+    "two_observe, 4 agents": kernels.Workload("two_observe", 20, WAREHOUSE, settings=SCALING),
+    "sparse_maq, 4 agents": kernels.Workload("sparse_maq", 20, WAREHOUSE, settings=SCALING),
+    "sparse_maq, 4 agents, bounce to start": kernels.Workload(
+        "sparse_maq", 20, WAREHOUSE, settings=replace(SCALING, bounce="start")),
+    "cq, 4 agents": kernels.Workload("cq", 20, WAREHOUSE, settings=replace(SCALING, cq_solo_episodes=10)),
+}
+COORDINATING = ("two_observe", "sparse_maq", "cq")
+
+
+@pytest.mark.parametrize("case", WORKLOADS)
+def test_gridworld_reference_plays_the_kernels_episodes(case):
+    workload = WORKLOADS[case]
+    compiled = kernels.run_compiled(workload, seed=5)
+    log = compiled.log[0]
+    np.testing.assert_array_equal(python_gridworld.run(workload, Xoshiro256(kernels.run_state(5))), log)
+    assert ep.metric(log, "collisions").sum() > 0  # the episodes have collisions
+    if workload.learner in COORDINATING:
+        assert ep.metric(log, "coordinations").sum() > 0  # and coordinated steps
+    if workload.learner == "cq":
+        assert compiled.arrays["marked"].any()  # CQ-learning's t-test marked joint states
+
+
+@pytest.mark.parametrize("map_file", [TUNNEL, WAREHOUSE])
+@pytest.mark.parametrize("bounce", sorted(BOUNCE_MODES))
+def test_rules_reference_ends_with_the_compiled_totals(map_file, bounce):
+    gridmap = kernels.Workload("independent", 1, map_file).gridmap()
+    actions = np.random.default_rng(0).integers(0, rules.N_ACTIONS, size=(20_000, gridmap.n_agents))
+    compiled = kernels.walk_compiled(gridmap, bounce, actions)
+    python = python_gridworld.walk(python_gridworld.World(gridmap, bounce), actions.tolist())
+    assert python == compiled
+    assert compiled[1] > 0 and compiled[2] > 0  # collisions and finished episodes
+
+
+@pytest.mark.parametrize("init_scale", [0.0, 0.5])
+def test_experiment_1_reference_learns_the_kernels_parameters(init_scale):
+    config = single_gla.SingleGLAConfig(runs=1, iterations=4000, record_points=1, init_scale=init_scale)
+    result = single_gla.run(config, seed=7, workers=runs.Threads(1))
+    total, u = python_lineworld.single_gla_run(config, Xoshiro256(kernels.run_state(7)))
+    np.testing.assert_array_equal(np.array(u), result.params[0])
+    assert total / config.iterations == result.reward[0, 0]
+
+
+def test_experiment_2_reference_learns_the_kernels_parameters():
+    config = and_network.ANDNetworkConfig(runs=1, iterations=4000, record_points=2)
+    result = and_network.run(config, seed=7, workers=runs.Threads(1))
+    _, u = python_lineworld.and_network_run(config, Xoshiro256(kernels.run_state(7)))
+    context = len(u[0][0][0])
+    np.testing.assert_array_equal(np.array(u), result.params[0, ..., :context])
