@@ -89,13 +89,14 @@ class SingleGLAResult:
 
 
 @njit(cache=True, nogil=True)
-def learn(encoding, iterations, learning_rate, temperature, K, L, mode, init_scale,
-          params, reward, state):
+def learn(encoding, iterations, automaton, init_scale, params, reward, state):
     """One run of experiment 1: the loop of Section 4.2 with eq. 12-15 for both agents.
 
-    ``params`` (2, 2, n) is filled with the initial and then the learned parameters, ``reward``
-    with the average feedback of each of its len(reward) windows.
+    ``automaton`` is the :class:`glamas.gla.Settings` both GLAs share; ``params`` (2, 2, n) is
+    filled with the initial and then the learned parameters, ``reward`` with the average feedback
+    of each of its len(reward) windows.
     """
+    learning_rate, temperature, K, L, mode = automaton
     n_inputs = params.shape[2]
     for agent in range(2):
         for action in range(2):
@@ -124,18 +125,20 @@ def learn(encoding, iterations, learning_rate, temperature, K, L, mode, init_sca
             window_end = (point + 1) * iterations // n_points
 
 
+def kernel_inputs(config: SingleGLAConfig) -> tuple:
+    """The arguments of :func:`learn` before its outputs and state, for ``config``."""
+    encoding = lineworld.encoding_code(config.context)
+    return encoding, config.iterations, config.gla_params().settings(), float(config.init_scale)
+
+
 def run(config: SingleGLAConfig, seed: int = 0, workers=None,
         progress: str | None = None) -> SingleGLAResult:
     """All runs of experiment 1 for ``config``; identical for any number of workers."""
     memory.check(config)
-    encoding = lineworld.encoding_code(config.context)
-    n_inputs = lineworld.CONTEXT_LENGTH[encoding]
+    n_inputs = lineworld.CONTEXT_LENGTH[lineworld.encoding_code(config.context)]
     params = np.zeros((config.runs, 2, 2, n_inputs))
     reward = np.zeros((config.runs, config.record_points))
-    p = config.gla_params()
-    inputs = (encoding, config.iterations, p.learning_rate, p.temperature, p.K, p.L,
-              p.bounding_code, float(config.init_scale))
-    run_batches(learn, inputs, (params, reward), seed, workers=workers, progress=progress)
+    run_batches(learn, kernel_inputs(config), (params, reward), seed, workers=workers, progress=progress)
     points = np.arange(1, config.record_points + 1)
     return SingleGLAResult(config, points * config.iterations // config.record_points, reward, params)
 
