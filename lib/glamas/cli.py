@@ -1,4 +1,4 @@
-"""The command line shared by the figure scripts in ``paper_figures/``.
+"""The command line shared by the figure scripts in ``paper_figures/`` (:mod:`glamas.figures`).
 
 Output policy: a run at the paper-scale defaults (the --runs, --iterations and --seed the script
 was made with) writes to ``paper_figures/output`` and ``data/results``; any other run writes to
@@ -14,7 +14,7 @@ import functools
 import sys
 from pathlib import Path
 
-from glamas import atomic, memory, plotting, results
+from glamas import atomic, memory, results
 from glamas import runs as runners  # "runs" is the run count in figure_parser
 from glamas.experiments.checks import MAX_COUNT, suspect_settings
 from glamas.gridworld.maps import MapError
@@ -48,17 +48,24 @@ class CommandLineError(SystemExit):
         return self.message
 
 
+@contextlib.contextmanager
+def user_errors_reported():
+    """A user error inside becomes one line ``error: ...`` on stderr and exit status 2
+    (:class:`CommandLineError`), instead of a traceback."""
+    try:
+        yield
+    except USER_ERRORS as error:
+        message = one_line(error)
+        print(f"error: {message}", file=sys.stderr)
+        raise CommandLineError(message) from None
+
+
 def guard(main):
-    """Decorate a figure script's ``main``: a user error becomes one line ``error: ...`` on
-    stderr and exit status 2, instead of a traceback."""
+    """Decorate a command's ``main`` with :func:`user_errors_reported`."""
     @functools.wraps(main)
     def guarded(*args, **kwargs):
-        try:
+        with user_errors_reported():
             return main(*args, **kwargs)
-        except USER_ERRORS as error:
-            message = one_line(error)
-            print(f"error: {message}", file=sys.stderr)
-            raise CommandLineError(message) from None
     return guarded
 
 
@@ -226,10 +233,3 @@ def load_or_run(args: argparse.Namespace, name: str, config, run, result_type):
     arrays = {f.name: getattr(result, f.name) for f in dataclasses.fields(result) if f.name != "config"}
     results.save(path, config, arrays, seed=args.seed, overwrite=args.force)
     return result
-
-
-def write_outputs(args: argparse.Namespace, name: str, fig, config, arrays: dict) -> list[Path]:
-    """Save the result arrays with their config to --results, then the figure (PNG, PDF) to --out:
-    a result refused at saving time (another run wrote the file meanwhile) leaves no figure of it."""
-    saved = results.save(args.results / f"{name}.npz", config, arrays, seed=args.seed, overwrite=args.force)
-    return plotting.save_figure(fig, args.out, name) + [saved]

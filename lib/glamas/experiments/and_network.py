@@ -12,7 +12,7 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
-from glamas import claims, gla, lineworld, memory, rng
+from glamas import claims, figures, gla, lineworld, memory, rng
 from glamas.experiments import checks
 from glamas.plotting import legend_below
 from glamas.runs import run_batches
@@ -363,6 +363,20 @@ def measure_sweep(result: SweepResult) -> dict:
 def sweep_claim_rows(result: SweepResult) -> list[dict]:
     """The stuck-runs claim (data/chapter/section4.json) with its verdict computed from ``result``."""
     return claims.verdicts(claims.load("and_network_sweep"), measure_sweep(result))
+
+
+def scaled(runs: int, iterations: int) -> ANDNetworkConfig:
+    """The chapter's experiment 2 at ``runs`` and ``iterations``, with no more points of the
+    Fig. 7b curve than iterations."""
+    return ANDNetworkConfig(runs=runs, iterations=iterations,
+                            record_points=min(ANDNetworkConfig.record_points, iterations))
+
+
+FIG7 = figures.Experiment("fig7", run, ANDNetworkConfig.runs, ANDNetworkConfig.iterations, scaled, ANDNetworkResult)
+"""Fig. 7a and 7b's experiment for the figure scripts (one run for both)."""
+FIG7_SWEEP = figures.Experiment("fig7_sweep", sweep, ANDNetworkConfig.runs, ANDNetworkConfig.iterations, scaled,
+                                SweepResult)
+"""The stuck sweep for its figure script: experiment 2 at each region II reward of DEFAULT_SWEEP."""
 
 
 # ---- plots (each draws on a given Axes) ----

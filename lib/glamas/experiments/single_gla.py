@@ -7,11 +7,12 @@ GLA parameters; :func:`evaluate` turns those into exact expected rewards over th
 """
 
 from dataclasses import dataclass, replace
+from functools import partial
 
 import numpy as np
 from numba import njit
 
-from glamas import claims, gla, lineworld, memory, rng
+from glamas import claims, figures, gla, lineworld, memory, rng
 from glamas.experiments import checks
 from glamas.plotting import legend_below, plot_mean_band
 from glamas.runs import run_batches
@@ -432,6 +433,21 @@ def encodings_from_arrays(config: SingleGLAConfig, arrays: dict) -> dict:
     return {name: SingleGLAResult(replace(config, context=name), arrays[f"{name}_iteration"],
                                   arrays[f"{name}_reward"], arrays[f"{name}_params"])
             for name in ENCODING_NAMES}
+
+
+def scaled(runs: int, iterations: int, **settings) -> SingleGLAConfig:
+    """The chapter's experiment 1 (with ``settings`` changed) at ``runs`` and ``iterations``,
+    with no more points of the learning curve than iterations."""
+    return SingleGLAConfig(runs=runs, iterations=iterations, record_points=min(SingleGLAConfig.record_points, iterations),
+                           **settings)
+
+
+FIG5 = figures.Experiment("fig5", run, SingleGLAConfig.runs, SingleGLAConfig.iterations, scaled, SingleGLAResult)
+"""Fig. 5's experiment for the figure scripts: experiment 1 with the joint context."""
+FIG6 = figures.Experiment("fig6", compare_encodings, SingleGLAConfig.runs, SingleGLAConfig.iterations,
+                          partial(scaled, L=FIG6_L), copies=len(ENCODING_NAMES), to_arrays=encoding_arrays,
+                          from_arrays=encodings_from_arrays)
+"""Fig. 6's experiment for the figure scripts: experiment 1 with each context, in Fig. 6's box."""
 
 
 def claim_rows(result: SingleGLAResult) -> list[dict]:
