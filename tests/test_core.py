@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 from numba import njit
 
-from glamas import cli, plotting, provenance, results, rng, runs
+from glamas import cli, figures, plotting, provenance, results, rng, runs
 
 
 @njit(cache=True, nogil=True)
@@ -151,6 +151,26 @@ def test_load_or_run_reuses_a_result_of_the_same_configuration(tmp_path):
     assert calls == [4]  # refused before running
     replaced = cli.load_or_run(_parse(["--results", str(tmp_path), "--seed", "5", "--force"]), "exp", _Config(), run, _Result)
     assert calls == [4, 5] and replaced.curve[0] == 5.0
+
+
+def test_a_figure_that_runs_no_experiment_uses_only_out(tmp_path, capsys):
+    afile = tmp_path / "file"
+    afile.write_text("")
+    argv = ["--runs", "7", "--seed", "3", "--results", str(afile), "--scheduler", "tcp:/bad", "--out", str(tmp_path)]
+    with figures.fixed_figure("f", "A map.", argv) as ax:
+        ax.plot([0, 1])
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["f.pdf", "f.png", "file"]
+    help_text = " ".join(cli.figure_parser("A map.").format_help().split())
+    assert "It runs no experiment: only --out changes what it writes." in help_text
+    assert help_text.count(cli.NO_EXPERIMENT) == 9  # every option but --out (and --help)
+
+
+def test_a_drawing_error_saves_no_figure_and_is_one_line(tmp_path, capsys):
+    with pytest.raises(SystemExit) as stopped:
+        with figures.fixed_figure("f", "A map.", ["--out", str(tmp_path)]):
+            raise ValueError("no such\nmap")
+    assert stopped.value.code == 2 and capsys.readouterr().err == "error: no such map\n"
+    assert list(tmp_path.iterdir()) == []
 
 
 def test_figures_are_byte_reproducible(tmp_path):

@@ -11,7 +11,8 @@ A script names the experiment its figure is drawn from, the figure and its size,
 experiment's paper-scale defaults, reads the result from --results when a file of this
 configuration is there or runs the experiment and saves its result there (:func:`load_or_run`;
 --rerun runs it anyway), hands the drawing its axes, and saves the figure (PNG and PDF) to --out.
-A user error becomes one line ``error: ...`` and exit status 2.
+:func:`fixed_figure` does the same for a figure that runs no experiment (the map, a table of
+settings). Either turns a user error into one line ``error: ...`` and exit status 2.
 """
 
 import contextlib
@@ -106,6 +107,17 @@ def load_or_run(args, experiment: Experiment, config):
     result = cli.run_experiment(args, experiment.name, config, experiment.run, experiment.copies)
     results.save(path, config, experiment.arrays(result), seed=args.seed, overwrite=args.force)
     return result
+
+
+@contextlib.contextmanager
+def fixed_figure(name: str, description: str, argv=None, size: tuple = (6.0, 4.0), *, nrows: int = 1,
+                 ncols: int = 1):
+    """Figure ``name`` of no experiment (it depends on no run, no seed): yields the axes to draw
+    on, then saves it to --out, the only one of the shared options it uses."""
+    with cli.user_errors_reported():
+        args = cli.parse(cli.figure_parser(_summary(description)), argv)
+        with _saved(name, args.out, size, nrows, ncols) as axes:
+            yield axes
 
 
 @contextlib.contextmanager

@@ -596,7 +596,7 @@ def plot_coordination_probability(ax, result, config: GridworldConfig):
     ax.legend(fontsize="small")
 
 
-# --- figure scripts (paper_figures/fig10.py ... fig12b.py) --------------------------------------
+# --- figure scripts (paper_figures/fig11a.py ... fig12b.py) --------------------------------------
 
 RESULT_NAME = "gridworld"
 """Result file shared by the Fig. 11 and 12 scripts: the experiment runs once for all four."""
@@ -610,12 +610,9 @@ def figure_main(name: str, description: str, argv=None) -> list[Path]:
     parser = cli.figure_parser(description, runs=GridworldConfig.runs, iterations=GridworldConfig.episodes)
     args = cli.parse(parser, argv)
     config = GridworldConfig(runs=args.runs, episodes=args.iterations)
-    fig, ax = new_figure(6.0, 2.2 if name == "fig10" else 4.0)
-    if name == "fig10":
-        plot_feedback_table(ax, config)
-    else:
-        result = cli.load_or_run(args, RESULT_NAME, config, run, GridworldResult)
-        _DRAW[name](ax, result, optimum(config))
+    fig, ax = new_figure(6.0, 4.0)
+    result = cli.load_or_run(args, RESULT_NAME, config, run, GridworldResult)
+    _DRAW[name](ax, result, optimum(config))
     written = save_figure(fig, args.out, name)
     plt.close(fig)
     return written
