@@ -134,6 +134,10 @@ class _Result:
     curve: np.ndarray
 
 
+def _experiment(run) -> figures.Experiment:
+    return figures.Experiment("exp", run, 5, 100, lambda runs, iterations: _Config(runs=runs), _Result)
+
+
 def test_load_or_run_reuses_a_result_of_the_same_configuration(tmp_path):
     calls = []
 
@@ -141,16 +145,39 @@ def test_load_or_run_reuses_a_result_of_the_same_configuration(tmp_path):
         calls.append(seed)
         return _Result(curve=np.full(3, float(seed)))
 
+    experiment = _experiment(run)
     args = _parse(["--results", str(tmp_path), "--seed", "4"])
-    first = cli.load_or_run(args, "exp", _Config(), run, _Result)
-    again = cli.load_or_run(args, "exp", _Config(), run, _Result)
+    first = figures.load_or_run(args, experiment, _Config())
+    again = figures.load_or_run(args, experiment, _Config())
     assert calls == [4] and np.array_equal(first.curve, again.curve)
+    figures.load_or_run(_parse(["--results", str(tmp_path), "--seed", "4", "--rerun"]), experiment, _Config())
+    assert calls == [4, 4]
     for flags in ([], ["--rerun"]):
         with pytest.raises(results.ResultFileError, match="different configuration.*not overwritten"):
-            cli.load_or_run(_parse(["--results", str(tmp_path), "--seed", "5"] + flags), "exp", _Config(), run, _Result)
-    assert calls == [4]  # refused before running
-    replaced = cli.load_or_run(_parse(["--results", str(tmp_path), "--seed", "5", "--force"]), "exp", _Config(), run, _Result)
-    assert calls == [4, 5] and replaced.curve[0] == 5.0
+            figures.load_or_run(_parse(["--results", str(tmp_path), "--seed", "5"] + flags), experiment, _Config())
+    assert calls == [4, 4]  # refused before running
+    replaced = figures.load_or_run(_parse(["--results", str(tmp_path), "--seed", "5", "--force"]), experiment, _Config())
+    assert calls == [4, 4, 5] and replaced.curve[0] == 5.0
+
+
+def test_a_figure_is_drawn_from_its_experiment_at_the_command_line_scale(tmp_path, capsys):
+    seen = []
+    experiment = _experiment(lambda config, seed, workers, progress: _Result(curve=np.full(3, float(config.runs))))
+    argv = ["--runs", "2", "--out", str(tmp_path), "--results", str(tmp_path)]
+    with experiment.figure("f", "A figure.\n\nMore about it.", argv) as (ax, result, config):
+        seen.append((config, result.curve.tolist()))
+        ax.plot(result.curve)
+    assert seen == [(_Config(runs=2), [2.0, 2.0, 2.0])]
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["exp.npz", "f.pdf", "f.png"]
+    assert capsys.readouterr().out.split() == [str(tmp_path / "f.png"), str(tmp_path / "f.pdf")]
+
+
+def test_a_figure_needs_the_runs_it_shows(tmp_path, capsys):
+    experiment = _experiment(lambda config, seed, workers, progress: _Result(curve=np.zeros(3)))
+    with pytest.raises(SystemExit):
+        with experiment.figure("f", "A figure.", ["--runs", "1", "--out", str(tmp_path)], min_runs=2):
+            pass
+    assert "--runs must be at least 2" in capsys.readouterr().err
 
 
 def test_a_figure_that_runs_no_experiment_uses_only_out(tmp_path, capsys):

@@ -9,8 +9,6 @@ computes with one line ``error: ...`` on stderr and exit status 2 (:func:`user_e
 
 import argparse
 import contextlib
-import dataclasses
-import functools
 import sys
 from pathlib import Path
 
@@ -60,15 +58,6 @@ def user_errors_reported():
         message = one_line(error)
         print(f"error: {message}", file=sys.stderr)
         raise CommandLineError(message) from None
-
-
-def guard(main):
-    """Decorate a command's ``main`` with :func:`user_errors_reported`."""
-    @functools.wraps(main)
-    def guarded(*args, **kwargs):
-        with user_errors_reported():
-            return main(*args, **kwargs)
-    return guarded
 
 
 def one_line(error: BaseException) -> str:
@@ -224,28 +213,3 @@ def _naming_suspects(config):
         if not suspects:
             raise
         raise runners.NonFiniteError(f"{error}; likely responsible: {suspects}") from None
-
-
-def load_or_run(args: argparse.Namespace, name: str, config, run, result_type):
-    """The result of ``config``: read from --results when a file of this configuration is there
-    (unless --rerun), otherwise ``run(config, seed=, workers=, progress=)`` and saved.
-
-    Figures drawn from one experiment share its result file instead of running it again. A file
-    of this configuration made with another map or library version is refused (--rerun).
-    ``result_type`` is a dataclass of arrays; a field named ``config`` is not stored as an array
-    but is the configuration the file is checked against.
-    """
-    path = args.results / f"{name}.npz"
-    carries_config = "config" in {f.name for f in dataclasses.fields(result_type)}
-    if path.exists() and not (args.rerun or args.force):
-        try:
-            arrays = results.load(path, config, seed=args.seed)
-            return result_type(config=config, **arrays) if carries_config else result_type(**arrays)
-        except results.StaleResultError:
-            raise
-        except results.ResultFileError:
-            pass  # another configuration's or unreadable: check_before_run refuses it
-    result = run_experiment(args, name, config, run)
-    arrays = {f.name: getattr(result, f.name) for f in dataclasses.fields(result) if f.name != "config"}
-    results.save(path, config, arrays, seed=args.seed, overwrite=args.force)
-    return result

@@ -10,18 +10,17 @@ import math
 from dataclasses import dataclass, replace
 from pathlib import Path
 
-import matplotlib.pyplot as plt
 import numpy as np
 from matplotlib.ticker import NullFormatter
 
 from glamas import claims as chapter
-from glamas import cli, gla, results, runs
+from glamas import figures, gla, results, runs
 from glamas.experiments import checks
 from glamas.gridworld import BOUNCE_MODES, GridMap, dp, load_map, rules
 from glamas.learners import episode as ep
 from glamas.learners import independent, joint_state, mmdp, two_observe
 from glamas.paths import MAPS, RESULTS
-from glamas.plotting import legend_below, learner_style, new_figure, plot_mean_band, save_figure
+from glamas.plotting import legend_below, learner_style, plot_mean_band
 
 EXPERIMENT = "gridworld"
 LEARNERS = ("independent", "joint_state", "mmdp", "two_observe")
@@ -596,23 +595,16 @@ def plot_coordination_probability(ax, result, config: GridworldConfig):
     ax.legend(fontsize="small")
 
 
-# --- figure scripts (paper_figures/fig11a.py ... fig12b.py) --------------------------------------
+# --- the experiment of the figure scripts (paper_figures/fig11a.py ... fig12b.py) ----------------
 
 RESULT_NAME = "gridworld"
 """Result file shared by the Fig. 11 and 12 scripts: the experiment runs once for all four."""
-_DRAW = {"fig11a": plot_steps, "fig11b": plot_reward, "fig12a": plot_collisions,
-         "fig12b": lambda ax, result, optimum: plot_coordinations(ax, result)}
 
 
-def figure_main(name: str, description: str, argv=None) -> list[Path]:
-    """The body of ``paper_figures/<name>.py``: parse the command line, get the experiment's
-    result (from --results when this configuration already ran, else run it), draw, save."""
-    parser = cli.figure_parser(description, runs=GridworldConfig.runs, iterations=GridworldConfig.episodes)
-    args = cli.parse(parser, argv)
-    config = GridworldConfig(runs=args.runs, episodes=args.iterations)
-    fig, ax = new_figure(6.0, 4.0)
-    result = cli.load_or_run(args, RESULT_NAME, config, run, GridworldResult)
-    _DRAW[name](ax, result, optimum(config))
-    written = save_figure(fig, args.out, name)
-    plt.close(fig)
-    return written
+def scaled(runs: int, episodes: int) -> GridworldConfig:
+    """The chapter's experiment at ``runs`` and ``episodes``."""
+    return GridworldConfig(runs=runs, episodes=episodes)
+
+
+STUDY = figures.Experiment(RESULT_NAME, run, GridworldConfig.runs, GridworldConfig.episodes, scaled, GridworldResult)
+"""The chapter's experiment of Section 5.3 at --runs and --iterations (episodes)."""

@@ -21,18 +21,17 @@ import math
 from dataclasses import dataclass, field
 from pathlib import Path
 
-import matplotlib.pyplot as plt
 import numpy as np
 
 from glamas import claims as chapter
-from glamas import cli, runs
+from glamas import figures, runs
 from glamas.experiments import checks
 from glamas.experiments.gridworld import GridworldConfig, convergence_episode, delta_scale, final
 from glamas.gridworld import BOUNCE_MODES, GridMap, load_map, rules
 from glamas.learners import episode as ep
 from glamas.learners import cq, group_observe, independent, joint_state, mmdp, sparse_maq, two_observe
 from glamas.paths import MAPS
-from glamas.plotting import BAND_DRAWS, learner_style, legend_right, new_figure, plot_mean_band, save_figure
+from glamas.plotting import BAND_DRAWS, learner_style, legend_right, plot_mean_band
 
 EXPERIMENT = "scaling"
 CHAPTER_METHODS = ("independent", "joint_state", "mmdp", "two_observe", "two_observe_rule")
@@ -598,29 +597,16 @@ def plot_curves(ax, result: ScalingResult, n: int, metric: int = STEPS, legend: 
         legend_right(ax)
 
 
-# --- figure scripts (paper_figures/scaling_*.py) ----------------------------------------------
+# --- the experiment of the figure scripts (paper_figures/scaling_*.py) --------------------------
 
 RESULT_NAME = "scaling"
 """Result file shared by the scaling figure scripts: the study runs once for all of them."""
 
 
-def figure_main(name: str, description: str, argv=None) -> list[Path]:
-    """The body of ``paper_figures/<name>.py``: parse the command line, get the study's result
-    (from --results when this configuration already ran, else run it), draw, save."""
-    parser = cli.figure_parser(description, runs=ScalingConfig.runs, iterations=ScalingConfig.episodes)
-    args = cli.parse(parser, argv)
-    config = ScalingConfig(runs=args.runs, episodes=args.iterations,
-                           bin_size=math.gcd(args.iterations, ScalingConfig.bin_size))
-    result = cli.load_or_run(args, RESULT_NAME, config, run, ScalingResult)
-    if name == "scaling_sizes":
-        fig, ax = new_figure(8.0, 4.5)
-        plot_sizes(ax, result, config)
-    else:
-        fig, axes = new_figure(12.0, 8.0, nrows=2, ncols=2)
-        for ax, metric in zip(axes.flat, ("steps", "reward", "collisions", "convergence")):
-            plot_final(ax, result, metric, legend=False)
-        fig.legend(*axes.flat[0].get_legend_handles_labels(), loc="outside lower center", ncols=4,
-                   fontsize="small", frameon=False)
-    written = save_figure(fig, args.out, name)
-    plt.close(fig)
-    return written
+def scaled(runs: int, episodes: int) -> ScalingConfig:
+    """The study at ``runs`` and ``episodes``, in blocks that divide the episodes."""
+    return ScalingConfig(runs=runs, episodes=episodes, bin_size=math.gcd(episodes, ScalingConfig.bin_size))
+
+
+STUDY = figures.Experiment(RESULT_NAME, run, ScalingConfig.runs, ScalingConfig.episodes, scaled, ScalingResult)
+"""The scaling study at --runs and --iterations (episodes)."""
