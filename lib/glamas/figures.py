@@ -18,6 +18,7 @@ settings). Either turns a user error into one line ``error: ...`` and exit statu
 import contextlib
 import dataclasses
 from dataclasses import dataclass
+from pathlib import Path
 from typing import Callable
 
 import matplotlib
@@ -64,6 +65,15 @@ class Experiment:
         carries_config = "config" in {f.name for f in dataclasses.fields(self.result)}
         return self.result(config=config, **arrays) if carries_config else self.result(**arrays)
 
+    def paper_scale(self):
+        """The configuration of the committed result (the paper-scale --runs and --iterations)."""
+        return self.configure(self.runs, self.iterations)
+
+    def load(self, directory, config, seed: int):
+        """The result of ``config`` and master ``seed`` in ``directory``, its configuration and
+        provenance checked (:func:`glamas.results.load`)."""
+        return self.result_of(config, results.load(Path(directory) / f"{self.name}.npz", config, seed=seed))
+
     @contextlib.contextmanager
     def figure(self, name: str, description: str, argv=None, size: tuple = (6.0, 4.0), *,
                nrows: int = 1, ncols: int = 1, min_runs: int = 1):
@@ -99,7 +109,7 @@ def load_or_run(args, experiment: Experiment, config):
     path = args.results / f"{experiment.name}.npz"
     if path.exists() and not (args.rerun or args.force):
         try:
-            return experiment.result_of(config, results.load(path, config, seed=args.seed))
+            return experiment.load(args.results, config, args.seed)
         except results.StaleResultError:
             raise
         except results.ResultFileError:

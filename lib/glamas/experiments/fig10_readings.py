@@ -15,7 +15,7 @@ from pathlib import Path
 
 import numpy as np
 
-from glamas import figures, results
+from glamas import figures
 from glamas.experiments import gridworld as gw
 from glamas.paths import RESULTS
 from glamas.plotting import legend_below
@@ -96,7 +96,7 @@ def run(config: ReadingsConfig = ReadingsConfig(), seed: int = 0, workers=None, 
 
 def load(config: ReadingsConfig = ReadingsConfig(), seed: int = 0, results_dir: Path = RESULTS) -> ReadingsResult:
     """The committed study of ``config`` (``results_dir/fig10_readings.npz``), its configuration checked."""
-    return ReadingsResult(**results.load(Path(results_dir) / f"{RESULT_NAME}.npz", config, seed=seed))
+    return STUDY.load(results_dir, config, seed)
 
 
 def with_baselines(result: ReadingsResult, k: int, baselines: gw.GridworldResult) -> gw.GridworldResult:
