@@ -108,9 +108,6 @@ class ANDNetworkResult:
     params: np.ndarray
     """(runs, 2 agents, 2 units, 2 unit actions, inputs) final unit parameters."""
 
-    def arrays(self) -> dict:
-        return {"iteration": self.iteration, "prob_left": self.prob_left, "params": self.params}
-
 
 @njit(cache=True)
 def left_probability(agent_params, context, temperature, L, mode, inputs, probs):
@@ -323,10 +320,6 @@ class SweepResult:
     """(values, runs) True where the run ended stuck in 'R everywhere'."""
     prob_left_I: np.ndarray
     """(values, runs, 2 agents) final mean P(L) in region I on the evaluation grid."""
-
-    def arrays(self) -> dict:
-        return {"reward_outside": self.reward_outside, "stuck": self.stuck,
-                "prob_left_I": self.prob_left_I}
 
 
 DEFAULT_SWEEP = (0.5, 0.625, 0.75, 0.875, 1.0)
