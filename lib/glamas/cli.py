@@ -76,22 +76,21 @@ def _whole_number(text: str) -> int:
         raise argparse.ArgumentTypeError(f"expected a whole number, got {text!r}") from None
 
 
-def _positive_int(text: str) -> int:
-    value = _whole_number(text)
-    if value < 1:
-        raise argparse.ArgumentTypeError(f"must be at least 1, got {value}")
-    if value > MAX_COUNT:
-        raise argparse.ArgumentTypeError(f"must be at most {MAX_COUNT}, got {value}")
-    return value
+def _whole_number_in(low: int, high: int, below: str):
+    """An argparse type: a whole number from ``low`` to ``high``; ``below`` is the message for a
+    smaller one."""
+    def whole_number_in(text: str) -> int:
+        value = _whole_number(text)
+        if value < low:
+            raise argparse.ArgumentTypeError(f"{below}, got {value}")
+        if value > high:
+            raise argparse.ArgumentTypeError(f"must be at most {high}, got {value}")
+        return value
+    return whole_number_in
 
 
-def _seed(text: str) -> int:
-    value = _whole_number(text)
-    if value < 0:
-        raise argparse.ArgumentTypeError(f"must be 0 or more, got {value}")
-    if value > MAX_SEED:
-        raise argparse.ArgumentTypeError(f"must be at most {MAX_SEED}, got {value}")
-    return value
+_positive_int = _whole_number_in(1, MAX_COUNT, "must be at least 1")
+_seed = _whole_number_in(0, MAX_SEED, "must be 0 or more")
 
 
 def figure_parser(description: str, *, runs: int | None = None, iterations: int | None = None, seed: int = 0):
