@@ -69,17 +69,22 @@ class Experiment:
         """The configuration of the committed result (the paper-scale --runs and --iterations)."""
         return self.configure(self.runs, self.iterations)
 
+    def file(self, directory) -> Path:
+        """Its result file in ``directory``."""
+        return Path(directory) / f"{self.name}.npz"
+
     def load(self, directory, config, seed: int):
         """The result of ``config`` and master ``seed`` in ``directory``, its configuration and
         provenance checked (:func:`glamas.results.load`)."""
-        return self.result_of(config, results.load(Path(directory) / f"{self.name}.npz", config, seed=seed))
+        return self.result_of(config, results.load(self.file(directory), config, seed=seed))
 
     @contextlib.contextmanager
     def figure(self, name: str, description: str, argv=None, size: tuple = (6.0, 4.0), *,
                nrows: int = 1, ncols: int = 1, min_runs: int = 1):
-        """Figure ``name`` drawn from this experiment: yields ``(axes, result, config)`` to draw on
-        (:func:`parse` ``argv``, :func:`load_or_run`; the axes of :func:`glamas.plotting.new_figure`
-        for ``size`` in inches), then saves the figure to --out."""
+        """Figure ``name`` drawn from this experiment: parses ``argv`` (:func:`parse`; ``description``
+        is the script's docstring), loads or runs the experiment (:func:`load_or_run`), yields
+        ``(axes, result, config)`` to draw on (the axes of :func:`glamas.plotting.new_figure` for
+        ``size`` in inches, ``nrows`` by ``ncols``), then saves the figure to --out."""
         with cli.user_errors_reported():
             args, config = parse(description, self, argv, min_runs)
             result = load_or_run(args, self, config)
@@ -106,7 +111,7 @@ def load_or_run(args, experiment: Experiment, config):
     of this configuration made with another map or library version is refused as stale (--rerun);
     one of another configuration is refused before the run (unless --force replaces it).
     """
-    path = args.results / f"{experiment.name}.npz"
+    path = experiment.file(args.results)
     if path.exists() and not (args.rerun or args.force):
         try:
             return experiment.load(args.results, config, args.seed)
