@@ -61,7 +61,7 @@ benchmark: $(READY) $(EXTRAS)
 ## starts empty, so the first script of each experiment recomputes it (as --rerun would) and the
 ## scripts drawing other figures of that experiment read what it just computed.
 OUT ?= out/reproduce
-CHAPTER := fig5 fig6 fig7a fig7b fig9 fig10 fig11a fig11b fig12a fig12b
+CHAPTER := fig5 fig6 fig7a fig7b fig9 fig9_optimum fig10 fig11a fig11b fig12a fig12b
 
 reproduce: $(READY)
 	rm -rf $(OUT)/figures $(OUT)/results

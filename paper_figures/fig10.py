@@ -1,12 +1,12 @@
 """Fig. 10 (reconstructed): the feedback table of 2observe's GLAs (chapter Section 5.3)."""
 
-from glamas import cli
+from glamas import figures
 from glamas.experiments import gridworld
 
 
-@cli.guard
 def main(argv=None):
-    gridworld.figure_main("fig10", "Fig. 10 (reconstructed): the feedback table of 2observe's GLAs", argv)
+    with figures.fixed_figure("fig10", __doc__, argv, size=(6.0, 2.2)) as ax:
+        gridworld.plot_feedback_table(ax, gridworld.GridworldConfig())
 
 
 if __name__ == "__main__":

@@ -4,7 +4,11 @@ from glamas.experiments import fig10_readings
 
 
 def main(argv=None):
-    fig10_readings.figure_main(argv)
+    with fig10_readings.STUDY.figure("fig10_readings", __doc__, argv, size=(12.0, 5.0),
+                                     ncols=2) as ((coordination, collisions), result, config):
+        rows = fig10_readings.summary(result, config)
+        fig10_readings.plot_coordination(coordination, rows)
+        fig10_readings.plot_collisions(collisions, rows)
 
 
 if __name__ == "__main__":

@@ -1,12 +1,11 @@
 """Fig. 11b: reward per episode of the four gridworld learners (chapter Section 5.3)."""
 
-from glamas import cli
 from glamas.experiments import gridworld
 
 
-@cli.guard
 def main(argv=None):
-    gridworld.figure_main("fig11b", "Fig. 11b: reward per episode of the four gridworld learners", argv)
+    with gridworld.STUDY.figure("fig11b", __doc__, argv) as (ax, result, config):
+        gridworld.plot_reward(ax, result, gridworld.optimum(config))
 
 
 if __name__ == "__main__":

@@ -1,12 +1,11 @@
 """Fig. 12a: collisions per episode of the four gridworld learners (chapter Section 5.3)."""
 
-from glamas import cli
 from glamas.experiments import gridworld
 
 
-@cli.guard
 def main(argv=None):
-    gridworld.figure_main("fig12a", "Fig. 12a: collisions per episode of the four gridworld learners", argv)
+    with gridworld.STUDY.figure("fig12a", __doc__, argv) as (ax, result, config):
+        gridworld.plot_collisions(ax, result, gridworld.optimum(config))
 
 
 if __name__ == "__main__":

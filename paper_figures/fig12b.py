@@ -1,12 +1,11 @@
 """Fig. 12b: coordinations per episode of 2observe (chapter Section 5.3)."""
 
-from glamas import cli
 from glamas.experiments import gridworld
 
 
-@cli.guard
 def main(argv=None):
-    gridworld.figure_main("fig12b", "Fig. 12b: coordinations per episode of 2observe", argv)
+    with gridworld.STUDY.figure("fig12b", __doc__, argv) as (ax, result, _):
+        gridworld.plot_coordinations(ax, result)
 
 
 if __name__ == "__main__":

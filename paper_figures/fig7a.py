@@ -1,30 +1,14 @@
 """Fig. 7a: the boundaries two typical runs of AND-network agents learn over the parabola."""
 
-import matplotlib
-
-matplotlib.use("Agg")
-
-from glamas import cli, plotting  # noqa: E402
-from glamas.experiments import and_network  # noqa: E402
+from glamas.experiments import and_network
 
 
-@cli.guard
 def main(argv=None):
-    defaults = and_network.ANDNetworkConfig()
-    parser = cli.figure_parser(__doc__.splitlines()[0], runs=defaults.runs, iterations=defaults.iterations)
-    args = cli.parse(parser, argv)
-    if args.runs < 2:
-        parser.error("--runs must be at least 2: the figure shows two typical runs")
-    config = and_network.ANDNetworkConfig(iterations=args.iterations, runs=args.runs,
-                                          record_points=min(defaults.record_points, args.iterations))
-    result = cli.load_or_run(args, "fig7", config, and_network.run, and_network.ANDNetworkResult)
-
-    fig, axes = plotting.new_figure(8.0, 4.0, ncols=2)
-    middle = (args.runs - 2) // 2  # typical_runs' first rank by final P(L) in region I
-    for rank, ax, run_index in zip((middle, middle + 1), axes, and_network.typical_runs(result, 2)):
-        and_network.plot_boundaries(ax, result, run_index, title=_title(rank, args.runs))
-    for path in plotting.save_figure(fig, args.out, "fig7a"):
-        print(path)
+    with and_network.FIG7.figure("fig7a", __doc__, argv, size=(8.0, 4.0), ncols=2,
+                                 min_runs=2) as (axes, result, config):
+        middle = (config.runs - 2) // 2  # typical_runs' first rank by final P(L) in region I
+        for rank, ax, run_index in zip((middle, middle + 1), axes, and_network.typical_runs(result, 2)):
+            and_network.plot_boundaries(ax, result, run_index, title=_title(rank, config.runs))
 
 
 def _title(rank: int, runs: int) -> str:

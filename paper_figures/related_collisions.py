@@ -1,13 +1,11 @@
-"""Related work on TunnelToGoal: collisions per episode of independent, MMDP, 2observe, sparse tabular MAQ and
-CQ-learning (Fig. 11/12-style comparison, beyond the chapter)."""
+"""Related work on TunnelToGoal: collisions per episode (as Fig. 12a), sparse tabular MAQ and CQ-learning added."""
 
-from glamas import cli
-from glamas.experiments import related_work
+from glamas.experiments import gridworld, related_work
 
 
-@cli.guard
 def main(argv=None):
-    related_work.figure_main("related_collisions", "Related work on TunnelToGoal: collisions per episode", argv)
+    with related_work.STUDY.figure("related_collisions", __doc__, argv) as (ax, result, config):
+        related_work.plot_curve(ax, result, config, gridworld.plot_collisions)
 
 
 if __name__ == "__main__":

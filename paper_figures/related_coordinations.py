@@ -1,13 +1,13 @@
-"""Related work on TunnelToGoal: steps on which the agents observe each other of independent, MMDP, 2observe, sparse tabular MAQ and
-CQ-learning (Fig. 11/12-style comparison, beyond the chapter)."""
+"""Related work on TunnelToGoal: steps on which the agents observe each other, of 2observe, sparse
+tabular MAQ and CQ-learning (Fig. 12b-style comparison, beyond the chapter)."""
 
-from glamas import cli
 from glamas.experiments import related_work
 
 
-@cli.guard
 def main(argv=None):
-    related_work.figure_main("related_coordinations", "Related work on TunnelToGoal: steps on which the agents observe each other", argv)
+    with related_work.STUDY.figure("related_coordinations", __doc__, argv) as (ax, result, config):
+        related_work.plot_coordinations(ax, result)
+        related_work.note_cq_solo_phase(ax, result, config)
 
 
 if __name__ == "__main__":

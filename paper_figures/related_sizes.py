@@ -1,13 +1,12 @@
 """Related work on TunnelToGoal: Q entries per agent (measured) against the final reward of
 independent, MMDP, 2observe, sparse tabular MAQ and CQ-learning (beyond the chapter)."""
 
-from glamas import cli
 from glamas.experiments import related_work
 
 
-@cli.guard
 def main(argv=None):
-    related_work.figure_main("related_sizes", "Related work on TunnelToGoal: Q entries per agent (measured) against final reward", argv)
+    with related_work.STUDY.figure("related_sizes", __doc__, argv, size=(8.0, 4.0)) as (ax, result, config):
+        related_work.plot_size_and_reward(ax, result, config)
 
 
 if __name__ == "__main__":

@@ -1,13 +1,11 @@
-"""Related work on TunnelToGoal: steps from start to goal of independent, MMDP, 2observe, sparse tabular MAQ and
-CQ-learning (Fig. 11/12-style comparison, beyond the chapter)."""
+"""Related work on TunnelToGoal: steps to the goal (as Fig. 11a), sparse tabular MAQ and CQ-learning added."""
 
-from glamas import cli
-from glamas.experiments import related_work
+from glamas.experiments import gridworld, related_work
 
 
-@cli.guard
 def main(argv=None):
-    related_work.figure_main("related_steps", "Related work on TunnelToGoal: steps from start to goal", argv)
+    with related_work.STUDY.figure("related_steps", __doc__, argv) as (ax, result, config):
+        related_work.plot_curve(ax, result, config, gridworld.plot_steps)
 
 
 if __name__ == "__main__":

@@ -1,13 +1,16 @@
-"""Scaling study: final steps, reward, collisions and convergence against the number of agents."""
+"""Scaling study: final steps to goal, reward, collisions and episodes to converge against the
+number of agents, 2 to 6."""
 
-from glamas import cli
+from glamas import plotting
 from glamas.experiments import scaling
 
 
-@cli.guard
 def main(argv=None):
-    scaling.figure_main("scaling_performance", "Scaling study: final steps to goal, reward, collisions "
-                        "and episodes to converge for 2 to 6 agents", argv)
+    with scaling.STUDY.figure("scaling_performance", __doc__, argv, size=(12.0, 8.0), nrows=2,
+                              ncols=2) as (axes, result, _):
+        for ax, metric in zip(axes.flat, ("steps", "reward", "collisions", "convergence")):
+            scaling.plot_final(ax, result, metric, legend=False)
+        plotting.legend_below_figure(axes.flat[0], ncols=4)
 
 
 if __name__ == "__main__":

@@ -72,17 +72,14 @@ def test_a_dask_cluster_gives_the_one_thread_results_bit_for_bit(reference, dask
 def test_job_size_does_not_change_results(reference):
     params = np.zeros_like(reference["single"].params)
     reward = np.zeros_like(reference["single"].reward)
-    p = SINGLE.gla_params()
-    inputs = (0, SINGLE.iterations, p.learning_rate, p.temperature, p.K, p.L, p.bounding_code, 0.0)
-    assert SINGLE.context == "joint" and single_gla.lineworld.encoding_code("joint") == 0
-    runs.run_batches(single_gla.learn, inputs, (params, reward), 11, workers=runs.Processes(2), chunk=3)
+    runs.run_batches(single_gla.learn, single_gla.kernel_inputs(SINGLE), (params, reward), 11,
+                     workers=runs.Processes(2), chunk=3)
     assert np.array_equal(reward, reference["single"].reward)
     assert np.array_equal(params, reference["single"].params)
 
 
 def test_a_job_runs_any_slice_of_the_sweep_on_its_own(reference):
-    p = SINGLE.gla_params()
-    inputs = (0, SINGLE.iterations, p.learning_rate, p.temperature, p.K, p.L, p.bounding_code, 0.0)
+    inputs = single_gla.kernel_inputs(SINGLE)
     initial = (np.zeros((2,) + reference["single"].params.shape[1:]), np.zeros((2, SINGLE.record_points)))
     start, (params, reward) = runs.run_chunk("glamas.experiments.single_gla:learn", inputs, 11, 4, 6, initial)
     assert start == 4

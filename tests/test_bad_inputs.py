@@ -26,7 +26,7 @@ import numpy as np
 import pytest
 
 import glamas
-from glamas import cli, memory, plotting, provenance, results, runs, sources
+from glamas import cli, figures, memory, plotting, provenance, results, runs, sources
 from glamas.experiments import and_network, gridworld, gridworld_optimum, scaling, single_gla
 from glamas.gridworld import MapError, load_map
 from glamas.paths import MAPS, REPO, RESULTS
@@ -159,8 +159,9 @@ def test_a_concurrent_writer_of_another_configuration_is_not_silently_replaced(t
         results.save(tmp_path / "exp.npz", other, {"reward": np.ones(1)}, seed=seed)  # the other run finishes first
         return single_gla.run(config, seed=seed, workers=runs.Threads(1))
 
+    experiment = dataclasses.replace(single_gla.FIG5, name="exp", run=run_while_another_saves)
     with pytest.raises(results.ResultFileError, match="different configuration and was not overwritten"):
-        cli.load_or_run(args, "exp", SMALL_LINE, run_while_another_saves, single_gla.SingleGLAResult)
+        figures.load_or_run(args, experiment, SMALL_LINE)
     assert results.load(tmp_path / "exp.npz", other, seed=0)["reward"].tolist() == [1.0]
 
 
@@ -432,12 +433,9 @@ def test_figure_scripts_name_the_setting_likely_responsible(tmp_path):
 
 
 def test_user_errors_become_one_line_and_exit_status_2(capsys):
-    @cli.guard
-    def main():
-        raise results.ResultFileError("the file\nis bad")
-
     with pytest.raises(SystemExit) as stopped:
-        main()
+        with cli.user_errors_reported():
+            raise results.ResultFileError("the file\nis bad")
     assert stopped.value.code == 2 and capsys.readouterr().err == "error: the file is bad\n"
 
 

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 from numba import njit
 
-from glamas import cli, plotting, provenance, results, rng, runs
+from glamas import cli, figures, plotting, provenance, results, rng, runs
 
 
 @njit(cache=True, nogil=True)
@@ -111,7 +111,7 @@ def _parse(argv):
 @pytest.mark.parametrize("argv, message", [
     (["--runs", "0"], "--runs: must be at least 1, got 0"),
     (["--iterations", "ten"], "--iterations: expected a whole number, got 'ten'"),
-    (["--seed", "-3"], "--seed: must be at least 0, got -3"),
+    (["--seed", "-3"], "--seed: must be 0 or more, got -3"),
     (["--workers", "x"], "--workers: expected a whole number"),
     (["--bogus"], "unrecognized arguments: --bogus"),
 ])
@@ -134,6 +134,10 @@ class _Result:
     curve: np.ndarray
 
 
+def _experiment(run) -> figures.Experiment:
+    return figures.Experiment("exp", run, 5, 100, lambda runs, iterations: _Config(runs=runs), _Result)
+
+
 def test_load_or_run_reuses_a_result_of_the_same_configuration(tmp_path):
     calls = []
 
@@ -141,16 +145,59 @@ def test_load_or_run_reuses_a_result_of_the_same_configuration(tmp_path):
         calls.append(seed)
         return _Result(curve=np.full(3, float(seed)))
 
+    experiment = _experiment(run)
     args = _parse(["--results", str(tmp_path), "--seed", "4"])
-    first = cli.load_or_run(args, "exp", _Config(), run, _Result)
-    again = cli.load_or_run(args, "exp", _Config(), run, _Result)
+    first = figures.load_or_run(args, experiment, _Config())
+    again = figures.load_or_run(args, experiment, _Config())
     assert calls == [4] and np.array_equal(first.curve, again.curve)
+    figures.load_or_run(_parse(["--results", str(tmp_path), "--seed", "4", "--rerun"]), experiment, _Config())
+    assert calls == [4, 4]
     for flags in ([], ["--rerun"]):
         with pytest.raises(results.ResultFileError, match="different configuration.*not overwritten"):
-            cli.load_or_run(_parse(["--results", str(tmp_path), "--seed", "5"] + flags), "exp", _Config(), run, _Result)
-    assert calls == [4]  # refused before running
-    replaced = cli.load_or_run(_parse(["--results", str(tmp_path), "--seed", "5", "--force"]), "exp", _Config(), run, _Result)
-    assert calls == [4, 5] and replaced.curve[0] == 5.0
+            figures.load_or_run(_parse(["--results", str(tmp_path), "--seed", "5"] + flags), experiment, _Config())
+    assert calls == [4, 4]  # refused before running
+    replaced = figures.load_or_run(_parse(["--results", str(tmp_path), "--seed", "5", "--force"]), experiment, _Config())
+    assert calls == [4, 4, 5] and replaced.curve[0] == 5.0
+
+
+def test_a_figure_is_drawn_from_its_experiment_at_the_command_line_scale(tmp_path, capsys):
+    seen = []
+    experiment = _experiment(lambda config, seed, workers, progress: _Result(curve=np.full(3, float(config.runs))))
+    argv = ["--runs", "2", "--out", str(tmp_path), "--results", str(tmp_path)]
+    with experiment.figure("f", "A figure.\n\nMore about it.", argv) as (ax, result, config):
+        seen.append((config, result.curve.tolist()))
+        ax.plot(result.curve)
+    assert seen == [(_Config(runs=2), [2.0, 2.0, 2.0])]
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["exp.npz", "f.pdf", "f.png"]
+    assert capsys.readouterr().out.split() == [str(tmp_path / "f.png"), str(tmp_path / "f.pdf")]
+
+
+def test_a_figure_needs_the_runs_it_shows(tmp_path, capsys):
+    experiment = _experiment(lambda config, seed, workers, progress: _Result(curve=np.zeros(3)))
+    with pytest.raises(SystemExit):
+        with experiment.figure("f", "A figure.", ["--runs", "1", "--out", str(tmp_path)], min_runs=2):
+            pass
+    assert "--runs must be at least 2" in capsys.readouterr().err
+
+
+def test_a_figure_that_runs_no_experiment_uses_only_out(tmp_path, capsys):
+    afile = tmp_path / "file"
+    afile.write_text("")
+    argv = ["--runs", "7", "--seed", "3", "--results", str(afile), "--scheduler", "tcp:/bad", "--out", str(tmp_path)]
+    with figures.fixed_figure("f", "A map.", argv) as ax:
+        ax.plot([0, 1])
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["f.pdf", "f.png", "file"]
+    help_text = " ".join(cli.figure_parser("A map.").format_help().split())
+    assert "It runs no experiment: only --out changes what it writes." in help_text
+    assert help_text.count(cli.NO_EXPERIMENT) == 9  # every option but --out (and --help)
+
+
+def test_a_drawing_error_saves_no_figure_and_is_one_line(tmp_path, capsys):
+    with pytest.raises(SystemExit) as stopped:
+        with figures.fixed_figure("f", "A map.", ["--out", str(tmp_path)]):
+            raise ValueError("no such\nmap")
+    assert stopped.value.code == 2 and capsys.readouterr().err == "error: no such map\n"
+    assert list(tmp_path.iterdir()) == []
 
 
 def test_figures_are_byte_reproducible(tmp_path):

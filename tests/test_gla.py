@@ -119,13 +119,13 @@ def test_bad_shapes_are_rejected():
 
 
 def _run_network(network, params, context):
-    unit_actions, wiring, table, radix = network.arrays()
     n = network.n_units
-    inputs, probs = np.zeros((n, network.n_inputs)), np.zeros((n, unit_actions.max()))
+    inputs, probs = np.zeros((n, network.n_inputs)), np.zeros((n, max(network.unit_actions)))
     chosen = np.zeros(n, dtype=np.int64)
     state = rng.run_states(0, 1)[0]
-    action = gla.network_act(params, np.asarray(context, float), unit_actions, wiring, table, radix,
-                             0.5, 1.0, gla.BOUND_CLIP, inputs, probs, chosen, state)
+    automaton = gla.GLAParams(learning_rate=0.1, temperature=0.5, L=1.0).settings()
+    action = gla.network_act(params, np.asarray(context, float), network.arrays(), automaton,
+                             inputs, probs, chosen, state)
     return action, chosen, inputs
 
 

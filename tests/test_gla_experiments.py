@@ -210,7 +210,7 @@ def test_fig7a_and_fig7b_share_one_run(tmp_path):
 @pytest.mark.parametrize("args, message", [
     (["--runs", "0"], "--runs: must be at least 1, got 0"),
     (["--iterations", "many"], "--iterations: expected a whole number, got 'many'"),
-    (["--seed", "-3"], "--seed: must be at least 0, got -3"),
+    (["--seed", "-3"], "--seed: must be 0 or more, got -3"),
 ])
 def test_figure_script_rejects_bad_arguments(capsys, args, message):
     with pytest.raises(SystemExit):

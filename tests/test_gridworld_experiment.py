@@ -144,7 +144,7 @@ def test_figure_script_runs_from_another_directory(tmp_path):
 @pytest.mark.parametrize("argv, message", [
     (["--runs", "0"], "must be at least 1"),
     (["--iterations", "many"], "expected a whole number"),
-    (["--seed", "-2"], "must be at least 0"),
+    (["--seed", "-2"], "must be 0 or more"),
 ])
 def test_bad_command_line_arguments_are_rejected(argv, message, capsys, tmp_path):
     with pytest.raises(SystemExit):

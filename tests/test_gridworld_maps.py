@@ -111,28 +111,29 @@ def test_missing_file_and_wrong_type():
         load_map(42)
 
 
-def load_fig9():
-    spec = importlib.util.spec_from_file_location("fig9", REPO / "paper_figures" / "fig9.py")
+def load_script(name):
+    spec = importlib.util.spec_from_file_location(name, REPO / "paper_figures" / f"{name}.py")
     module = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(module)
     return module
 
 
-def test_fig9_script_is_byte_reproducible(tmp_path):
-    fig9 = load_fig9()
-    fig9.main(["--out", str(tmp_path / "a")])
-    fig9.main(["--out", str(tmp_path / "b")])
+@pytest.mark.parametrize("name", ["fig9", "fig9_optimum"])
+def test_fig9_scripts_are_byte_reproducible(tmp_path, name):
+    script = load_script(name)
+    script.main(["--out", str(tmp_path / "a")])
+    script.main(["--out", str(tmp_path / "b")])
     names = sorted(p.name for p in (tmp_path / "a").iterdir())
-    assert names == ["fig9.pdf", "fig9.png", "fig9_optimum.pdf", "fig9_optimum.png"]
-    for name in names:
-        assert (tmp_path / "a" / name).read_bytes() == (tmp_path / "b" / name).read_bytes()
+    assert names == [f"{name}.pdf", f"{name}.png"]
+    for drawn in names:
+        assert (tmp_path / "a" / drawn).read_bytes() == (tmp_path / "b" / drawn).read_bytes()
 
 
 def test_fig9_rejects_a_file_as_out(tmp_path, capsys):
     target = tmp_path / "file.txt"
     target.write_text("x")
     with pytest.raises(SystemExit):
-        load_fig9().main(["--out", str(target)])
+        load_script("fig9").main(["--out", str(target)])
     assert "exists and is not a directory" in capsys.readouterr().err
 
 

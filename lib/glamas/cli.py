@@ -1,20 +1,18 @@
-"""The command line shared by the figure scripts in ``paper_figures/``.
+"""The command line shared by the figure scripts in ``paper_figures/`` (:mod:`glamas.figures`).
 
 Output policy: a run at the paper-scale defaults (the --runs, --iterations and --seed the script
 was made with) writes to ``paper_figures/output`` and ``data/results``; any other run writes to
 ``out/figures`` and ``out/results`` (git-ignored) unless --out or --results say where, so a
 reduced run never replaces the committed outputs. Every user error stops the script before it
-computes with one line ``error: ...`` on stderr and exit status 2 (:func:`guard`).
+computes with one line ``error: ...`` on stderr and exit status 2 (:func:`user_errors_reported`).
 """
 
 import argparse
 import contextlib
-import dataclasses
-import functools
 import sys
 from pathlib import Path
 
-from glamas import atomic, memory, plotting, results
+from glamas import atomic, memory, results
 from glamas import runs as runners  # "runs" is the run count in figure_parser
 from glamas.checks import MAX_COUNT, suspect_settings
 from glamas.gridworld.maps import MapError
@@ -34,7 +32,9 @@ EXIT_USAGE = 2
 """Exit status of a user error (as argparse's)."""
 USER_ERRORS = (ValueError, results.ResultFileError, MapError, MemoryError, runners.BackendError,
                runners.NonFiniteError, OSError)
-"""What the library raises for bad input or a fault outside the program (:func:`guard`)."""
+"""What the library raises for bad input or a fault outside the program (:func:`user_errors_reported`)."""
+NO_EXPERIMENT = "not used: this figure runs no experiment"
+"""The help of every option but --out in the parser of a figure that runs no experiment."""
 
 
 class CommandLineError(SystemExit):
@@ -48,18 +48,16 @@ class CommandLineError(SystemExit):
         return self.message
 
 
-def guard(main):
-    """Decorate a figure script's ``main``: a user error becomes one line ``error: ...`` on
-    stderr and exit status 2, instead of a traceback."""
-    @functools.wraps(main)
-    def guarded(*args, **kwargs):
-        try:
-            return main(*args, **kwargs)
-        except USER_ERRORS as error:
-            message = one_line(error)
-            print(f"error: {message}", file=sys.stderr)
-            raise CommandLineError(message) from None
-    return guarded
+@contextlib.contextmanager
+def user_errors_reported():
+    """A user error inside becomes one line ``error: ...`` on stderr and exit status 2
+    (:class:`CommandLineError`), instead of a traceback."""
+    try:
+        yield
+    except USER_ERRORS as error:
+        message = one_line(error)
+        print(f"error: {message}", file=sys.stderr)
+        raise CommandLineError(message) from None
 
 
 def one_line(error: BaseException) -> str:
@@ -78,54 +76,60 @@ def _whole_number(text: str) -> int:
         raise argparse.ArgumentTypeError(f"expected a whole number, got {text!r}") from None
 
 
-def _whole_number_in(text: str, low: int, high: int) -> int:
-    value = _whole_number(text)
-    if value < low:
-        raise argparse.ArgumentTypeError(f"must be at least {low}, got {value}")
-    if value > high:
-        raise argparse.ArgumentTypeError(f"must be at most {high}, got {value}")
-    return value
+def _whole_number_in(low: int, high: int, below: str):
+    """An argparse type: a whole number from ``low`` to ``high``; ``below`` is the message for a
+    smaller one."""
+    def whole_number_in(text: str) -> int:
+        value = _whole_number(text)
+        if value < low:
+            raise argparse.ArgumentTypeError(f"{below}, got {value}")
+        if value > high:
+            raise argparse.ArgumentTypeError(f"must be at most {high}, got {value}")
+        return value
+    return whole_number_in
 
 
-def _positive_int(text: str) -> int:
-    return _whole_number_in(text, 1, MAX_COUNT)
+_positive_int = _whole_number_in(1, MAX_COUNT, "must be at least 1")
+_seed = _whole_number_in(0, MAX_SEED, "must be 0 or more")
 
 
-def _seed(text: str) -> int:
-    return _whole_number_in(text, 0, MAX_SEED)
-
-
-def figure_parser(description: str, *, runs: int, iterations: int | None, seed: int = 0):
+def figure_parser(description: str, *, runs: int | None = None, iterations: int | None = None, seed: int = 0):
     """An argument parser with --runs, --iterations, --seed, --workers, --backend, --scheduler,
-    --out, --results, --force and --rerun.
+    --out, --results, --force and --rerun, at the paper-scale defaults ``runs``, ``iterations``
+    and ``seed``.
 
-    ``iterations`` None leaves --iterations out (for figures without an iteration count).
+    ``runs`` None: a figure that runs no experiment (a map, a table of settings). It takes the same
+    options, so that every figure script takes one command line (``make reproduce``, ``make
+    verify``), but says in its help that only --out is used.
     """
-    parser = argparse.ArgumentParser(description=description)
-    parser.add_argument("--runs", type=_positive_int, default=runs,
-                        help=f"independent runs to average (default {runs})")
-    if iterations is not None:
-        parser.add_argument("--iterations", type=_positive_int, default=iterations,
-                            help=f"learning iterations per run (default {iterations})")
-    parser.add_argument("--seed", type=_seed, default=seed, help=f"master seed (default {seed})")
-    parser.add_argument("--workers", type=_positive_int, default=None,
-                        help="worker processes (threads with --backend threads) for the runs "
-                             "(default: one per core); results do not depend on it")
-    parser.add_argument("--backend", choices=runners.BACKENDS, default=None,
-                        help="who runs the runs: local processes (default), threads in this "
-                             "process, or a Dask cluster; results are bit-identical")
-    parser.add_argument("--scheduler", metavar="ADDRESS", default=None,
-                        help="address of a Dask scheduler (e.g. tcp://HOST:8786); implies --backend dask")
-    parser.add_argument("--out", type=Path, default=None,
-                        help=f"directory for the PNG and PDF (default {DEFAULT_OUT.relative_to(REPO)} at the "
-                             f"paper-scale --runs/--iterations/--seed, else {SCRATCH_OUT.relative_to(REPO)})")
-    parser.add_argument("--results", type=Path, default=None,
-                        help=f"directory for the result file (default {RESULTS.relative_to(REPO)} at the "
-                             f"paper-scale --runs/--iterations/--seed, else {SCRATCH_RESULTS.relative_to(REPO)})")
-    parser.add_argument("--force", action="store_true",
-                        help="replace a result file that another configuration made")
-    parser.add_argument("--rerun", action="store_true",
-                        help="run the experiment even if --results holds a result of this configuration")
+    experiment = runs is not None
+    parser = argparse.ArgumentParser(description=description if experiment else
+                                     f"{description} It runs no experiment: only --out changes what it writes.")
+
+    def option(name, help, **kwargs):
+        parser.add_argument(name, help=help if experiment else NO_EXPERIMENT, **kwargs)
+
+    option("--runs", type=_positive_int, default=runs, help=f"independent runs to average (default {runs})")
+    option("--iterations", type=_positive_int, default=iterations,
+           help=f"learning iterations per run (default {iterations})")
+    option("--seed", type=_seed, default=seed, help=f"master seed (default {seed})")
+    option("--workers", type=_positive_int, default=None,
+           help="worker processes (threads with --backend threads) for the runs (default: one per core); "
+                "results do not depend on it")
+    option("--backend", choices=runners.BACKENDS, default=None,
+           help="who runs the runs: local processes (default), threads in this process, or a Dask "
+                "cluster; results are bit-identical")
+    option("--scheduler", metavar="ADDRESS", default=None,
+           help="address of a Dask scheduler (e.g. tcp://HOST:8786); implies --backend dask")
+    scratch = f" at the paper-scale --runs/--iterations/--seed, else {SCRATCH_OUT.relative_to(REPO)}"
+    parser.add_argument("--out", type=Path, default=None, help=f"directory for the PNG and PDF (default "
+                        f"{DEFAULT_OUT.relative_to(REPO)}{scratch if experiment else ''})")
+    option("--results", type=Path, default=None,
+           help=f"directory for the result file (default {RESULTS.relative_to(REPO)} at the paper-scale "
+                f"--runs/--iterations/--seed, else {SCRATCH_RESULTS.relative_to(REPO)})")
+    option("--force", action="store_true", help="replace a result file that another configuration made")
+    option("--rerun", action="store_true",
+           help="run the experiment even if --results holds a result of this configuration")
     return parser
 
 
@@ -134,24 +138,32 @@ def parse(parser: argparse.ArgumentParser, argv=None) -> argparse.Namespace:
     they can be written, before anything is computed.
 
     ``args.workers`` becomes what the experiments' ``run(..., workers=)`` takes: a
-    :mod:`glamas.runs` backend.
+    :mod:`glamas.runs` backend. For a figure that runs no experiment (:func:`figure_parser` without
+    ``runs``) only --out is looked at: its figure is the same whatever the other options say.
     """
     args = parser.parse_args(argv)
-    if "backend" in args:
-        _check_workers(parser, args.workers)
-        try:
-            args.workers = runners.backend(args.backend, args.workers, args.scheduler)
-            if isinstance(args.workers, runners.Dask):
-                runners.connect(args.workers).close()  # an unreachable scheduler fails here, not mid-way
-        except (ValueError, runners.BackendError) as error:
-            parser.error(str(error))
+    if parser.get_default("runs") is None:
+        args.out = DEFAULT_OUT if args.out is None else args.out
+        _check_directories(parser, args, ("out",))
+        return args
+    _check_workers(parser, args.workers)
+    try:
+        args.workers = runners.backend(args.backend, args.workers, args.scheduler)
+        if isinstance(args.workers, runners.Dask):
+            runners.connect(args.workers).close()  # an unreachable scheduler fails here, not mid-way
+    except (ValueError, runners.BackendError) as error:
+        parser.error(str(error))
     _choose_directories(parser, args)
-    for option in ("out", "results"):
+    _check_directories(parser, args, ("out", "results"))
+    return args
+
+
+def _check_directories(parser, args, options) -> None:
+    for option in options:
         try:
             atomic.check_writable_directory(getattr(args, option), f"--{option}")
         except ValueError as error:
             parser.error(str(error))
-    return args
 
 
 def _check_workers(parser, workers: int | None) -> None:
@@ -200,35 +212,3 @@ def _naming_suspects(config):
         if not suspects:
             raise
         raise runners.NonFiniteError(f"{error}; likely responsible: {suspects}") from None
-
-
-def load_or_run(args: argparse.Namespace, name: str, config, run, result_type):
-    """The result of ``config``: read from --results when a file of this configuration is there
-    (unless --rerun), otherwise ``run(config, seed=, workers=, progress=)`` and saved.
-
-    Figures drawn from one experiment share its result file instead of running it again. A file
-    of this configuration made with another map or library version is refused (--rerun).
-    ``result_type`` is a dataclass of arrays; a field named ``config`` is not stored as an array
-    but is the configuration the file is checked against.
-    """
-    path = args.results / f"{name}.npz"
-    carries_config = "config" in {f.name for f in dataclasses.fields(result_type)}
-    if path.exists() and not (args.rerun or args.force):
-        try:
-            arrays = results.load(path, config, seed=args.seed)
-            return result_type(config=config, **arrays) if carries_config else result_type(**arrays)
-        except results.StaleResultError:
-            raise
-        except results.ResultFileError:
-            pass  # another configuration's or unreadable: check_before_run refuses it
-    result = run_experiment(args, name, config, run)
-    arrays = {f.name: getattr(result, f.name) for f in dataclasses.fields(result) if f.name != "config"}
-    results.save(path, config, arrays, seed=args.seed, overwrite=args.force)
-    return result
-
-
-def write_outputs(args: argparse.Namespace, name: str, fig, config, arrays: dict) -> list[Path]:
-    """Save the result arrays with their config to --results, then the figure (PNG, PDF) to --out:
-    a result refused at saving time (another run wrote the file meanwhile) leaves no figure of it."""
-    saved = results.save(args.results / f"{name}.npz", config, arrays, seed=args.seed, overwrite=args.force)
-    return plotting.save_figure(fig, args.out, name) + [saved]

@@ -10,6 +10,7 @@ are the checked, user-facing wrappers.
 """
 
 from dataclasses import dataclass, field
+from typing import NamedTuple
 
 import numpy as np
 from numba import njit
@@ -50,6 +51,27 @@ class GLAParams:
     @property
     def bounding_code(self) -> int:
         return BOUNDING_MODES[self.bounding]
+
+    def settings(self) -> "Settings":
+        """These parameters as the compiled kernels take them."""
+        return Settings(float(self.learning_rate), float(self.temperature), float(self.K), float(self.L),
+                        self.bounding_code)
+
+
+class Settings(NamedTuple):
+    """The constants of eq. 13-15 shared by every GLA of a compiled kernel (a :class:`GLAParams`
+    with h as its code): one argument instead of five, unpacked once at the top of the kernel."""
+
+    learning_rate: float
+    """lambda of eq. 13."""
+    temperature: float
+    """T of eq. 15."""
+    K: float
+    """K_i of eq. 13."""
+    L: float
+    """L_i of eq. 14."""
+    bounding: int
+    """h of eq. 14: BOUND_CLIP or BOUND_PRINTED."""
 
 
 @njit(cache=True, inline="always")
@@ -200,8 +222,8 @@ class GLANetwork:
         """Input length of every unit: the context plus one slot per unit (zero when unwired)."""
         return self.n_context + self.n_units
 
-    def arrays(self):
-        """(unit_actions, wiring, output_table, radix) as arrays for the compiled kernels."""
+    def arrays(self) -> "NetworkArrays":
+        """The structure as arrays for the compiled kernels."""
         unit_actions = np.array(self.unit_actions, dtype=np.int64)
         wiring = np.zeros((self.n_units, self.n_units), dtype=np.bool_)
         if self.wiring:
@@ -209,7 +231,20 @@ class GLANetwork:
         radix = np.ones(self.n_units, dtype=np.int64)
         for k in range(self.n_units - 2, -1, -1):
             radix[k] = radix[k + 1] * unit_actions[k + 1]
-        return unit_actions, wiring, np.array(self.output_table, dtype=np.int64), radix
+        return NetworkArrays(unit_actions, wiring, np.array(self.output_table, dtype=np.int64), radix)
+
+
+class NetworkArrays(NamedTuple):
+    """A :class:`GLANetwork` as the compiled kernels take it."""
+
+    unit_actions: np.ndarray
+    """int (units,): the number of actions of each unit."""
+    wiring: np.ndarray
+    """bool (units, units): wiring[k, j] when unit k reads unit j's action."""
+    output_table: np.ndarray
+    """int (joint unit actions,): the agent's action for each joint unit action."""
+    radix: np.ndarray
+    """int (units,): the place value of each unit's action in the joint unit action."""
 
 
 def and_network(n_context: int) -> GLANetwork:
@@ -219,13 +254,15 @@ def and_network(n_context: int) -> GLANetwork:
 
 
 @njit(cache=True, inline="always")
-def network_act(params, context, unit_actions, wiring, output_table, radix,
-                temperature, L, mode, inputs, probs, chosen, state):
+def network_act(params, context, network, automaton, inputs, probs, chosen, state):
     """One forward pass: each unit acts on its input (eq. 12); returns the agent's action.
 
-    params has shape (units, max actions, n_context + units); inputs, probs and chosen are
-    per-unit buffers kept for :func:`network_update`.
+    params has shape (units, max actions, n_context + units); ``network`` is the
+    :class:`NetworkArrays`, ``automaton`` the :class:`Settings` every unit shares; inputs, probs
+    and chosen are per-unit buffers kept for :func:`network_update`.
     """
+    unit_actions, wiring, output_table, radix = network
+    temperature, L, mode = automaton.temperature, automaton.L, automaton.bounding
     n_units = unit_actions.shape[0]
     n_context = context.shape[0]
     joint = 0
@@ -241,9 +278,10 @@ def network_act(params, context, unit_actions, wiring, output_table, radix,
 
 
 @njit(cache=True, inline="always")
-def network_update(params, unit_actions, beta, learning_rate, temperature, K, L, mode,
-                   inputs, probs, chosen):
+def network_update(params, network, beta, automaton, inputs, probs, chosen):
     """Eq. 13 for every unit, each with its own input and action and the agent's feedback."""
+    learning_rate, temperature, K, L, mode = automaton
+    unit_actions = network.unit_actions
     for k in range(unit_actions.shape[0]):
         r = unit_actions[k]
         update(params[k, :r], inputs[k], chosen[k], beta, learning_rate, temperature, K, L,

@@ -7,12 +7,10 @@ file the figure scripts wrote (its configuration checked) and returns the experi
 """
 
 import argparse
-import dataclasses
 import math
 import sys
 from pathlib import Path
 
-from glamas import results
 from glamas.experiments import and_network, gridworld, gridworld_optimum, related_work, scaling, single_gla
 from glamas.paths import REPO, RESULTS
 
@@ -22,32 +20,27 @@ README = REPO / "README.md"
 START, END = "<!-- ledger:start -->", "<!-- ledger:end -->"
 
 
-def _load(results_dir: Path, name: str, config, result_type):
-    """The result in ``results_dir/name.npz``, checked to be of ``config`` and SEED."""
-    arrays = results.load(results_dir / f"{name}.npz", config, seed=SEED)
-    has_config = "config" in {f.name for f in dataclasses.fields(result_type)}
-    return result_type(config=config, **arrays) if has_config else result_type(**arrays)
+def _load(results_dir: Path, experiment):
+    """``(result, config)``: the result of ``experiment`` at paper scale and SEED in ``results_dir``,
+    its configuration checked."""
+    config = experiment.paper_scale()
+    return experiment.load(results_dir, config, SEED), config
 
 
 def _fig5(results_dir: Path) -> list[dict]:
-    config = single_gla.SingleGLAConfig()
-    return single_gla.claim_rows(_load(results_dir, "fig5", config, single_gla.SingleGLAResult))
+    return single_gla.claim_rows(_load(results_dir, single_gla.FIG5)[0])
 
 
 def _fig6(results_dir: Path) -> list[dict]:
-    config = single_gla.SingleGLAConfig(L=single_gla.FIG6_L)
-    arrays = results.load(results_dir / "fig6.npz", config, seed=SEED)
-    return single_gla.encoding_claim_rows(single_gla.encodings_from_arrays(config, arrays))
+    return single_gla.encoding_claim_rows(_load(results_dir, single_gla.FIG6)[0])
 
 
 def _fig7(results_dir: Path) -> list[dict]:
-    config = and_network.ANDNetworkConfig()
-    return and_network.claim_rows(_load(results_dir, "fig7", config, and_network.ANDNetworkResult))
+    return and_network.claim_rows(_load(results_dir, and_network.FIG7)[0])
 
 
 def _fig7_sweep(results_dir: Path) -> list[dict]:
-    config = and_network.ANDNetworkConfig()
-    return and_network.sweep_claim_rows(_load(results_dir, "fig7_sweep", config, and_network.SweepResult))
+    return and_network.sweep_claim_rows(_load(results_dir, and_network.FIG7_SWEEP)[0])
 
 
 def _optimum(results_dir: Path) -> list[dict]:
@@ -56,19 +49,15 @@ def _optimum(results_dir: Path) -> list[dict]:
 
 
 def _gridworld(results_dir: Path) -> list[dict]:
-    config = gridworld.GridworldConfig()
-    return gridworld.claim_rows(_load(results_dir, gridworld.RESULT_NAME, config, gridworld.GridworldResult))
+    return gridworld.claim_rows(_load(results_dir, gridworld.STUDY)[0])
 
 
 def _related_work(results_dir: Path) -> list[dict]:
-    config = related_work.RelatedWorkConfig()
-    result = _load(results_dir, related_work.RESULT_NAME, config, related_work.RelatedWorkResult)
-    return related_work.claim_rows(result, config)
+    return related_work.claim_rows(*_load(results_dir, related_work.STUDY))
 
 
 def _scaling(results_dir: Path) -> list[dict]:
-    config = scaling.ScalingConfig()
-    return scaling.claim_rows(_load(results_dir, scaling.RESULT_NAME, config, scaling.ScalingResult))
+    return scaling.claim_rows(_load(results_dir, scaling.STUDY)[0])
 
 
 EXPERIMENTS = {

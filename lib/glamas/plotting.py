@@ -79,6 +79,13 @@ def legend_below(ax, ncols: int = 2, **kwargs):
                      frameon=False, **kwargs)
 
 
+def legend_below_figure(ax, ncols: int = 4):
+    """One legend for the whole figure of ``ax``, below all its axes, from the entries of ``ax``
+    (for panels that draw the same lines)."""
+    return ax.figure.legend(*ax.get_legend_handles_labels(), loc="outside lower center", ncols=ncols,
+                            fontsize="small", frameon=False)
+
+
 def legend_right(ax, **kwargs):
     """The legend of ``ax`` right of it, outside the data (for legends too long to go below)."""
     return ax.legend(loc="upper left", bbox_to_anchor=(1.02, 1.0), fontsize="small", frameon=False, **kwargs)

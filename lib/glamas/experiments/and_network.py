@@ -7,12 +7,12 @@ agent plays L only when both units output 1 (``glamas.gla.and_network``). Inside
 """
 
 from dataclasses import dataclass, replace
+from typing import NamedTuple
 
 import numpy as np
 from numba import njit
 
-from glamas import claims, gla, lineworld, memory, rng
-from glamas import checks
+from glamas import checks, claims, figures, gla, lineworld, memory, rng
 from glamas.plotting import legend_below
 from glamas.runs import run_batches
 
@@ -107,9 +107,6 @@ class ANDNetworkResult:
     params: np.ndarray
     """(runs, 2 agents, 2 units, 2 unit actions, inputs) final unit parameters."""
 
-    def arrays(self) -> dict:
-        return {"iteration": self.iteration, "prob_left": self.prob_left, "params": self.params}
-
 
 @njit(cache=True)
 def left_probability(agent_params, context, temperature, L, mode, inputs, probs):
@@ -138,15 +135,32 @@ def _probe_mean(params, probes, temperature, L, mode, inputs, probs, context, ou
         out[agent] = total / probes.shape[0]
 
 
+class Task(NamedTuple):
+    """Experiment 2's regions and feedback (Sec. 4.2) as the compiled kernel takes them."""
+
+    curvature: float
+    """Region I is x2 >= curvature * x1**2 + offset."""
+    offset: float
+    """See curvature."""
+    reward_inside: float
+    """Feedback for (L, L) in region I."""
+    reward_outside: float
+    """Feedback for (R, R) in region II."""
+    reward_other: float
+    """Feedback for every other joint action."""
+
+
 @njit(cache=True, nogil=True)
-def learn(iterations, learning_rate, temperature, K, L, mode, init_scale, curvature, offset,
-          reward_inside, reward_outside, reward_other, unit_actions, wiring, output_table, radix,
-          probes, params, prob_left, state):
+def learn(iterations, automaton, init_scale, task, network, probes, params, prob_left, state):
     """One run of experiment 2: both AND-network agents act (eq. 12, 15) and learn (eq. 13).
 
-    ``probes`` (n, 2) is filled with uniform points of region I, ``params`` with the initial
-    and then the learned unit parameters, ``prob_left`` with Fig. 7b's curve.
+    ``automaton`` is the :class:`glamas.gla.Settings` every unit shares, ``task`` the
+    :class:`Task`, ``network`` the agents' :class:`glamas.gla.NetworkArrays`. ``probes`` (n, 2)
+    is filled with uniform points of region I, ``params`` with the initial and then the learned
+    unit parameters, ``prob_left`` with Fig. 7b's curve.
     """
+    temperature, L, mode = automaton.temperature, automaton.L, automaton.bounding
+    curvature, offset, reward_inside, reward_outside, reward_other = task
     for agent in range(2):
         for k in range(params.shape[1]):
             for a in range(params.shape[2]):
@@ -175,33 +189,33 @@ def learn(iterations, learning_rate, temperature, K, L, mode, init_scale, curvat
             break
         x1, x2 = lineworld.restart(state)
         context[0], context[1], context[2] = x1, x2, 1.0
-        action_a = gla.network_act(params[0], context, unit_actions, wiring, output_table, radix,
-                                   temperature, L, mode, inputs[0], probs[0], chosen[0], state)
-        action_b = gla.network_act(params[1], context, unit_actions, wiring, output_table, radix,
-                                   temperature, L, mode, inputs[1], probs[1], chosen[1], state)
+        action_a = gla.network_act(params[0], context, network, automaton, inputs[0], probs[0], chosen[0], state)
+        action_b = gla.network_act(params[1], context, network, automaton, inputs[1], probs[1], chosen[1], state)
         inside = lineworld.inside_parabola(x1, x2, curvature, offset)
         beta = lineworld.parabola_reward(inside, action_a, action_b, reward_inside,
                                          reward_outside, reward_other)
         for agent in range(2):
-            gla.network_update(params[agent], unit_actions, beta, learning_rate, temperature, K,
-                               L, mode, inputs[agent], probs[agent], chosen[agent])
+            gla.network_update(params[agent], network, beta, automaton, inputs[agent], probs[agent], chosen[agent])
+
+
+def kernel_inputs(config: ANDNetworkConfig) -> tuple:
+    """The arguments of :func:`learn` before its outputs and state, for ``config``."""
+    c = config
+    task = Task(float(c.parabola_curvature), float(c.parabola_offset), float(c.reward_inside),
+                float(c.reward_outside), float(c.reward_other))
+    return c.iterations, c.gla_params().settings(), float(c.init_scale), task, NETWORK.arrays()
 
 
 def run(config: ANDNetworkConfig, seed: int = 0, workers=None,
         progress: str | None = None) -> ANDNetworkResult:
     """All runs of experiment 2 for ``config``; identical for any number of workers."""
     memory.check(config)
-    c, p = config, config.gla_params()
-    unit_actions, wiring, output_table, radix = NETWORK.arrays()
-    shape = (c.runs, 2, NETWORK.n_units, int(unit_actions.max()), NETWORK.n_inputs)
+    c = config
+    shape = (c.runs, 2, NETWORK.n_units, max(NETWORK.unit_actions), NETWORK.n_inputs)
     params = np.zeros(shape)
     probes = np.zeros((c.runs, c.probe_points, 2))
     prob_left = np.zeros((c.runs, c.record_points, 2))
-    inputs = (c.iterations, p.learning_rate, p.temperature, p.K, p.L, p.bounding_code,
-              float(c.init_scale), float(c.parabola_curvature), float(c.parabola_offset),
-              float(c.reward_inside), float(c.reward_outside), float(c.reward_other),
-              unit_actions, wiring, output_table, radix)
-    run_batches(learn, inputs, (probes, params, prob_left), seed, workers=workers,
+    run_batches(learn, kernel_inputs(config), (probes, params, prob_left), seed, workers=workers,
                 progress=progress)
     n = c.record_points
     iteration = np.arange(n) * c.iterations // (n - 1) if n > 1 else np.array([0])
@@ -306,10 +320,6 @@ class SweepResult:
     prob_left_I: np.ndarray
     """(values, runs, 2 agents) final mean P(L) in region I on the evaluation grid."""
 
-    def arrays(self) -> dict:
-        return {"reward_outside": self.reward_outside, "stuck": self.stuck,
-                "prob_left_I": self.prob_left_I}
-
 
 DEFAULT_SWEEP = (0.5, 0.625, 0.75, 0.875, 1.0)
 """Region II rewards of the stuck sweep: from the chapter's 0.5 up to the largest feedback, 1."""
@@ -345,6 +355,20 @@ def measure_sweep(result: SweepResult) -> dict:
 def sweep_claim_rows(result: SweepResult) -> list[dict]:
     """The stuck-runs claim (data/chapter/section4.json) with its verdict computed from ``result``."""
     return claims.verdicts(claims.load("and_network_sweep"), measure_sweep(result))
+
+
+def scaled(runs: int, iterations: int) -> ANDNetworkConfig:
+    """The chapter's experiment 2 at ``runs`` and ``iterations``, with no more points of the
+    Fig. 7b curve than iterations."""
+    return ANDNetworkConfig(runs=runs, iterations=iterations,
+                            record_points=min(ANDNetworkConfig.record_points, iterations))
+
+
+FIG7 = figures.Experiment("fig7", run, ANDNetworkConfig.runs, ANDNetworkConfig.iterations, scaled, ANDNetworkResult)
+"""Fig. 7a and 7b's experiment for the figure scripts (one run for both)."""
+FIG7_SWEEP = figures.Experiment("fig7_sweep", sweep, ANDNetworkConfig.runs, ANDNetworkConfig.iterations, scaled,
+                                SweepResult)
+"""The stuck sweep for its figure script: experiment 2 at each region II reward of DEFAULT_SWEEP."""
 
 
 # ---- plots (each draws on a given Axes) ----

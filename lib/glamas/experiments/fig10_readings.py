@@ -13,13 +13,12 @@ import math
 from dataclasses import dataclass, replace
 from pathlib import Path
 
-import matplotlib.pyplot as plt
 import numpy as np
 
-from glamas import cli, results
+from glamas import figures
 from glamas.experiments import gridworld as gw
 from glamas.paths import RESULTS
-from glamas.plotting import legend_below, new_figure, save_figure
+from glamas.plotting import legend_below
 
 READINGS = {
     "in_range, L=8": {},
@@ -100,7 +99,7 @@ def run(config: ReadingsConfig = ReadingsConfig(), seed: int = 0, workers=None, 
 
 def load(config: ReadingsConfig = ReadingsConfig(), seed: int = 0, results_dir: Path = RESULTS) -> ReadingsResult:
     """The committed study of ``config`` (``results_dir/fig10_readings.npz``), its configuration checked."""
-    return ReadingsResult(config=config, **results.load(Path(results_dir) / f"{RESULT_NAME}.npz", config, seed=seed))
+    return STUDY.load(results_dir, config, seed)
 
 
 def with_baselines(result: ReadingsResult, k: int, baselines: gw.GridworldResult) -> gw.GridworldResult:
@@ -192,25 +191,16 @@ def plot_collisions(ax, rows: list[dict]):
     legend_below(ax, ncols=1)
 
 
-# --- figure script (paper_figures/fig10_readings.py) -------------------------------------------
+# --- the experiment of the figure script (paper_figures/fig10_readings.py) ---------------------
 
 RESULT_NAME = "fig10_readings"
 
 
-def figure_main(argv=None) -> list[Path]:
-    """Parse the command line, get the study's result (from --results when this configuration
-    already ran, else run it), draw the learned coordination and the outcomes per reading, save."""
-    parser = cli.figure_parser("Fig. 10 readings: 2observe under each reading of its lost GLA feedback",
-                               runs=gw.GridworldConfig.runs, iterations=gw.GridworldConfig.episodes)
-    args = cli.parse(parser, argv)
-    base = gw.GridworldConfig(learners=("two_observe",), runs=args.runs, episodes=args.iterations)
-    config = ReadingsConfig(gridworld=base)
-    result = cli.load_or_run(args, RESULT_NAME, config, run, ReadingsResult)
-    rows = summary(result, config)
-    fig, axes = new_figure(12.0, 5.0, ncols=2)
-    plot_coordination(axes[0], rows)
-    plot_collisions(axes[1], rows)
-    written = save_figure(fig, args.out, RESULT_NAME)
-    plt.close(fig)
-    return written
+def scaled(runs: int, episodes: int) -> ReadingsConfig:
+    """The study at ``runs`` and ``episodes``."""
+    return ReadingsConfig(gridworld=gw.GridworldConfig(learners=("two_observe",), runs=runs, episodes=episodes))
 
+
+STUDY = figures.Experiment(RESULT_NAME, run, gw.GridworldConfig.runs, gw.GridworldConfig.episodes, scaled,
+                           ReadingsResult)
+"""The readings of Fig. 10 at --runs and --iterations (episodes)."""

@@ -10,18 +10,17 @@ import math
 from dataclasses import dataclass, replace
 from pathlib import Path
 
-import matplotlib.pyplot as plt
 import numpy as np
 from matplotlib.ticker import NullFormatter
 
-from glamas import checks, cli, gla, results
+from glamas import checks, figures, gla, results
 from glamas import claims as chapter
 from glamas.gridworld import GridMap, dp, load_map, rules
 from glamas.learners import episode as ep
 from glamas.learners import registry, spec, two_observe
 from glamas.learners.settings import LearningSettings
 from glamas.paths import MAPS, RESULTS
-from glamas.plotting import legend_below, learner_style, new_figure, plot_mean_band, save_figure
+from glamas.plotting import legend_below, learner_style, plot_mean_band
 
 EXPERIMENT = "gridworld"
 RESULT_NAME = "gridworld"
@@ -144,7 +143,7 @@ def run(config: GridworldConfig = GridworldConfig(), seed: int = 0, workers=None
 
 def load(config: GridworldConfig = GridworldConfig(), seed: int = 0, results_dir: Path = RESULTS) -> GridworldResult:
     """The committed (or ``results_dir``'s) result of ``config`` and ``seed``, its configuration checked."""
-    return GridworldResult(config=config, **results.load(Path(results_dir) / f"{RESULT_NAME}.npz", config, seed=seed))
+    return STUDY.load(results_dir, config, seed)
 
 
 FINAL_FRACTION = 0.1
@@ -498,24 +497,14 @@ def plot_coordination_probability(ax, result, config: GridworldConfig):
     ax.legend(fontsize="small")
 
 
-# --- figure scripts (paper_figures/fig10.py ... fig12b.py) --------------------------------------
-
-_DRAW = {"fig11a": plot_steps, "fig11b": plot_reward, "fig12a": plot_collisions,
-         "fig12b": lambda ax, result, optimum: plot_coordinations(ax, result)}
+# --- the experiment of the figure scripts (paper_figures/fig11a.py ... fig12b.py) ----------------
 
 
-def figure_main(name: str, description: str, argv=None) -> list[Path]:
-    """The body of ``paper_figures/<name>.py``: parse the command line, get the experiment's
-    result (from --results when this configuration already ran, else run it), draw, save."""
-    parser = cli.figure_parser(description, runs=GridworldConfig.runs, iterations=GridworldConfig.episodes)
-    args = cli.parse(parser, argv)
-    config = GridworldConfig(runs=args.runs, episodes=args.iterations)
-    fig, ax = new_figure(6.0, 2.2 if name == "fig10" else 4.0)
-    if name == "fig10":
-        plot_feedback_table(ax, config)
-    else:
-        result = cli.load_or_run(args, RESULT_NAME, config, run, GridworldResult)
-        _DRAW[name](ax, result, optimum(config))
-    written = save_figure(fig, args.out, name)
-    plt.close(fig)
-    return written
+
+def scaled(runs: int, episodes: int) -> GridworldConfig:
+    """The chapter's experiment at ``runs`` and ``episodes``."""
+    return GridworldConfig(runs=runs, episodes=episodes)
+
+
+STUDY = figures.Experiment(RESULT_NAME, run, GridworldConfig.runs, GridworldConfig.episodes, scaled, GridworldResult)
+"""The chapter's experiment of Section 5.3 at --runs and --iterations (episodes)."""

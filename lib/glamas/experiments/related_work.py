@@ -11,21 +11,18 @@ adding them changes nothing of the chapter's experiment.
 from dataclasses import dataclass
 from pathlib import Path
 
-import matplotlib.pyplot as plt
 import numpy as np
 
 from glamas import claims as chapter
-from glamas import cli, results
+from glamas import figures
 from glamas.experiments import gridworld as gw
 from glamas.gridworld import GridMap, rules
 from glamas.learners import cq, registry, spec, sparse_maq
 from glamas.learners.settings import LearnerSettings, RelatedSettings, combine
 from glamas.paths import RESULTS
-from glamas.plotting import legend_below, legend_right, learner_style, mean_and_band, new_figure, plot_mean_band, save_figure
+from glamas.plotting import legend_below, legend_right, learner_style, mean_and_band, plot_mean_band
 
 EXPERIMENT = "related_work"
-RESULT_NAME = "related_work"
-"""Result file shared by the related_* figure scripts: the comparison runs once for all of them."""
 RELATED_LEARNERS = registry.family("related")
 """The related-work learners (glamas.learners.registry), in the order their seeds are drawn."""
 CHAPTER_LEARNERS = ("independent", "mmdp", "two_observe")
@@ -135,7 +132,7 @@ def storage(names: list, shapes: np.ndarray, learned: np.ndarray, settings, grid
 
 def load(config: RelatedWorkConfig = RelatedWorkConfig(), seed: int = 0, results_dir: Path = RESULTS) -> RelatedWorkResult:
     """The committed (or ``results_dir``'s) result of ``config`` and ``seed``, its configuration checked."""
-    return RelatedWorkResult(config=config, **results.load(Path(results_dir) / f"{RESULT_NAME}.npz", config, seed=seed))
+    return STUDY.load(results_dir, config, seed)
 
 
 # --- measurements and claims --------------------------------------------------------------------
@@ -290,15 +287,11 @@ def plot_marked_distances(ax, result: RelatedWorkResult, config: RelatedWorkConf
     legend_below(ax, ncols=1)
 
 
-# --- figure scripts (paper_figures/related_*.py) ----------------------------------------------
-
-_DRAW = {"related_steps": lambda ax, r, c: gw.plot_steps(ax, r, gw.optimum(c.gridworld)),
-         "related_reward": lambda ax, r, c: gw.plot_reward(ax, r, gw.optimum(c.gridworld)),
-         "related_collisions": lambda ax, r, c: gw.plot_collisions(ax, r, gw.optimum(c.gridworld)),
-         "related_coordinations": lambda ax, r, c: plot_coordinations(ax, r),
-         "related_sizes": plot_size_and_reward}
-_CURVES = ("related_steps", "related_reward", "related_collisions", "related_coordinations")
-"""The figures whose x axis counts episodes, on which CQ-learning's solo phase must be noted."""
+def plot_curve(ax, result: RelatedWorkResult, config: RelatedWorkConfig, plot):
+    """One of the chapter's curves for the comparison: ``plot`` (:func:`glamas.experiments.gridworld.plot_steps`,
+    ``plot_reward`` or ``plot_collisions``) against the map's optimum, CQ-learning's solo phase noted."""
+    plot(ax, result, gw.optimum(config.gridworld))
+    note_cq_solo_phase(ax, result, config)
 
 
 def note_cq_solo_phase(ax, result: RelatedWorkResult, config: RelatedWorkConfig):
@@ -310,18 +303,17 @@ def note_cq_solo_phase(ax, result: RelatedWorkResult, config: RelatedWorkConfig)
                      fontsize="small", color=learner_style("cq")["color"])
 
 
-def figure_main(name: str, description: str, argv=None) -> list[Path]:
-    """The body of ``paper_figures/<name>.py``: parse the command line, get the comparison's result
-    (from --results when this configuration already ran, else run it), draw, save."""
-    parser = cli.figure_parser(description, runs=gw.GridworldConfig.runs, iterations=gw.GridworldConfig.episodes)
-    args = cli.parse(parser, argv)
-    base = gw.GridworldConfig(learners=CHAPTER_LEARNERS, runs=args.runs, episodes=args.iterations)
-    config = RelatedWorkConfig(gridworld=base)
-    result = cli.load_or_run(args, RESULT_NAME, config, run, RelatedWorkResult)
-    fig, ax = new_figure(8.0 if name == "related_sizes" else 6.0, 4.0)
-    _DRAW[name](ax, result, config)
-    if name in _CURVES:
-        note_cq_solo_phase(ax, result, config)
-    written = save_figure(fig, args.out, name)
-    plt.close(fig)
-    return written
+# --- the experiment of the figure scripts (paper_figures/related_*.py) --------------------------
+
+RESULT_NAME = "related_work"
+"""Result file shared by the related_* figure scripts: the comparison runs once for all of them."""
+
+
+def scaled(runs: int, episodes: int) -> RelatedWorkConfig:
+    """The comparison at ``runs`` and ``episodes``, beside the chapter's learners it trains by default."""
+    return RelatedWorkConfig(gridworld=gw.GridworldConfig(learners=CHAPTER_LEARNERS, runs=runs, episodes=episodes))
+
+
+STUDY = figures.Experiment(RESULT_NAME, run, gw.GridworldConfig.runs, gw.GridworldConfig.episodes, scaled,
+                           RelatedWorkResult)
+"""The related-work comparison at --runs and --iterations (episodes)."""

@@ -23,10 +23,9 @@ import math
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 
-import matplotlib.pyplot as plt
 import numpy as np
 
-from glamas import checks, cli, results
+from glamas import checks, figures
 from glamas import claims as chapter
 from glamas.experiments.gridworld import convergence_episode, final
 from glamas.gridworld import GridMap, load_map
@@ -35,7 +34,7 @@ from glamas.learners import registry, spec
 from glamas.learners.settings import LearnerSettings, LearningSettings, RelatedSettings, combine
 from glamas.learners.spec import BYTES_PER_VALUE, Learner
 from glamas.paths import MAPS, RESULTS
-from glamas.plotting import BAND_DRAWS, learner_style, legend_right, new_figure, plot_mean_band, save_figure
+from glamas.plotting import BAND_DRAWS, learner_style, legend_right, plot_mean_band
 
 EXPERIMENT = "scaling"
 RESULT_NAME = "scaling"
@@ -257,7 +256,7 @@ def run(config: ScalingConfig = ScalingConfig(), seed: int = 0, workers=None, pr
 
 def load(config: ScalingConfig = ScalingConfig(), seed: int = 0, results_dir: Path = RESULTS) -> ScalingResult:
     """The committed (or ``results_dir``'s) result of ``config`` and ``seed``, its configuration checked."""
-    return ScalingResult(config=config, **results.load(Path(results_dir) / f"{RESULT_NAME}.npz", config, seed=seed))
+    return STUDY.load(results_dir, config, seed)
 
 
 def agent_means(log: np.ndarray) -> np.ndarray:
@@ -537,25 +536,12 @@ def plot_curves(ax, result: ScalingResult, n: int, metric: str = "steps", legend
         legend_right(ax)
 
 
-# --- figure scripts (paper_figures/scaling_*.py) ----------------------------------------------
+# --- the experiment of the figure scripts (paper_figures/scaling_*.py) --------------------------
 
-def figure_main(name: str, description: str, argv=None) -> list[Path]:
-    """The body of ``paper_figures/<name>.py``: parse the command line, get the study's result
-    (from --results when this configuration already ran, else run it), draw, save."""
-    parser = cli.figure_parser(description, runs=ScalingConfig.runs, iterations=ScalingConfig.episodes)
-    args = cli.parse(parser, argv)
-    config = ScalingConfig(runs=args.runs, episodes=args.iterations,
-                           bin_size=math.gcd(args.iterations, ScalingConfig.bin_size))
-    result = cli.load_or_run(args, RESULT_NAME, config, run, ScalingResult)
-    if name == "scaling_sizes":
-        fig, ax = new_figure(8.0, 4.5)
-        plot_sizes(ax, result, config)
-    else:
-        fig, axes = new_figure(12.0, 8.0, nrows=2, ncols=2)
-        for ax, metric in zip(axes.flat, ("steps", "reward", "collisions", "convergence")):
-            plot_final(ax, result, metric, legend=False)
-        fig.legend(*axes.flat[0].get_legend_handles_labels(), loc="outside lower center", ncols=4,
-                   fontsize="small", frameon=False)
-    written = save_figure(fig, args.out, name)
-    plt.close(fig)
-    return written
+def scaled(runs: int, episodes: int) -> ScalingConfig:
+    """The study at ``runs`` and ``episodes``, in blocks that divide the episodes."""
+    return ScalingConfig(runs=runs, episodes=episodes, bin_size=math.gcd(episodes, ScalingConfig.bin_size))
+
+
+STUDY = figures.Experiment(RESULT_NAME, run, ScalingConfig.runs, ScalingConfig.episodes, scaled, ScalingResult)
+"""The scaling study at --runs and --iterations (episodes)."""

@@ -7,12 +7,12 @@ GLA parameters; :func:`evaluate` turns those into exact expected rewards over th
 """
 
 from dataclasses import dataclass, replace
+from functools import partial
 
 import numpy as np
 from numba import njit
 
-from glamas import claims, gla, lineworld, memory, rng
-from glamas import checks
+from glamas import checks, claims, figures, gla, lineworld, memory, rng
 from glamas.plotting import legend_below, plot_mean_band
 from glamas.runs import run_batches
 
@@ -89,13 +89,14 @@ class SingleGLAResult:
 
 
 @njit(cache=True, nogil=True)
-def learn(encoding, iterations, learning_rate, temperature, K, L, mode, init_scale,
-          params, reward, state):
+def learn(encoding, iterations, automaton, init_scale, params, reward, state):
     """One run of experiment 1: the loop of Section 4.2 with eq. 12-15 for both agents.
 
-    ``params`` (2, 2, n) is filled with the initial and then the learned parameters, ``reward``
-    with the average feedback of each of its len(reward) windows.
+    ``automaton`` is the :class:`glamas.gla.Settings` both GLAs share; ``params`` (2, 2, n) is
+    filled with the initial and then the learned parameters, ``reward`` with the average feedback
+    of each of its len(reward) windows.
     """
+    learning_rate, temperature, K, L, mode = automaton
     n_inputs = params.shape[2]
     for agent in range(2):
         for action in range(2):
@@ -124,18 +125,20 @@ def learn(encoding, iterations, learning_rate, temperature, K, L, mode, init_sca
             window_end = (point + 1) * iterations // n_points
 
 
+def kernel_inputs(config: SingleGLAConfig) -> tuple:
+    """The arguments of :func:`learn` before its outputs and state, for ``config``."""
+    encoding = lineworld.encoding_code(config.context)
+    return encoding, config.iterations, config.gla_params().settings(), float(config.init_scale)
+
+
 def run(config: SingleGLAConfig, seed: int = 0, workers=None,
         progress: str | None = None) -> SingleGLAResult:
     """All runs of experiment 1 for ``config``; identical for any number of workers."""
     memory.check(config)
-    encoding = lineworld.encoding_code(config.context)
-    n_inputs = lineworld.CONTEXT_LENGTH[encoding]
+    n_inputs = lineworld.CONTEXT_LENGTH[lineworld.encoding_code(config.context)]
     params = np.zeros((config.runs, 2, 2, n_inputs))
     reward = np.zeros((config.runs, config.record_points))
-    p = config.gla_params()
-    inputs = (encoding, config.iterations, p.learning_rate, p.temperature, p.K, p.L,
-              p.bounding_code, float(config.init_scale))
-    run_batches(learn, inputs, (params, reward), seed, workers=workers, progress=progress)
+    run_batches(learn, kernel_inputs(config), (params, reward), seed, workers=workers, progress=progress)
     points = np.arange(1, config.record_points + 1)
     return SingleGLAResult(config, points * config.iterations // config.record_points, reward, params)
 
@@ -429,6 +432,21 @@ def encodings_from_arrays(config: SingleGLAConfig, arrays: dict) -> dict:
     return {name: SingleGLAResult(replace(config, context=name), arrays[f"{name}_iteration"],
                                   arrays[f"{name}_reward"], arrays[f"{name}_params"])
             for name in ENCODING_NAMES}
+
+
+def scaled(runs: int, iterations: int, **settings) -> SingleGLAConfig:
+    """The chapter's experiment 1 (with ``settings`` changed) at ``runs`` and ``iterations``,
+    with no more points of the learning curve than iterations."""
+    return SingleGLAConfig(runs=runs, iterations=iterations, record_points=min(SingleGLAConfig.record_points, iterations),
+                           **settings)
+
+
+FIG5 = figures.Experiment("fig5", run, SingleGLAConfig.runs, SingleGLAConfig.iterations, scaled, SingleGLAResult)
+"""Fig. 5's experiment for the figure scripts: experiment 1 with the joint context."""
+FIG6 = figures.Experiment("fig6", compare_encodings, SingleGLAConfig.runs, SingleGLAConfig.iterations,
+                          partial(scaled, L=FIG6_L), copies=len(ENCODING_NAMES), to_arrays=encoding_arrays,
+                          from_arrays=encodings_from_arrays)
+"""Fig. 6's experiment for the figure scripts: experiment 1 with each context, in Fig. 6's box."""
 
 
 def claim_rows(result: SingleGLAResult) -> list[dict]:
