@@ -1,6 +1,6 @@
 """Plain-Python references of Section 4.2's line-world experiments (lists, math and one random
-source): experiment 1's single GLAs with the joint context (glamas.experiments.single_gla.learn)
-and experiment 2's AND networks (glamas.experiments.and_network.learn).
+source): experiment 1's single GLAs with the joint context (glamas.learners.single_gla.learn)
+and experiment 2's AND networks (glamas.learners.and_network.learn).
 
 As the gridworld references (``python_gridworld``), each draws the same random numbers in the same
 order as its kernel and does the same arithmetic: on a stream equal to the kernel's it learns the

@@ -10,8 +10,10 @@ import pytest
 from numba import njit
 
 from glamas import cli, rng, runs
-from glamas.experiments import and_network, gridworld, single_gla
+from glamas.experiments import gridworld, single_gla
+from glamas.learners import and_network as and_network_learner
 from glamas.learners import registry, two_observe
+from glamas.learners import single_gla as single_gla_learner
 
 SINGLE = single_gla.SingleGLAConfig(iterations=600, runs=7, record_points=6)
 GRID = gridworld.GridworldConfig(episodes=40, runs=3, bins=10, q_initial=0.5, max_steps=200)
@@ -72,23 +74,23 @@ def test_a_dask_cluster_gives_the_one_thread_results_bit_for_bit(reference, dask
 def test_job_size_does_not_change_results(reference):
     params = np.zeros_like(reference["single"].params)
     reward = np.zeros_like(reference["single"].reward)
-    runs.run_batches(single_gla.learn, single_gla.kernel_inputs(SINGLE), (params, reward), 11,
+    runs.run_batches(single_gla_learner.learn, single_gla_learner.kernel_inputs(SINGLE), (params, reward), 11,
                      workers=runs.Processes(2), chunk=3)
     assert np.array_equal(reward, reference["single"].reward)
     assert np.array_equal(params, reference["single"].params)
 
 
 def test_a_job_runs_any_slice_of_the_sweep_on_its_own(reference):
-    inputs = single_gla.kernel_inputs(SINGLE)
+    inputs = single_gla_learner.kernel_inputs(SINGLE)
     initial = (np.zeros((2,) + reference["single"].params.shape[1:]), np.zeros((2, SINGLE.record_points)))
-    start, (params, reward) = runs.run_chunk("glamas.experiments.single_gla:learn", inputs, 11, 4, 6, initial)
+    start, (params, reward) = runs.run_chunk("glamas.learners.single_gla:learn", inputs, 11, 4, 6, initial)
     assert start == 4
     assert np.array_equal(reward, reference["single"].reward[4:6])
     assert np.array_equal(params, reference["single"].params[4:6])
     assert not initial[1].any()  # the job fills copies, not the arrays it was given
 
 
-RUN_KERNELS = ([single_gla.learn, and_network.learn, two_observe.run_two, two_observe.run_group]
+RUN_KERNELS = ([single_gla_learner.learn, and_network_learner.learn, two_observe.run_two, two_observe.run_group]
                + [learner.kernel for learner in registry.LEARNERS.values()])
 
 
@@ -124,9 +126,9 @@ def test_a_kernel_that_workers_cannot_import_is_rejected():
     (lambda: runs.Dask("tcp://h:8786", timeout=0), r"Dask\(timeout=...\) must be a positive number"),
     (lambda: single_gla.run(SINGLE, workers="dask"), "workers must be a process count, None .* or a backend"),
     (lambda: single_gla.run(SINGLE, workers=True), "workers must be a process count, None .* or a backend"),
-    (lambda: runs.run_batches(single_gla.learn, (), (np.zeros((2, 1)),), 0, chunk=0),
+    (lambda: runs.run_batches(single_gla_learner.learn, (), (np.zeros((2, 1)),), 0, chunk=0),
      "chunk must be a whole number of runs >= 1 or None, got 0"),
-    (lambda: runs.run_batches(single_gla.learn, (), (np.zeros((2, 1)), np.zeros(2)), 0),
+    (lambda: runs.run_batches(single_gla_learner.learn, (), (np.zeros((2, 1)), np.zeros(2)), 0),
      r"every output needs an axis of runs and an array per run \(ndim >= 2\), got shapes \[\(2, 1\), \(2,\)\]"),
 ])
 def test_bad_backend_choices_are_rejected(call, message):

@@ -419,7 +419,7 @@ def test_wrong_types_and_non_finite_settings_are_refused_with_the_field(make, me
 
 def test_learning_that_leaves_the_finite_numbers_stops_the_run():
     config = dataclasses.replace(SMALL_LINE, learning_rate=1e300)
-    with pytest.raises(runs.NonFiniteError, match="glamas.experiments.single_gla.learn produced NaN or infinite"):
+    with pytest.raises(runs.NonFiniteError, match="glamas.learners.single_gla.learn produced NaN or infinite"):
         single_gla.run(config, workers=runs.Threads(1))
 
 

@@ -27,7 +27,7 @@ import numpy as np
 
 from glamas import checks, figures
 from glamas import claims as chapter
-from glamas.experiments.gridworld import convergence_episode, final
+from glamas.curves import convergence_episode, final
 from glamas.gridworld import GridMap, load_map
 from glamas.learners import episode as ep
 from glamas.learners import registry, spec

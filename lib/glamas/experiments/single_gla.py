@@ -12,7 +12,9 @@ from functools import partial
 import numpy as np
 from numba import njit
 
-from glamas import checks, claims, figures, gla, lineworld, memory, rng
+from glamas import checks, claims, figures, gla, lineworld, memory
+from glamas.curves import FINAL_FRACTION, final_per_run
+from glamas.learners import single_gla as learner
 from glamas.plotting import legend_below, plot_mean_band
 from glamas.runs import run_batches
 
@@ -88,49 +90,6 @@ class SingleGLAResult:
         return {"iteration": self.iteration, "reward": self.reward, "params": self.params}
 
 
-@njit(cache=True, nogil=True)
-def learn(encoding, iterations, automaton, init_scale, params, reward, state):
-    """One run of experiment 1: the loop of Section 4.2 with eq. 12-15 for both agents.
-
-    ``automaton`` is the :class:`glamas.gla.Settings` both GLAs share; ``params`` (2, 2, n) is
-    filled with the initial and then the learned parameters, ``reward`` with the average feedback
-    of each of its len(reward) windows.
-    """
-    learning_rate, temperature, K, L, mode = automaton
-    n_inputs = params.shape[2]
-    for agent in range(2):
-        for action in range(2):
-            for k in range(n_inputs):
-                params[agent, action, k] = init_scale * (2.0 * rng.uniform(state) - 1.0)
-    context_a, context_b = np.empty(n_inputs), np.empty(n_inputs)
-    probs_a, probs_b = np.empty(2), np.empty(2)
-    u_a, u_b = params[0], params[1]
-    n_points = reward.shape[0]
-    point, window_start, window_sum = 0, 0, 0.0
-    window_end = iterations // n_points
-    for t in range(iterations):
-        x1, x2 = lineworld.restart(state)
-        lineworld.context(encoding, lineworld.AGENT_A, x1, x2, context_a)
-        lineworld.context(encoding, lineworld.AGENT_B, x1, x2, context_b)
-        action_a = gla.act(u_a, context_a, temperature, L, mode, probs_a, state)
-        action_b = gla.act(u_b, context_b, temperature, L, mode, probs_b, state)
-        beta = lineworld.regions_reward(x1, x2, action_a, action_b)
-        gla.update(u_a, context_a, action_a, beta, learning_rate, temperature, K, L, mode, probs_a)
-        gla.update(u_b, context_b, action_b, beta, learning_rate, temperature, K, L, mode, probs_b)
-        window_sum += beta
-        if t + 1 == window_end:
-            reward[point] = window_sum / (window_end - window_start)
-            point += 1
-            window_start, window_sum = window_end, 0.0
-            window_end = (point + 1) * iterations // n_points
-
-
-def kernel_inputs(config: SingleGLAConfig) -> tuple:
-    """The arguments of :func:`learn` before its outputs and state, for ``config``."""
-    encoding = lineworld.encoding_code(config.context)
-    return encoding, config.iterations, config.gla_params().settings(), float(config.init_scale)
-
-
 def run(config: SingleGLAConfig, seed: int = 0, workers=None,
         progress: str | None = None) -> SingleGLAResult:
     """All runs of experiment 1 for ``config``; identical for any number of workers."""
@@ -138,7 +97,7 @@ def run(config: SingleGLAConfig, seed: int = 0, workers=None,
     n_inputs = lineworld.CONTEXT_LENGTH[lineworld.encoding_code(config.context)]
     params = np.zeros((config.runs, 2, 2, n_inputs))
     reward = np.zeros((config.runs, config.record_points))
-    run_batches(learn, kernel_inputs(config), (params, reward), seed, workers=workers, progress=progress)
+    run_batches(learner.learn, learner.kernel_inputs(config), (params, reward), seed, workers=workers, progress=progress)
     points = np.arange(1, config.record_points + 1)
     return SingleGLAResult(config, points * config.iterations // config.record_points, reward, params)
 
@@ -290,16 +249,6 @@ def _best_threshold(features, directions, wants_left, counts):
     return best
 
 
-FINAL_FRACTION = 0.1
-"""The 'final' reward of Fig. 6 is the average over this last fraction of the iterations."""
-
-
-def _final(curves: np.ndarray, fraction: float = FINAL_FRACTION) -> np.ndarray:
-    """Per run: the average feedback over the last ``fraction`` of the learning curve."""
-    tail = max(1, int(round(curves.shape[1] * fraction)))
-    return curves[:, -tail:].mean(axis=1)
-
-
 REGIONS = (1, 2, 3)
 """The regions of Fig. 5a: 1 (A left of B), 2 (A right of B), 3 (closer than 0.5)."""
 
@@ -353,7 +302,7 @@ def measure(result: SingleGLAResult) -> dict:
         "agent_a_line_gap": line_best[0] - ev.line_reward[:, 0].mean(),
         "agent_b_line_gap": line_best[1] - ev.line_reward[:, 1].mean(),
         "team_reward": ev.team_reward.mean(),
-        "final_average_reward": _final(result.reward).mean(),
+        "final_average_reward": final_per_run(result.reward).mean(),
     }
 
 
@@ -381,7 +330,7 @@ def measure_encodings(results: dict) -> dict:
     mean reward over the whole run (learning speed); for each pair of encodings the paired
     difference (run r of each shares its seed), the lower end of its 95 % interval, and its effect
     size :func:`curve_effect`; for the absolute distance, the smaller of its two effects."""
-    final = {name: _final(res.reward) for name, res in results.items()}
+    final = {name: final_per_run(res.reward) for name, res in results.items()}
     measured = {f"{name}_final_reward": values.mean() for name, values in final.items()}
     whole = {name: res.reward.mean(axis=1) for name, res in results.items()}
     measured.update({f"{name}_mean_reward": values.mean() for name, values in whole.items()})

@@ -1,3 +1,8 @@
-"""The gridworld learners of the chapter's Section 5.3, each a compiled episode loop over the
-shared gridworld rules: independent Q-learners, joint-state learners, the MMDP learner and 2observe
-(Alg. 4)."""
+"""The learners, one module each: each holds its compiled run kernel and how its inputs are made.
+
+Section 4's line-world agents (:mod:`~glamas.learners.single_gla`, one GLA per agent;
+:mod:`~glamas.learners.and_network`, an AND network of GLAs per agent), and the gridworld learners
+of Section 5.3 and of the related work, each declared as a :class:`glamas.learners.spec.Learner`
+and listed by name in :mod:`glamas.learners.registry`: independent Q-learners, joint-state
+learners, the MMDP learner, 2observe (Alg. 4), sparse tabular MAQ and CQ-learning.
+"""

@@ -1,0 +1,53 @@
+"""Experiment 1's learners (Section 4.2): one 2-action GLA per agent in the line world, both
+seeing a context made from the joint position (:mod:`glamas.lineworld`), acting with eq. 15 and
+learning with eq. 13-14 from a common 0/1 feedback. The experiment is
+:mod:`glamas.experiments.single_gla`."""
+
+import numpy as np
+from numba import njit
+
+from glamas import gla, lineworld, rng
+
+
+@njit(cache=True, nogil=True)
+def learn(encoding, iterations, automaton, init_scale, params, reward, state):
+    """One run of experiment 1: the loop of Section 4.2 with eq. 12-15 for both agents.
+
+    ``automaton`` is the :class:`glamas.gla.Settings` both GLAs share; ``params`` (2, 2, n) is
+    filled with the initial and then the learned parameters, ``reward`` with the average feedback
+    of each of its len(reward) windows.
+    """
+    learning_rate, temperature, K, L, mode = automaton
+    n_inputs = params.shape[2]
+    for agent in range(2):
+        for action in range(2):
+            for k in range(n_inputs):
+                params[agent, action, k] = init_scale * (2.0 * rng.uniform(state) - 1.0)
+    context_a, context_b = np.empty(n_inputs), np.empty(n_inputs)
+    probs_a, probs_b = np.empty(2), np.empty(2)
+    u_a, u_b = params[0], params[1]
+    n_points = reward.shape[0]
+    point, window_start, window_sum = 0, 0, 0.0
+    window_end = iterations // n_points
+    for t in range(iterations):
+        x1, x2 = lineworld.restart(state)
+        lineworld.context(encoding, lineworld.AGENT_A, x1, x2, context_a)
+        lineworld.context(encoding, lineworld.AGENT_B, x1, x2, context_b)
+        action_a = gla.act(u_a, context_a, temperature, L, mode, probs_a, state)
+        action_b = gla.act(u_b, context_b, temperature, L, mode, probs_b, state)
+        beta = lineworld.regions_reward(x1, x2, action_a, action_b)
+        gla.update(u_a, context_a, action_a, beta, learning_rate, temperature, K, L, mode, probs_a)
+        gla.update(u_b, context_b, action_b, beta, learning_rate, temperature, K, L, mode, probs_b)
+        window_sum += beta
+        if t + 1 == window_end:
+            reward[point] = window_sum / (window_end - window_start)
+            point += 1
+            window_start, window_sum = window_end, 0.0
+            window_end = (point + 1) * iterations // n_points
+
+
+def kernel_inputs(config) -> tuple:
+    """The arguments of :func:`learn` before its outputs and state, for ``config``
+    (:class:`glamas.experiments.single_gla.SingleGLAConfig`)."""
+    encoding = lineworld.encoding_code(config.context)
+    return encoding, config.iterations, config.gla_params().settings(), float(config.init_scale)
