@@ -1,5 +1,6 @@
 """Shared figure helpers: byte-reproducible PNG and PDF output and mean curves with bootstrap bands."""
 
+import zlib
 from functools import partial
 from pathlib import Path
 
@@ -28,18 +29,28 @@ LEARNER_STYLES = {
     "independent": {"color": "tab:blue", "marker": "o"},
     "joint_state": {"color": "tab:orange", "marker": "s"},
     "mmdp": {"color": "tab:green", "marker": "^"},
-    "two_observe": {"color": "tab:red", "marker": "D"},
+    "two_observe": {"color": "tab:red", "marker": "D", "underneath": True},
     "two_observe_rule": {"color": "tab:brown", "marker": "v"},
     "sparse_maq": {"color": "tab:purple", "marker": "P"},
     "cq": {"color": "tab:gray", "marker": "X"},
 }
-"""One colour and marker per learner, the same in every figure and notebook."""
+"""One colour and marker per learner, the same in every figure and notebook. A learner drawn
+``underneath`` is drawn first and wide: 2observe's curve lies on the others' in the long run, and
+drawn on top it would hide them."""
+OTHER_COLOURS = ("tab:olive", "tab:cyan", "tab:pink")
+"""Colours of learners without a style of their own (a learner registered later), by name."""
 
 
 def learner_style(name: str, marker: bool = False) -> dict:
     """Matplotlib style keywords of learner ``name`` (its colour; with ``marker``, its marker too)."""
-    style = LEARNER_STYLES[name]
-    return dict(style) if marker else {"color": style["color"]}
+    style = LEARNER_STYLES.get(name) or {"color": OTHER_COLOURS[zlib.crc32(name.encode()) % len(OTHER_COLOURS)],
+                                         "marker": "*"}
+    return {"color": style["color"], "marker": style["marker"]} if marker else {"color": style["color"]}
+
+
+def drawn_underneath(name: str) -> bool:
+    """Whether learner ``name``'s curve goes under the others (LEARNER_STYLES)."""
+    return LEARNER_STYLES.get(name, {}).get("underneath", False)
 
 
 BAND_DRAWS = 1000

@@ -21,7 +21,7 @@ from glamas.learners import episode as ep
 from glamas.learners import registry, spec, two_observe
 from glamas.learners.settings import LearningSettings
 from glamas.paths import MAPS, RESULTS
-from glamas.plotting import legend_below, learner_style, plot_mean_band
+from glamas.plotting import drawn_underneath, legend_below, learner_style, plot_mean_band
 
 EXPERIMENT = "gridworld"
 RESULT_NAME = "gridworld"
@@ -304,21 +304,17 @@ def need_probability(result: GridworldResult) -> np.ndarray:
 
 # --- plots: each draws on a given Axes -------------------------------------------------------
 
-UNDERNEATH = "two_observe"
-"""The learner drawn first, widest and under the others: its curve lies on theirs in the long
-run, and drawn on top it would hide them."""
-
-
 def _line_style(name: str) -> dict:
-    """Colour, width and stacking of learner ``name``'s curve (2observe wide and underneath)."""
-    under = name == UNDERNEATH
+    """Colour, width and stacking of learner ``name``'s curve (2observe wide and underneath,
+    glamas.plotting.LEARNER_STYLES)."""
+    under = drawn_underneath(name)
     return {**learner_style(name), "linewidth": 2.6 if under else 1.3, "zorder": 2 if under else 3}
 
 
 def _plot_learners(ax, result, values, ylabel, reference=None, learners=None):
     x = result.episodes
     names = list(learners or result.names())
-    for name in sorted(names, key=lambda name: name != UNDERNEATH):  # 2observe first, underneath
+    for name in sorted(names, key=lambda name: not drawn_underneath(name)):  # 2observe first
         plot_mean_band(ax, x, values(name), registry.label(name), **_line_style(name))
     if reference is not None:
         ax.axhline(reference, color="black", linestyle="--", linewidth=1, label="optimum (value iteration)")
@@ -370,7 +366,7 @@ def _plot_step_tail(ax, result, optimum):
     TAIL_FROM on, linear axis, ticks at STEP_TAIL_TICKS."""
     tail = ax.inset_axes([0.5, 0.4, 0.47, 0.5])
     keep = result.episodes >= TAIL_FROM
-    for name in sorted(result.names(), key=lambda name: name != UNDERNEATH):
+    for name in sorted(result.names(), key=lambda name: not drawn_underneath(name)):
         plot_mean_band(tail, result.episodes[keep], result.steps(name)[:, keep], registry.label(name), **_line_style(name))
     if optimum is not None:
         tail.axhline(optimum["steps"], color="black", linestyle="--", linewidth=1)
