@@ -7,7 +7,7 @@ import pytest
 from glamas import claims
 from glamas.experiments import gridworld as gw
 from glamas.experiments import scaling as sc
-from glamas.gridworld import load_map
+from glamas.gridworld import load_map, rules
 from glamas.gridworld.rules import E, N, S, W
 from glamas.learners import episode as ep
 from glamas.learners import independent, joint_state, mmdp, registry, spec, two_observe
@@ -141,9 +141,9 @@ def test_nearest_other_agent_ignores_agents_in_the_goal_and_breaks_ties_by_numbe
     g = load_map(OPEN_3X3)
     cells = np.array([g.cell(1, 1), g.cell(0, 1), g.cell(1, 0)])
     nearest, deltas = np.zeros(3, np.int64), np.zeros(3, np.int64)
-    two_observe.nearest_others(g.n_cols, cells, np.zeros(3, np.bool_), nearest, deltas)
+    two_observe.nearest_others(rules.distance_table(g.n_cells, g.n_cols), cells, np.zeros(3, np.bool_), nearest, deltas)
     assert nearest.tolist() == [1, 0, 0] and deltas.tolist() == [1, 1, 1]
-    two_observe.nearest_others(g.n_cols, cells, np.array([False, True, True]), nearest, deltas)
+    two_observe.nearest_others(rules.distance_table(g.n_cells, g.n_cols), cells, np.array([False, True, True]), nearest, deltas)
     assert nearest.tolist() == [two_observe.NOBODY] * 3
 
 

@@ -7,7 +7,7 @@ import pytest
 
 from glamas import runs
 from glamas.experiments import scaling as sc
-from glamas.gridworld import load_map
+from glamas.gridworld import load_map, rules
 from glamas.gridworld.rules import E, S, W
 from glamas.learners import cq, spec, sparse_maq
 from glamas.learners.settings import LearnerSettings
@@ -37,8 +37,8 @@ def open3():
 
 def match(g, index, cells, acting=(True, True, True), distance=2):
     partner, rows = np.empty(len(cells), np.int64), np.empty(len(cells), np.int64)
-    pairs = sparse_maq.match_pairs(sparse_maq.Coordination(index, distance), g.n_cols, g.n_cells, np.array(cells),
-                                   np.array(acting), partner, rows)
+    pairs = sparse_maq.match_pairs(sparse_maq.Coordination(index, distance), rules.distance_table(g.n_cells, g.n_cols),
+                                   np.array(cells), np.array(acting), partner, rows)
     return pairs, partner.tolist(), rows.tolist()
 
 

@@ -245,6 +245,17 @@ def shared_reward(rewards, reached, all_done_after):
     return total
 
 
+@njit(cache=True)
+def distance_table(n_cells, n_cols):
+    """:func:`manhattan` for every pair of cells, ``table[a, b]``: made once per run, so that a
+    kernel looks distances up instead of dividing cell numbers every step."""
+    table = np.empty((n_cells, n_cells), np.int64)
+    for a in range(n_cells):
+        for b in range(n_cells):
+            table[a, b] = manhattan(n_cols, a, b)
+    return table
+
+
 @njit(cache=True, inline="always")
 def manhattan(n_cols, a, b):
     """Manhattan distance between cells a and b (cell = row * n_cols + col)."""

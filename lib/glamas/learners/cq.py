@@ -239,8 +239,9 @@ def run(world, learning, t_test, schedule, q, q_aug, marked, log, state):
     episodes (coordinations: steps on which an agent acted on a marked joint state)."""
     alpha, gamma, exploit = learning.q_learning_rate, learning.discount, learning.exploit_prob
     window, t_critical = t_test.cq_window, t_test.t_critical
-    starts, n_cols, edges, max_steps = world.starts, world.n_cols, schedule.edges, schedule.max_steps
+    starts, edges, max_steps = world.starts, schedule.edges, schedule.max_steps
     n_agents, n_cells = starts.shape[0], world.next_cell.shape[0]
+    distances = rules.distance_table(n_cells, world.n_cols)
     coordinations_column = ep.column(n_agents, ep.COORDINATIONS)
     samples = np.zeros((n_agents, n_cells, rules.N_ACTIONS, window))
     added = np.zeros((n_agents, n_cells, rules.N_ACTIONS), np.int64)
@@ -256,7 +257,7 @@ def run(world, learning, t_test, schedule, q, q_aug, marked, log, state):
         ep.start_episode(starts, cells, done, acc)
         t = 0
         while t < max_steps and not ep.all_done(done):
-            nearest_others(n_cols, cells, done, nearest, deltas)  # NOBODY: alone, nobody to observe
+            nearest_others(distances, cells, done, nearest, deltas)  # NOBODY: alone, nobody to observe
             observed = False
             for k in range(n_agents):
                 joint[k] = nearest[k] != NOBODY and marked[k, cells[k], cells[nearest[k]]]

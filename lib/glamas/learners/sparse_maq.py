@@ -121,10 +121,11 @@ def pair_number(i, j, n_agents):
 
 
 @njit(cache=True, inline="always")
-def match_pairs(coordination, n_cols, n_cells, cells, acting, partner, rows):
+def match_pairs(coordination, distances, cells, acting, partner, rows):
     """Match the ``acting`` agents into coordinating pairs, closest pairs first (ties: lowest i,
     then lowest j; agents already matched are skipped): ``partner[i]`` is i's partner or
-    NO_PARTNER, ``rows[i]`` the pair's coordination row. Returns the number of pairs."""
+    NO_PARTNER, ``rows[i]`` the pair's coordination row. ``distances`` is rules.distance_table.
+    Returns the number of pairs."""
     index = coordination.index
     n = cells.shape[0]
     for i in range(n):
@@ -136,9 +137,9 @@ def match_pairs(coordination, n_cols, n_cells, cells, acting, partner, rows):
             if not acting[i] or partner[i] != NO_PARTNER:
                 continue
             for j in range(i + 1, n):
-                if not acting[j] or partner[j] != NO_PARTNER or rules.manhattan(n_cols, cells[i], cells[j]) != d:
+                if not acting[j] or partner[j] != NO_PARTNER or distances[cells[i], cells[j]] != d:
                     continue
-                k = index[cells[i] * n_cells + cells[j]]
+                k = index[cells[i] * distances.shape[0] + cells[j]]
                 if k >= 0:
                     partner[i], partner[j], rows[i], rows[j] = j, i, k, k
                     pairs += 1
@@ -215,18 +216,19 @@ def run(world, learning, coordination, schedule, q, q_pairs, log, state):
     partner, rows, joint = np.empty(n_agents, np.int64), np.empty(n_agents, np.int64), np.zeros(n_agents, np.int64)
     partner_next, rows_next = np.empty(n_agents, np.int64), np.empty(n_agents, np.int64)
     matches = (partner, rows, joint, partner_next, rows_next)
+    distances = rules.distance_table(n_cells, world.n_cols)
     for episode in range(schedule.episodes):
         ep.start_episode(starts, cells, done, acc)
         t = 0
         while t < max_steps and not ep.all_done(done):
             for i in range(n_agents):
                 acting[i] = not done[i]
-            acc[coordinations_column] += match_pairs(coordination, world.n_cols, n_cells, cells, acting, partner, rows)
+            acc[coordinations_column] += match_pairs(coordination, distances, cells, acting, partner, rows)
             choose_actions(q, q_pairs, cells, done, partner, rows, learning.exploit_prob, actions, joint, state)
             collisions = rules.step(world, cells, done, actions, new_cells, rewards, bumped, collided, reached)
             for i in range(n_agents):
                 acting[i] = not (done[i] or reached[i])
-            match_pairs(coordination, world.n_cols, n_cells, new_cells, acting, partner_next, rows_next)
+            match_pairs(coordination, distances, new_cells, acting, partner_next, rows_next)
             learn_pairs(q, q_pairs, cells, done, actions, rewards, new_cells, reached, matches, learning)
             t += 1
             ep.end_step(t, cells, done, new_cells, rewards, reached, collisions, acc)

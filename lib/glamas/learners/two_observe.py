@@ -169,9 +169,10 @@ def gla_feedback(table, penalty_per_cell, choice, need, both, delta):
 
 
 @njit(cache=True, inline="always")
-def nearest_others(n_cols, cells, done, nearest, deltas):
+def nearest_others(distances, cells, done, nearest, deltas):
     """For every acting agent: the nearest other acting agent (lowest number on ties) and its
-    Manhattan distance; ``nearest`` is NOBODY for agents that are done or alone."""
+    Manhattan distance (``distances``: rules.distance_table); ``nearest`` is NOBODY for agents that
+    are done or alone."""
     n = cells.shape[0]
     for i in range(n):
         nearest[i] = NOBODY
@@ -181,7 +182,7 @@ def nearest_others(n_cols, cells, done, nearest, deltas):
         for j in range(n):
             if j == i or done[j]:
                 continue
-            d = rules.manhattan(n_cols, cells[i], cells[j])
+            d = distances[cells[i], cells[j]]
             if nearest[i] == NOBODY or d < deltas[i]:
                 nearest[i] = j
                 deltas[i] = d
@@ -355,12 +356,13 @@ def run_group(world, learning, automata, schedule, q, u, need_counts, log, state
     probs = np.empty((n_agents, 2))
     x = np.ones((n_agents, N_GLA_INPUTS))
     in_range = rules.in_range_table(next_cell, is_goal)
+    distances = rules.distance_table(next_cell.shape[0], world.n_cols)
     init_glas(u, automata.gla_init_range, state)
     for episode in range(schedule.episodes):
         ep.start_episode(world.starts, cells, done, acc)
         t = 0
         while t < schedule.max_steps and not ep.all_done(done):
-            nearest_others(world.n_cols, cells, done, nearest, deltas)
+            nearest_others(distances, cells, done, nearest, deltas)
             for i in range(n_agents):
                 choices[i] = ACT_ALONE
                 if nearest[i] == NOBODY:
