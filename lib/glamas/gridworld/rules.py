@@ -59,12 +59,17 @@ def world(gridmap, bounce: str = "previous") -> World:
     return World(gridmap.next_cell, gridmap.is_goal, gridmap.starts, BOUNCE_MODES[bounce], gridmap.n_cols)
 
 
-@njit(cache=True)
-def _collide(i, j, rewards, collided):
-    rewards[i] += COLLISION_PENALTY
-    rewards[j] += COLLISION_PENALTY
-    collided[i] = True
-    collided[j] = True
+@njit(cache=True, inline="always")
+def _collide_if(hit, i, j, rewards, collided):
+    """When ``hit``: agents i and j pay the collision penalty and are marked collided. Returns 1
+    for a collision, else 0 (the arrays are written either way: see :func:`step`)."""
+    penalty = COLLISION_PENALTY if hit else 0.0
+    hit_i, hit_j = collided[i], collided[j]
+    rewards[i] += penalty
+    rewards[j] += penalty
+    collided[i] = hit_i or hit
+    collided[j] = hit_j or hit
+    return 1 if hit else 0
 
 
 @njit(cache=True, inline="always")
@@ -76,62 +81,58 @@ def step(world, cells, done, actions, new_cells, rewards, bumped, collided, reac
     the goal (then its action is ignored) and their actions. Writes each agent's ``new_cells``,
     ``rewards`` (goal +100, bump -1, -10 per collision, summed), and whether it ``bumped``,
     ``collided`` or ``reached`` the goal in this step. Returns the number of colliding pairs.
+    Written, like :func:`step_two`, to read and write the arrays outside branches, the rules
+    applied to scalars in between: inlined into a kernel, numba can then drop the reference
+    counting of the arrays, which would otherwise cost several times the step itself.
     """
     next_cell, is_goal, starts, bounce = world.next_cell, world.is_goal, world.starts, world.bounce
     n = cells.shape[0]
     for i in range(n):
-        rewards[i] = 0.0
-        bumped[i] = False
+        cell, is_done = cells[i], done[i]
+        target = next_cell[cell, actions[i]]  # a done agent's is ignored
+        new = cell if is_done else target
+        bump = not is_done and new == cell
+        new_cells[i] = new
+        bumped[i] = bump
+        rewards[i] = BUMP_PENALTY if bump else 0.0
         collided[i] = False
         reached[i] = False
-        if done[i]:
-            new_cells[i] = cells[i]
-        else:
-            new_cells[i] = next_cell[cells[i], actions[i]]
-            if new_cells[i] == cells[i]:
-                bumped[i] = True
-                rewards[i] += BUMP_PENALTY
 
     # First round: the moves themselves (same non-goal target, or a swap).
     n_collisions = 0
     for i in range(n):
-        if done[i]:
-            continue
+        new_i, cell_i, done_i = new_cells[i], cells[i], done[i]
+        goal_i = is_goal[new_i]
         for j in range(i + 1, n):
-            if done[j]:
-                continue
-            same_target = new_cells[i] == new_cells[j] and not is_goal[new_cells[i]]
-            swap = new_cells[i] == cells[j] and new_cells[j] == cells[i]
-            if same_target or swap:
-                _collide(i, j, rewards, collided)
-                n_collisions += 1
+            new_j, cell_j, done_j = new_cells[j], cells[j], done[j]
+            same_target = new_i == new_j and not goal_i
+            hit = not (done_i or done_j) and (same_target or (new_i == cell_j and new_j == cell_i))
+            n_collisions += _collide_if(hit, i, j, rewards, collided)
 
     # Later rounds: bounced agents may land where another agent now is.
-    for _ in range(n):
-        if n_collisions == 0:
-            break
+    found, rounds = n_collisions, 0
+    while found > 0 and rounds < n:
+        rounds += 1
         for i in range(n):
-            if collided[i]:
-                new_cells[i] = cells[i] if bounce == BOUNCE_PREVIOUS else starts[i]
+            cell, start, hit, new = cells[i], starts[i], collided[i], new_cells[i]
+            bounced = cell if bounce == BOUNCE_PREVIOUS else start
+            new_cells[i] = bounced if hit else new
         found = 0
         for i in range(n):
-            if done[i]:
-                continue
+            new_i, done_i = new_cells[i], done[i]
+            goal_i = is_goal[new_i]
             for j in range(i + 1, n):
-                if done[j] or new_cells[i] != new_cells[j] or is_goal[new_cells[i]]:
-                    continue
-                if collided[i] and collided[j]:
-                    continue  # both already at their (distinct) bounce cells: only a broken precondition gets here
-                _collide(i, j, rewards, collided)
-                found += 1
+                new_j, done_j, hit_i, hit_j = new_cells[j], done[j], collided[i], collided[j]
+                shared = new_i == new_j and not goal_i
+                # both already at their (distinct) bounce cells: only a broken precondition gets there
+                again = not (done_i or done_j) and shared and not (hit_i and hit_j)
+                found += _collide_if(again, i, j, rewards, collided)
         n_collisions += found
-        if found == 0:
-            break
 
     for i in range(n):
-        if not done[i] and is_goal[new_cells[i]]:
-            reached[i] = True
-            rewards[i] += GOAL_REWARD
+        arrived = not done[i] and is_goal[new_cells[i]]
+        reached[i] = arrived
+        rewards[i] += GOAL_REWARD if arrived else 0.0
     return n_collisions
 
 
