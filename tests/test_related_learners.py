@@ -61,7 +61,7 @@ def tables():
 
 def test_coordinated_to_coordinated_is_the_mmdp_update_on_the_summed_reward(tables):
     _, q_joint = tables
-    sparse_maq.coordinated_to_coordinated(q_joint, 0, 5, -1.0 - 10.0, 1, ALPHA, GAMMA)
+    sparse_maq.coordinated_to_coordinated(q_joint[None], 0, 0, 5, -1.0 - 10.0, 1, ALPHA, GAMMA)
     assert q_joint[0, 5] == pytest.approx(10 + ALPHA * (-11 + GAMMA * 15 - 10))
 
 

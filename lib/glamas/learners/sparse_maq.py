@@ -41,7 +41,7 @@ from glamas.gridworld import GridMap, rules
 from glamas.learners import episode as ep
 from glamas.learners.independent import table_shape
 from glamas.learners.spec import Learner
-from glamas.qlearning import epsilon_greedy, q_update, row_max
+from glamas.qlearning import epsilon_greedy
 
 PAIR = 2
 """Agents of a coordinating pair."""
@@ -109,9 +109,21 @@ def joint_learned(outputs: dict, settings, gridmap: GridMap) -> np.ndarray:
 
 
 @njit(cache=True, inline="always")
-def coordinated_to_coordinated(q_joint, k, joint, reward, k_next, alpha, gamma):
-    """c -> c: the MMDP update of the joint value on the pair's summed ``reward``."""
-    q_joint[k, joint] += alpha * (reward + gamma * row_max(q_joint, k_next) - q_joint[k, joint])
+def best_of(tables, k, row):
+    """max_a tables[k, row, a]: :func:`glamas.qlearning.row_max` of table k, without making a view
+    of it (a view made inside a branch costs the kernels reference counting)."""
+    best = tables[k, row, 0]
+    for a in range(1, tables.shape[2]):
+        value = tables[k, row, a]
+        if value > best:
+            best = value
+    return best
+
+
+@njit(cache=True, inline="always")
+def coordinated_to_coordinated(q_pairs, pair, row, joint, reward, row_next, alpha, gamma):
+    """c -> c: the MMDP update of the pair's joint value on its summed ``reward``."""
+    q_pairs[pair, row, joint] += alpha * (reward + gamma * best_of(q_pairs, pair, row_next) - q_pairs[pair, row, joint])
 
 
 @njit(cache=True, inline="always")
@@ -167,12 +179,12 @@ def choose_actions(q, q_pairs, cells, done, partner, rows, exploit, actions, joi
 def next_value(q, q_pairs, i, new_cells, reached, partner_next, rows_next):
     """Agent i's value of its next state: none after entering the goal, half the best joint value
     of the pair it coordinates in next, else its own best value."""
-    if reached[i]:
+    j, cell, row, arrived = partner_next[i], new_cells[i], rows_next[i], reached[i]
+    if arrived:
         return 0.0
-    j = partner_next[i]
     if j == NO_PARTNER:
-        return row_max(q[i], new_cells[i])
-    return row_max(q_pairs[pair_number(min(i, j), max(i, j), q.shape[0])], rows_next[i]) / PAIR
+        return best_of(q, i, cell)
+    return best_of(q_pairs, pair_number(min(i, j), max(i, j), q.shape[0]), row) / PAIR
 
 
 @njit(cache=True, inline="always")
@@ -183,25 +195,28 @@ def learn_pairs(q, q_pairs, cells, done, actions, rewards, new_cells, reached, m
     alpha, gamma = learning.q_learning_rate, learning.discount
     n = cells.shape[0]
     for i in range(n):
-        j = partner[i]
-        if done[i] or NO_PARTNER < j < i:  # the pair's lower agent acts and learns for it
+        j, j_next, is_done, row, row_next, joint_i = partner[i], partner_next[i], done[i], rows[i], rows_next[i], joint[i]
+        s, a, r, s_next, arrived = cells[i], actions[i], rewards[i], new_cells[i], reached[i]
+        if is_done or NO_PARTNER < j < i:  # the pair's lower agent acts and learns for it
             continue
-        if j == NO_PARTNER and partner_next[i] == NO_PARTNER:  # u -> u
-            q_update(q[i], cells[i], actions[i], rewards[i], new_cells[i], reached[i], alpha, gamma)
+        if j == NO_PARTNER and j_next == NO_PARTNER:  # u -> u: eq. 11
+            target = r
+            if not arrived:
+                target += gamma * best_of(q, i, s_next)
+            q[i, s, a] = (1.0 - alpha) * q[i, s, a] + alpha * target
         elif j == NO_PARTNER:  # u -> c
-            old = q[i, cells[i], actions[i]]
+            old = q[i, s, a]
             share = next_value(q, q_pairs, i, new_cells, reached, partner_next, rows_next)
-            q[i, cells[i], actions[i]] = old + alpha * (rewards[i] + gamma * share - old)
-        elif partner_next[i] == j:  # c -> c, the same pair
-            coordinated_to_coordinated(q_pairs[pair_number(i, j, n)], rows[i], joint[i], rewards[i] + rewards[j],
-                                       rows_next[i], alpha, gamma)
+            q[i, s, a] = old + alpha * (r + gamma * share - old)
+        elif j_next == j:  # c -> c, the same pair
+            coordinated_to_coordinated(q_pairs, pair_number(i, j, n), row, joint_i, r + rewards[j], row_next, alpha, gamma)
         else:  # c -> u: the pair breaks up
             target = 0.0
             for m in (i, j):
                 target += rewards[m]
                 target += gamma * next_value(q, q_pairs, m, new_cells, reached, partner_next, rows_next)
-            table = q_pairs[pair_number(i, j, n)]
-            table[rows[i], joint[i]] += alpha * (target - table[rows[i], joint[i]])
+            pair = pair_number(i, j, n)
+            q_pairs[pair, row, joint_i] += alpha * (target - q_pairs[pair, row, joint_i])
 
 
 @njit(cache=True, nogil=True, error_model="numpy")
