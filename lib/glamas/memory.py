@@ -87,10 +87,10 @@ def _scaling(config) -> int:
     from glamas.experiments import scaling
 
     budget = config.memory_budget_gib * 2 ** 30
-    fitting = [needed for n in config.agents for method in config.methods
-               if (needed := scaling.memory_needed(config, method, n)) <= budget]
+    at_one_n = [sum(needed for method in config.methods if (needed := scaling.memory_needed(config, method, n)) <= budget)
+                for n in config.agents]  # the methods of one N train together
     logs = len(config.methods) * len(config.agents) * config.runs * config.n_bins * len(scaling.METRICS)
-    return max(fitting, default=0) * WORKING_COPIES + logs * BYTES_PER_VALUE
+    return max(at_one_n, default=0) * WORKING_COPIES + logs * BYTES_PER_VALUE
 
 
 def _gridworld_optimum(config) -> int:

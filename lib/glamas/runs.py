@@ -133,6 +133,18 @@ def cores() -> int:
     return len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count() or 1
 
 
+@dataclass(frozen=True)
+class Batch:
+    """The runs of one run kernel: ``kernel(*inputs, *outputs_of_the_run, state)`` for every run,
+    the runs' streams drawn from master seed ``seed`` (:func:`run_batches`)."""
+
+    kernel: object
+    inputs: tuple
+    outputs: tuple
+    """Arrays whose first axis is the run."""
+    seed: int
+
+
 def run_batches(kernel, inputs: tuple, outputs: tuple, seed: int, *, workers=None,
                 progress: str | None = None, chunk: int | None = None) -> None:
     """Fill ``outputs`` (arrays whose first axis is the run) by calling the run ``kernel`` for
@@ -142,36 +154,57 @@ def run_batches(kernel, inputs: tuple, outputs: tuple, seed: int, *, workers=Non
     None for ``Processes(workers)``. ``progress`` names a progress bar (None: no bar). A chunk
     of runs is one job; ``chunk`` runs per job (None: see :func:`chunk_size`).
     """
-    n_runs = outputs[0].shape[0]
+    run_many([Batch(kernel, inputs, outputs, seed)], workers=workers, progress=progress, chunk=chunk)
+
+
+def run_many(batches: list, *, workers=None, progress: str | None = None, chunk: int | None = None) -> None:
+    """:func:`run_batches` for several batches at once, all their jobs on one pool of workers: the
+    workers take up the next batch's jobs while the last jobs of another still run, instead of
+    waiting for them. Each batch's runs get the streams and results they get alone."""
+    workers = _backend(workers)
+    for batch in batches:
+        _check_batch(batch)
+    if chunk is not None and (isinstance(chunk, bool) or not isinstance(chunk, int) or chunk < 1):
+        raise ValueError(f"chunk must be a whole number of runs >= 1 or None, got {chunk!r}")
+    jobs = []  # (batch number, start, stop, the outputs' initial slices)
+    for k, batch in enumerate(batches):
+        n_runs = batch.outputs[0].shape[0]
+        size = chunk_size(n_runs, workers) if chunk is None else chunk
+        jobs += [(k, start, min(start + size, n_runs), tuple(out[start:start + size] for out in batch.outputs))
+                 for start in range(0, n_runs, size)]
+    if not isinstance(workers, Dask) and (workers.workers or cores()) > len(jobs):
+        workers = type(workers)(max(1, len(jobs)))  # a worker without a job would only cost its start-up
+    if isinstance(workers, Threads):
+        done = _run_in_threads(workers, [(k, batches[k].kernel, batches[k].inputs, batches[k].seed, start, stop, first)
+                                         for k, start, stop, first in jobs])
+    else:
+        sent = [(_kernel_name(b.kernel), tuple(_for_transport(x) for x in b.inputs)) for b in batches]
+        tasks = [(k, *sent[k], batches[k].seed, start, stop, first) for k, start, stop, first in jobs]
+        done = (_run_in_processes if isinstance(workers, Processes) else _run_on_dask)(workers, tasks)
+    total = sum(batch.outputs[0].shape[0] for batch in batches)
+    with tqdm(total=total, desc=progress, unit="run", disable=progress is None) as bar:
+        for k, start, filled in done:
+            check_finite(batches[k].kernel, start, filled)
+            for out, part in zip(batches[k].outputs, filled):
+                out[start:start + part.shape[0]] = part
+            bar.update(filled[0].shape[0])
+
+
+def _backend(workers):
+    """The backend ``workers`` stands for (an int or None: local processes)."""
     if workers is None or (isinstance(workers, int) and not isinstance(workers, bool)):
-        workers = Processes(workers)
+        return Processes(workers)
     if not isinstance(workers, (Processes, Threads, Dask)):
         raise ValueError(f"workers must be a process count, None (one per core) or a backend "
                          f"(glamas.runs.Processes, Threads or Dask), got {workers!r}")
-    check_seed(seed)
-    if any(out.ndim < 2 for out in outputs):
+    return workers
+
+
+def _check_batch(batch: Batch) -> None:
+    check_seed(batch.seed)
+    if any(out.ndim < 2 for out in batch.outputs):
         raise ValueError("every output needs an axis of runs and an array per run (ndim >= 2), got shapes "
-                         f"{[out.shape for out in outputs]}")
-    if chunk is not None and (isinstance(chunk, bool) or not isinstance(chunk, int) or chunk < 1):
-        raise ValueError(f"chunk must be a whole number of runs >= 1 or None, got {chunk!r}")
-    size = chunk_size(n_runs, workers) if chunk is None else chunk
-    bounds = [(start, min(start + size, n_runs)) for start in range(0, n_runs, size)]
-    initial = [tuple(out[start:stop] for out in outputs) for start, stop in bounds]
-    if not isinstance(workers, Dask) and (workers.workers or cores()) > len(bounds):
-        workers = type(workers)(len(bounds))  # a worker without a job would only cost its start-up
-    if isinstance(workers, Threads):
-        done = _run_in_threads(workers, [(kernel, inputs, seed, start, stop, first)
-                                         for (start, stop), first in zip(bounds, initial)])
-    else:
-        name, inputs = _kernel_name(kernel), tuple(_for_transport(x) for x in inputs)
-        jobs = [(name, inputs, seed, start, stop, first) for (start, stop), first in zip(bounds, initial)]
-        done = (_run_in_processes if isinstance(workers, Processes) else _run_on_dask)(workers, jobs)
-    with tqdm(total=n_runs, desc=progress, unit="run", disable=progress is None) as bar:
-        for start, filled in done:
-            check_finite(kernel, start, filled)
-            for out, part in zip(outputs, filled):
-                out[start:start + part.shape[0]] = part
-            bar.update(filled[0].shape[0])
+                         f"{[out.shape for out in batch.outputs]}")
 
 
 def check_finite(kernel, start: int, filled: tuple) -> None:
@@ -218,10 +251,15 @@ def run_chunk(kernel: str, inputs: tuple, seed: int, start: int, stop: int,
     return fill_chunk(_resolve_kernel(kernel), tuple(_as_sent(x) for x in inputs), seed, start, stop, initial)
 
 
+def _batch_chunk(k: int, run, *job) -> tuple[int, int, tuple]:
+    """``run(*job)`` (fill_chunk or run_chunk) for batch ``k``: ``(k, start, filled outputs)``."""
+    return (k, *run(*job))
+
+
 def _run_in_threads(backend: Threads, jobs: list):
     """Jobs on a pool of threads: the kernels release the GIL (nogil), so they run at once."""
     with ThreadPoolExecutor(backend.workers or cores()) as pool:
-        for future in as_completed([pool.submit(fill_chunk, *job) for job in jobs]):
+        for future in as_completed([pool.submit(_batch_chunk, k, fill_chunk, *job) for k, *job in jobs]):
             yield future.result()
 
 
@@ -278,7 +316,7 @@ def _run_in_processes(backend: Processes, jobs: list):
     parallel = Parallel(n_jobs=backend.workers or cores(), backend="loky", return_as="generator_unordered",
                         max_nbytes=None)
     try:
-        yield from parallel(delayed(run_chunk)(*job) for job in jobs)
+        yield from parallel(delayed(_batch_chunk)(k, run_chunk, *job) for k, *job in jobs)
     except TerminatedWorkerError as error:
         codes = next((line for line in str(error).splitlines() if "exit codes" in line), "").strip()
         raise BackendError(f"a worker process died mid-run (killed, out of memory or crashed; {codes}); "
@@ -322,7 +360,7 @@ async def _probe(distributed, backend: Dask) -> None:
 def _run_on_dask(backend: Dask, jobs: list):
     distributed = require_dask()
     with connect(backend) as client:
-        futures = [client.submit(run_chunk, *job, pure=False) for job in jobs]
+        futures = [client.submit(_batch_chunk, k, run_chunk, *job, pure=False) for k, *job in jobs]
         finished = distributed.as_completed(futures, loop=client.loop)
         without_workers = None  # since when the cluster has had no worker
         while not finished.is_empty():

@@ -15,7 +15,7 @@ from pathlib import Path
 
 import numpy as np
 
-from glamas import figures
+from glamas import figures, runs
 from glamas.experiments import gridworld as gw
 from glamas.paths import RESULTS
 from glamas.plotting import legend_below
@@ -87,11 +87,12 @@ class ReadingsResult:
 
 def run(config: ReadingsConfig = ReadingsConfig(), seed: int = 0, workers=None, progress=None) -> ReadingsResult:
     """Train 2observe under every reading of ``config``, each with the same seed (so the readings
-    share their random streams and differ only by what they read into Fig. 10)."""
-    parts = []
-    for name in config.readings:
-        label = None if progress is None else f"{progress}: {name}"
-        parts.append(gw.run(config.reading(name), seed=seed, workers=workers, progress=label))
+    share their random streams and differ only by what they read into Fig. 10), all readings' runs
+    on one pool of workers."""
+    work = [gw.trainings(config.reading(name), seed) for name in config.readings]
+    runs.run_many([batch for trainings in work for batch, _ in trainings], workers=workers, progress=progress)
+    parts = [gw.result_of(config.reading(name), [outputs for _, outputs in trainings])
+             for name, trainings in zip(config.readings, work)]
     return ReadingsResult(config=config, log=np.concatenate([p.log for p in parts]),
                           gla_parameters=np.stack([p.gla_parameters for p in parts]),
                           need_counts=np.stack([p.need_counts for p in parts]), episodes=parts[0].episodes)

@@ -13,7 +13,7 @@ from pathlib import Path
 import numpy as np
 from matplotlib.ticker import NullFormatter
 
-from glamas import checks, figures, gla, results
+from glamas import checks, figures, gla, results, runs
 from glamas import claims as chapter
 from glamas.curves import convergence_episode, convergence_ratio, final
 from glamas.gridworld import GridMap, dp, load_map, rules
@@ -120,26 +120,36 @@ class GridworldResult:
 
 def run(config: GridworldConfig = GridworldConfig(), seed: int = 0, workers=None,
         progress=None) -> GridworldResult:
-    """Train every learner of ``config`` in ``config.runs`` runs.
+    """Train every learner of ``config`` in ``config.runs`` runs, all learners' runs on one pool of
+    workers (:func:`glamas.runs.run_many`).
 
     Each learner draws its runs' streams from its own master seed
     (:func:`glamas.learners.registry.master_seed` over LEARNERS): every (seed, learner) pair has
     its own streams, and a learner gets the same streams whichever other learners are trained with it.
     """
+    work = trainings(config, seed)
+    runs.run_many([batch for batch, _ in work], workers=workers, progress=progress)
+    return result_of(config, [outputs for _, outputs in work])
+
+
+def trainings(config: GridworldConfig, seed: int = 0) -> list:
+    """Per learner of ``config``: its runs, ready to run (glamas.runs.Batch), and the outputs they fill."""
     gridmap, schedule = config.gridmap(), config.schedule()
-    log = np.zeros((len(config.learners), config.runs, schedule.edges.size - 1, ep.n_columns(gridmap.n_agents)))
-    shapes = np.zeros((len(config.learners), 3), dtype=np.int64)
+    return [spec.batch(registry.get(name), config, gridmap, schedule, config.runs,
+                       registry.master_seed(seed, LEARNERS, name)) for name in config.learners]
+
+
+def result_of(config: GridworldConfig, outputs: list) -> GridworldResult:
+    """The result of ``config`` from its learners' filled outputs (:func:`trainings`, in order)."""
+    gridmap = config.gridmap()
     first_level = {key: np.stack([zeros] * config.runs) for key, zeros in two_observe.outputs(config, gridmap).items()}
-    for k, name in enumerate(config.learners):
-        label = None if progress is None else f"{progress}: {name}"
-        outputs = spec.train(registry.get(name), config, gridmap, schedule, config.runs,
-                             registry.master_seed(seed, LEARNERS, name), workers, label)
-        log[k], shapes[k] = outputs["log"], outputs["q"].shape[1:]
-        first_level.update({key: outputs[key] for key in first_level.keys() & outputs.keys()})
+    for learned in outputs:
+        first_level.update({key: learned[key] for key in first_level.keys() & learned.keys()})
     codes = np.array([LEARNERS.index(name) for name in config.learners], dtype=np.int64)
-    return GridworldResult(config=config, learners=codes, log=log, table_shapes=shapes,
+    return GridworldResult(config=config, learners=codes, log=np.stack([learned["log"] for learned in outputs]),
+                           table_shapes=np.array([learned["q"].shape[1:] for learned in outputs], dtype=np.int64),
                            gla_parameters=first_level["u"], need_counts=first_level["need_counts"],
-                           episodes=schedule.edges[1:])
+                           episodes=config.edges()[1:])
 
 
 def load(config: GridworldConfig = GridworldConfig(), seed: int = 0, results_dir: Path = RESULTS) -> GridworldResult:

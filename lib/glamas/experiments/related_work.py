@@ -14,7 +14,7 @@ from pathlib import Path
 import numpy as np
 
 from glamas import claims as chapter
-from glamas import figures
+from glamas import figures, runs
 from glamas.experiments import gridworld as gw
 from glamas.gridworld import GridMap, rules
 from glamas.learners import cq, registry, spec, sparse_maq
@@ -92,21 +92,19 @@ def run(config: RelatedWorkConfig = RelatedWorkConfig(), seed: int = 0, workers=
     """Train the chapter's learners (:func:`glamas.experiments.gridworld.run`, unchanged) and the
     related-work learners of ``config`` in ``config.gridworld.runs`` runs."""
     base, settings = config.gridworld, config.settings()
-    chapter_result = gw.run(base, seed=seed, workers=workers, progress=progress)
     gridmap, schedule = base.gridmap(), base.schedule()
-    n = len(config.learners)
-    log = np.zeros((n, base.runs, schedule.edges.size - 1, chapter_result.log.shape[-1]))
-    shapes = np.zeros((n, 3), dtype=np.int64)
-    learned = np.zeros((n, base.runs))
-    marked = np.stack([cq.outputs(settings, gridmap)["marked"]] * base.runs)
-    for j, name in enumerate(config.learners):
-        label = None if progress is None else f"{progress}: {name}"
-        learner = registry.get(name)
-        outputs = spec.train(learner, settings, gridmap, schedule, base.runs,
-                             registry.master_seed(seed, RELATED_LEARNERS, name, learner.family), workers, label)
-        log[j], shapes[j] = outputs["log"], outputs["q"].shape[1:]
-        learned[j] = learner.joint_learned(outputs, settings, gridmap)
-        marked = outputs.get("marked", marked)
+    chapter = gw.trainings(base, seed)
+    related = [spec.batch(registry.get(name), settings, gridmap, schedule, base.runs,
+                          registry.master_seed(seed, RELATED_LEARNERS, name, registry.get(name).family))
+               for name in config.learners]
+    runs.run_many([batch for batch, _ in chapter + related], workers=workers, progress=progress)
+    chapter_result = gw.result_of(base, [outputs for _, outputs in chapter])
+    shapes = np.array([outputs["q"].shape[1:] for _, outputs in related], dtype=np.int64).reshape(-1, 3)
+    learned = np.array([registry.get(name).joint_learned(outputs, settings, gridmap)
+                        for name, (_, outputs) in zip(config.learners, related)]).reshape(-1, base.runs)
+    log = np.array([outputs["log"] for _, outputs in related]).reshape((-1,) + chapter_result.log.shape[1:])
+    marked = next((outputs["marked"] for _, outputs in related if "marked" in outputs),
+                  np.stack([cq.outputs(settings, gridmap)["marked"]] * base.runs))
     names = chapter_result.names() + list(config.learners)
     shapes = np.concatenate([chapter_result.table_shapes, shapes])
     learned = np.concatenate([np.zeros((len(chapter_result.names()), base.runs)), learned])

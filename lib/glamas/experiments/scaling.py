@@ -25,7 +25,7 @@ from pathlib import Path
 
 import numpy as np
 
-from glamas import checks, figures
+from glamas import checks, figures, runs
 from glamas import claims as chapter
 from glamas.curves import convergence_episode, final
 from glamas.gridworld import GridMap, load_map
@@ -221,7 +221,9 @@ def seed_of(seed: int, method: str, n_agents: int) -> int:
 
 
 def run(config: ScalingConfig = ScalingConfig(), seed: int = 0, workers=None, progress=None) -> ScalingResult:
-    """Train every method at every N that fits the memory budget (``config.runs`` runs each)."""
+    """Train every method at every N that fits the memory budget (``config.runs`` runs each): the
+    methods of one N at a time, their runs on one pool of workers (:func:`glamas.runs.run_many`),
+    so that memory holds the tables of one N."""
     m, a = len(config.methods), len(config.agents)
     ran = np.zeros((m, a), dtype=bool)
     shapes = np.zeros((m, a, 3), dtype=np.int64)
@@ -233,17 +235,20 @@ def run(config: ScalingConfig = ScalingConfig(), seed: int = 0, workers=None, pr
     budget = config.memory_budget_gib * 2 ** 30
     for j, n in enumerate(config.agents):
         gridmap = config.gridmap(n)
+        trainings = {}
         for k, method in enumerate(config.methods):
             learner, settings = learner_of(method), config.settings(method)
             shapes[k, j] = learner.table_shape(gridmap.n_cells, n)
             glas[k, j] = learner.gla_parameters(settings, gridmap)
             joints[k, j], samples[k, j] = learner.joint_room(settings, gridmap), learner.reward_samples(settings, gridmap)
             needed[k, j] = memory_needed(config, method, n)
-            if needed[k, j] > budget:
-                continue
-            label = None if progress is None else f"{progress}: {method}, N={n}"
-            outputs = spec.train(learner, settings, gridmap, config.schedule(), config.runs, seed_of(seed, method, n),
-                                 workers, label)
+            if needed[k, j] <= budget:
+                trainings[k] = spec.batch(learner, settings, gridmap, config.schedule(), config.runs,
+                                          seed_of(seed, method, n))
+        label = None if progress is None else f"{progress}: N={n}"
+        runs.run_many([batch for batch, _ in trainings.values()], workers=workers, progress=label)
+        for k, (_, outputs) in trainings.items():
+            learner, settings = learner_of(config.methods[k]), config.settings(config.methods[k])
             shapes[k, j] = outputs["q"].shape[1:]
             joints[k, j] = learner.joint_learned(outputs, settings, gridmap).mean()
             ran[k, j] = True

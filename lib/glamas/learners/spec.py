@@ -104,11 +104,19 @@ def allocate(learner: Learner, settings, gridmap: GridMap, schedule: ep.Schedule
     return {"q": np.full((n_runs,) + shape, float(settings.q_initial)), **own, "log": log}
 
 
+def batch(learner: Learner, settings, gridmap: GridMap, schedule: ep.Schedule, n_runs: int,
+          master_seed: int) -> tuple[runs.Batch, dict]:
+    """``n_runs`` runs of ``learner`` on ``gridmap``, ready to run (:func:`glamas.runs.run_many`),
+    and the outputs they fill, by name (``q``, the learner's own, ``log``; runs on the first axis)."""
+    outputs = allocate(learner, settings, gridmap, schedule, n_runs)
+    inputs = kernel_inputs(learner, settings, gridmap, schedule)
+    return runs.Batch(learner.kernel, inputs, tuple(outputs.values()), master_seed), outputs
+
+
 def train(learner: Learner, settings, gridmap: GridMap, schedule: ep.Schedule, n_runs: int, master_seed: int,
           workers=None, progress=None) -> dict:
     """``n_runs`` runs of ``learner`` on ``gridmap``: its outputs by name (``q``, its own, ``log``),
     each with the runs on the first axis."""
-    outputs = allocate(learner, settings, gridmap, schedule, n_runs)
-    runs.run_batches(learner.kernel, kernel_inputs(learner, settings, gridmap, schedule), tuple(outputs.values()),
-                     master_seed, workers=workers, progress=progress)
+    work, outputs = batch(learner, settings, gridmap, schedule, n_runs, master_seed)
+    runs.run_many([work], workers=workers, progress=progress)
     return outputs
