@@ -3,8 +3,8 @@
 A run kernel is the compiled function of one run, ``kernel(*inputs, *outputs_of_the_run, state)``
 with ``@njit(cache=True, nogil=True)``: it reads the shared ``inputs`` and its own generator
 ``state`` and writes only its run's slice of each output. A job is one chunk of runs, and the
-``workers`` argument of :func:`run_batches` (and of every experiment's ``run``) picks who runs
-the jobs: local processes by default (joblib; an int or None is their number, see
+``workers`` argument of :func:`run_batches` and :func:`run_many` (and of every experiment's
+``run``) picks who runs the jobs: local processes by default (joblib; an int or None is their number, see
 :class:`Processes`), threads in this process (:class:`Threads`), or a Dask distributed cluster
 (:class:`Dask`, optional extra ``dask``). A job derives its runs' generator states from the
 master seed and its run indices (:func:`glamas.rng.chunk_states`), so every backend, number of
@@ -139,10 +139,13 @@ class Batch:
     the runs' streams drawn from master seed ``seed`` (:func:`run_batches`)."""
 
     kernel: object
+    """The compiled run kernel (``@njit(cache=True, nogil=True)``)."""
     inputs: tuple
+    """What every run reads."""
     outputs: tuple
-    """Arrays whose first axis is the run."""
+    """Arrays whose first axis is the run, each run filling its own slice."""
     seed: int
+    """The master seed of the runs' streams (:func:`glamas.rng.chunk_states`)."""
 
 
 def run_batches(kernel, inputs: tuple, outputs: tuple, seed: int, *, workers=None,

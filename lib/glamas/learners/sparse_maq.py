@@ -105,6 +105,7 @@ def joint_room(settings, gridmap: GridMap) -> int:
 
 
 def joint_learned(outputs: dict, settings, gridmap: GridMap) -> np.ndarray:
+    """Per run, the joint values learned: every pair's whole joint table."""
     return np.full(outputs["q"].shape[0], float(joint_room(settings, gridmap)))
 
 
