@@ -126,7 +126,7 @@ class RelatedSettings:
     """CQ-learning: significance level of the two-sided Student t-test on immediate rewards."""
     cq_solo_episodes: int = 1000
     """CQ-learning: episodes each agent first learns alone (the single-agent phase), not counted
-    in ``gridworld.episodes``."""
+    in the experiment's episodes."""
 
     def __post_init__(self):
         checks.field_types(self)
