@@ -89,8 +89,9 @@ class RelatedWorkResult(gw.GridworldResult):
 
 def run(config: RelatedWorkConfig = RelatedWorkConfig(), seed: int = 0, workers=None,
         progress=None) -> RelatedWorkResult:
-    """Train the chapter's learners (:func:`glamas.experiments.gridworld.run`, unchanged) and the
-    related-work learners of ``config`` in ``config.gridworld.runs`` runs."""
+    """Train the chapter's learners as :func:`glamas.experiments.gridworld.run` does (same seeds, so
+    the same results) and the related-work learners of ``config``, ``config.gridworld.runs`` runs
+    each, all on one pool of workers."""
     base, settings = config.gridworld, config.settings()
     gridmap, schedule = base.gridmap(), base.schedule()
     chapter = gw.trainings(base, seed)
