@@ -87,8 +87,11 @@ def _scaling(config) -> int:
     from glamas.experiments import scaling
 
     budget = config.memory_budget_gib * 2 ** 30
-    at_one_n = [sum(needed for method in config.methods if (needed := scaling.memory_needed(config, method, n)) <= budget)
-                for n in config.agents]  # the methods of one N train together
+    at_one_n = []  # the methods of one N train together
+    for n in config.agents:
+        gridmap = config.gridmap(n)
+        needs = [scaling.memory_needed(config, method, gridmap) for method in config.methods]
+        at_one_n.append(sum(need for need in needs if need <= budget))
     logs = len(config.methods) * len(config.agents) * config.runs * config.n_bins * len(scaling.METRICS)
     return max(at_one_n, default=0) * WORKING_COPIES + logs * BYTES_PER_VALUE
 

@@ -157,9 +157,9 @@ def label(method: str) -> str:
     return VARIANTS[method].label if method in VARIANTS else (learner_of(method).n_agent_label or registry.label(method))
 
 
-def memory_needed(config: ScalingConfig, method: str, n_agents: int) -> int:
-    """Bytes the tables of all of ``config.runs`` runs take together (CQ: with its marks)."""
-    return config.runs * learner_of(method).bytes_per_run(config.settings(method), config.gridmap(n_agents))
+def memory_needed(config: ScalingConfig, method: str, gridmap: GridMap) -> int:
+    """Bytes the tables of all of ``config.runs`` runs on ``gridmap`` take together (CQ: with its marks)."""
+    return config.runs * learner_of(method).bytes_per_run(config.settings(method), gridmap)
 
 
 @dataclass(frozen=True)
@@ -233,6 +233,7 @@ def run(config: ScalingConfig = ScalingConfig(), seed: int = 0, workers=None, pr
     needed = np.zeros((m, a), dtype=np.int64)
     log = np.full((m, a, config.runs, config.n_bins, len(METRICS)), np.nan)
     budget = config.memory_budget_gib * 2 ** 30
+    schedule = config.schedule()
     for j, n in enumerate(config.agents):
         gridmap = config.gridmap(n)
         trainings = {}
@@ -241,14 +242,13 @@ def run(config: ScalingConfig = ScalingConfig(), seed: int = 0, workers=None, pr
             shapes[k, j] = learner.table_shape(gridmap.n_cells, n)
             glas[k, j] = learner.gla_parameters(settings, gridmap)
             joints[k, j], samples[k, j] = learner.joint_room(settings, gridmap), learner.reward_samples(settings, gridmap)
-            needed[k, j] = memory_needed(config, method, n)
+            needed[k, j] = memory_needed(config, method, gridmap)
             if needed[k, j] <= budget:
-                trainings[k] = spec.batch(learner, settings, gridmap, config.schedule(), config.runs,
-                                          seed_of(seed, method, n))
+                batch, outputs = spec.batch(learner, settings, gridmap, schedule, config.runs, seed_of(seed, method, n))
+                trainings[k] = learner, settings, batch, outputs
         label = None if progress is None else f"{progress}: N={n}"
-        runs.run_many([batch for batch, _ in trainings.values()], workers=workers, progress=label)
-        for k, (_, outputs) in trainings.items():
-            learner, settings = learner_of(config.methods[k]), config.settings(config.methods[k])
+        runs.run_many([batch for _, _, batch, _ in trainings.values()], workers=workers, progress=label)
+        for k, (learner, settings, _, outputs) in trainings.items():
             shapes[k, j] = outputs["q"].shape[1:]
             joints[k, j] = learner.joint_learned(outputs, settings, gridmap).mean()
             ran[k, j] = True
@@ -256,7 +256,7 @@ def run(config: ScalingConfig = ScalingConfig(), seed: int = 0, workers=None, pr
     codes = np.array([known_methods().index(name) for name in config.methods], dtype=np.int64)
     return ScalingResult(config=config, methods=codes, agents=np.array(config.agents, dtype=np.int64), ran=ran,
                          table_shapes=shapes, gla_parameters=glas, joint_entries=joints, reward_samples=samples,
-                         bytes_needed=needed, log=log, episodes=config.schedule().edges[1:])
+                         bytes_needed=needed, log=log, episodes=schedule.edges[1:])
 
 
 def load(config: ScalingConfig = ScalingConfig(), seed: int = 0, results_dir: Path = RESULTS) -> ScalingResult:
