@@ -2,7 +2,7 @@
 against (benchmarks/python_*.py).
 
 A reference draws its random numbers from whatever source it is given; here it gets glamas.rng's
-own generator written in Python (:class:`Xoshiro256`), started from the state of the kernel's run.
+own generator (:class:`KernelStream`), started from the state of the kernel's run.
 It then draws the kernel's random numbers in the kernel's order, so it must play the kernel's very
 episodes: its log (a row per episode: steps, rewards, length, collisions, coordinations, capped)
 and, for the line-world experiments, its learned parameters equal the kernel's number for number.
@@ -21,35 +21,20 @@ from glamas.gridworld import BOUNCE_MODES, rules
 from glamas.learners import episode as ep
 from glamas.learners.settings import LearnerSettings
 
-MASK = (1 << 64) - 1
-
-
-def _rotl(x, k):
-    return ((x << k) | (x >> (64 - k))) & MASK
-
-
-class Xoshiro256:
-    """glamas.rng's xoshiro256** in plain Python: ``random()`` is glamas.rng.uniform."""
+class KernelStream:
+    """glamas.rng's stream as a reference's random source: ``random()`` is glamas.rng.uniform on
+    its own copy of a run's generator state."""
 
     def __init__(self, state):
-        self.s = [int(word) for word in state]
+        self.state = np.array(state, dtype=np.uint64)
 
     def random(self):
-        s = self.s
-        result = (_rotl((s[1] * 5) & MASK, 7) * 9) & MASK
-        t = (s[1] << 17) & MASK
-        s[2] ^= s[0]
-        s[3] ^= s[1]
-        s[1] ^= s[2]
-        s[0] ^= s[3]
-        s[2] ^= t
-        s[3] = _rotl(s[3], 45)
-        return (result >> 11) * 2.0 ** -53
+        return rng.uniform(self.state)
 
 
 def test_the_python_stream_is_glamas_rng():
     state = kernels.run_state(3)
-    python = Xoshiro256(state)
+    python = KernelStream(state)
     for n in (1, 2, 3, 4, 16):
         assert [rng.uniform(state) for _ in range(200)] == [python.random() for _ in range(200)]
         assert [rng.integer(state, n) for _ in range(200)] == [python_gridworld.below(python, n) for _ in range(200)]
@@ -80,7 +65,7 @@ def test_gridworld_reference_plays_the_kernels_episodes(case):
     workload = WORKLOADS[case]
     compiled = kernels.run_compiled(workload, seed=5)
     log = compiled.log[0]
-    np.testing.assert_array_equal(python_gridworld.run(workload, Xoshiro256(kernels.run_state(5))), log)
+    np.testing.assert_array_equal(python_gridworld.run(workload, KernelStream(kernels.run_state(5))), log)
     assert ep.metric(log, "collisions").sum() > 0  # the episodes have collisions
     if workload.learner in COORDINATING:
         assert ep.metric(log, "coordinations").sum() > 0  # and coordinated steps
@@ -103,7 +88,7 @@ def test_rules_reference_ends_with_the_compiled_totals(map_file, bounce):
 def test_experiment_1_reference_learns_the_kernels_parameters(init_scale):
     config = single_gla.SingleGLAConfig(runs=1, iterations=4000, record_points=1, init_scale=init_scale)
     result = single_gla.run(config, seed=7, workers=runs.Threads(1))
-    total, u = python_lineworld.single_gla_run(config, Xoshiro256(kernels.run_state(7)))
+    total, u = python_lineworld.single_gla_run(config, KernelStream(kernels.run_state(7)))
     np.testing.assert_array_equal(np.array(u), result.params[0])
     assert total / config.iterations == result.reward[0, 0]
 
@@ -111,6 +96,6 @@ def test_experiment_1_reference_learns_the_kernels_parameters(init_scale):
 def test_experiment_2_reference_learns_the_kernels_parameters():
     config = and_network.ANDNetworkConfig(runs=1, iterations=4000, record_points=2)
     result = and_network.run(config, seed=7, workers=runs.Threads(1))
-    _, u = python_lineworld.and_network_run(config, Xoshiro256(kernels.run_state(7)))
+    _, u = python_lineworld.and_network_run(config, KernelStream(kernels.run_state(7)))
     context = len(u[0][0][0])
     np.testing.assert_array_equal(np.array(u), result.params[0, ..., :context])
