@@ -89,10 +89,10 @@ def run(config: ReadingsConfig = ReadingsConfig(), seed: int = 0, workers=None, 
     """Train 2observe under every reading of ``config``, each with the same seed (so the readings
     share their random streams and differ only by what they read into Fig. 10), all readings' runs
     on one pool of workers."""
-    work = [gw.trainings(config.reading(name), seed) for name in config.readings]
+    readings = [config.reading(name) for name in config.readings]
+    work = [gw.trainings(reading, seed) for reading in readings]
     runs.run_many([batch for trainings in work for batch, _ in trainings], workers=workers, progress=progress)
-    parts = [gw.result_of(config.reading(name), [outputs for _, outputs in trainings])
-             for name, trainings in zip(config.readings, work)]
+    parts = [gw.result_of(reading, [outputs for _, outputs in trainings]) for reading, trainings in zip(readings, work)]
     return ReadingsResult(config=config, log=np.concatenate([p.log for p in parts]),
                           gla_parameters=np.stack([p.gla_parameters for p in parts]),
                           need_counts=np.stack([p.need_counts for p in parts]), episodes=parts[0].episodes)
