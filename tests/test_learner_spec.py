@@ -3,6 +3,7 @@ related-work comparison and in the scaling study by its name, and the registry k
 library learner's seeds whatever else is registered."""
 
 import ast
+from dataclasses import replace
 
 import numpy as np
 import pytest
@@ -72,6 +73,15 @@ def test_unknown_learners_are_refused_by_name():
         rw.RelatedWorkConfig(learners=("random_walk",))
     with pytest.raises(ValueError, match="no learner 'random_walk'"):
         registry.get("random_walk")
+
+
+def test_a_learner_of_no_family_or_with_anothers_seeds_is_refused(registered):
+    with pytest.raises(ValueError, match="a learner's family must be one of"):
+        registry.register(replace(RANDOM_WALK, name="walker", family="mine"))
+    # walker_384911 falls on random_walk's seed slot (crc32 of the name modulo NAME_SLOTS)
+    with pytest.raises(ValueError, match="would draw the seeds of 'random_walk'; choose another name"):
+        registry.register(replace(RANDOM_WALK, name="walker_384911"))
+    assert "walker" not in registry.LEARNERS and "walker_384911" not in registry.LEARNERS
 
 
 def test_library_seeds_are_the_committed_formulas():
