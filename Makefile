@@ -6,7 +6,6 @@ VENV := .venv
 PY := $(VENV)/bin/python
 READY := $(VENV)/.installed
 EXTRAS := $(VENV)/.extras-installed
-FIGURES := $(sort $(wildcard paper_figures/*.py))
 NOTEBOOKS := $(sort $(wildcard notebooks/*.ipynb))
 
 .PHONY: figures test unit notebooks-check notebooks lab ledger benchmark reproduce verify clean-env clean-cache
@@ -23,9 +22,10 @@ $(EXTRAS): $(READY) requirements-extras.txt
 	$(PY) -m pip install --quiet -r requirements-extras.txt
 	touch $@
 
-## figures: regenerate every paper figure (PNG and PDF) in paper_figures/output
+## figures: regenerate every paper figure (PNG and PDF) in paper_figures/output from the committed results
+## (every script of paper_figures/, one after the other in one process: glamas.reproduce)
 figures: $(READY)
-	@for script in $(FIGURES); do echo "== $$script"; $(PY) $$script || exit 1; done
+	$(PY) -m glamas.reproduce --all
 
 ## test: unit tests, then every notebook under nbval
 test: unit notebooks-check
@@ -61,15 +61,11 @@ benchmark: $(READY) $(EXTRAS)
 ## starts empty, so the first script of each experiment recomputes it (as --rerun would) and the
 ## scripts drawing other figures of that experiment read what it just computed.
 OUT ?= out/reproduce
-CHAPTER := fig5 fig6 fig7a fig7b fig9 fig9_optimum fig10 fig11a fig11b fig12a fig12b
 
 reproduce: $(READY)
 	rm -rf $(OUT)/figures $(OUT)/results
 	mkdir -p $(OUT)/figures $(OUT)/results
-	@for name in $(CHAPTER); do \
-		echo "== paper_figures/$$name.py"; \
-		$(PY) paper_figures/$$name.py --out $(OUT)/figures --results $(OUT)/results || exit 1; \
-	done
+	$(PY) -m glamas.reproduce --out $(OUT)/figures --results $(OUT)/results
 
 ## verify: recompute every experiment (every script in paper_figures/) into $(VERIFY) and compare
 ## every result array and figure with the committed ones, e.g. `make verify VERIFY=out/verify`.
@@ -78,10 +74,7 @@ VERIFY ?= out/verify
 verify: $(READY)
 	rm -rf $(VERIFY)/figures $(VERIFY)/results
 	mkdir -p $(VERIFY)/figures $(VERIFY)/results
-	@for script in $(FIGURES); do \
-		echo "== $$script"; \
-		$(PY) $$script --out $(VERIFY)/figures --results $(VERIFY)/results || exit 1; \
-	done
+	$(PY) -m glamas.reproduce --all --out $(VERIFY)/figures --results $(VERIFY)/results
 	$(PY) -m glamas.verify $(VERIFY)
 
 clean-env:

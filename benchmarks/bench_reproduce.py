@@ -1,15 +1,16 @@
-"""Whole-process time of recomputing the chapter (Fig. 5-12) as `make reproduce` does: each figure
-script of the Makefile's CHAPTER list as its own process, in order, with the same arguments, into
-empty result and figure directories and with an empty numba cache, so that every kernel compiles
-and every experiment is recomputed at paper scale. Prints each script's wall time and the CPU time
-of its processes (its own and its workers', user + system): on a machine shared with other jobs the
-wall time grows with their load, the CPU time much less.
+"""Whole-process time of recomputing the chapter (Fig. 5-12) as `make reproduce` does, and with
+``--all`` of recomputing everything, the studies beyond the chapter included, as `make verify`
+does: ``python -m glamas.reproduce`` as one process, into empty result and figure directories and
+with an empty numba cache, so that every kernel compiles and every experiment is recomputed at
+paper scale. Prints the wall time of each script (from the driver's announcements) and the total
+wall and CPU time of the process and its workers (user + system): on a machine shared with other
+jobs the wall time grows with their load, the CPU time much less.
 
 It costs minutes of both cores: run it on a quiet machine (`make benchmark` runs it too).
 """
 
+import argparse
 import os
-import re
 import resource
 import subprocess
 import sys
@@ -17,32 +18,49 @@ import tempfile
 import time
 from pathlib import Path
 
-REPO = Path(__file__).resolve().parent.parent
-
-
-def chapter_scripts() -> list[str]:
-    """The CHAPTER list of the Makefile (the scripts `make reproduce` runs, in order)."""
-    found = re.search(r"^CHAPTER := (.+)$", (REPO / "Makefile").read_text(), re.MULTILINE)
-    return found.group(1).split()
+ANNOUNCEMENT = "== paper_figures/"
+AIMS = {False: ("Fig. 5-12", 60), True: ("everything", 180)}
+"""What is recomputed, and the aim in seconds of wall time on 2 cores."""
 
 
 def main():
-    seconds = {}
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--all", action="store_true", help="every script, the studies beyond the chapter included")
+    everything = parser.parse_args().all
     with tempfile.TemporaryDirectory() as scratch:
         figures, results = Path(scratch) / "figures", Path(scratch) / "results"
         figures.mkdir()
         results.mkdir()
         env = dict(os.environ, NUMBA_CACHE_DIR=str(Path(scratch) / "numba-cache"))
-        for name in chapter_scripts():
-            command = [sys.executable, str(REPO / "paper_figures" / f"{name}.py"), "--out", str(figures),
-                       "--results", str(results)]
-            cpu_before, start = _children_cpu(), time.perf_counter()
-            subprocess.run(command, check=True, env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-            seconds[name] = (time.perf_counter() - start, _children_cpu() - cpu_before)
-            print(f"{name:8} {seconds[name][0]:6.1f} s wall {seconds[name][1]:7.1f} s CPU", flush=True)
-    wall, cpu = (sum(s[k] for s in seconds.values()) for k in (0, 1))
-    print(f"{'total':8} {wall:6.1f} s wall {cpu:7.1f} s CPU  (Fig. 5-12 recomputed, cold numba cache, "
-          f"{os.cpu_count()} cores; aim: 60 s wall on 2 cores)")
+        command = [sys.executable, "-m", "glamas.reproduce", *(["--all"] if everything else []),
+                   "--out", str(figures), "--results", str(results)]
+        wall = time_scripts(command, env)
+    cpu = _children_cpu()
+    what, aim = AIMS[everything]
+    print(f"{'total':22} {wall:6.1f} s wall {cpu:7.1f} s CPU  ({what} recomputed in one process, cold numba "
+          f"cache, {os.cpu_count()} cores; aim: {aim} s wall on 2 cores)")
+
+
+def time_scripts(command: list, env: dict) -> float:
+    """Run ``command``, printing the wall time of each script it announces; its total wall time."""
+    start = time.perf_counter()
+    current, since = None, start
+    with subprocess.Popen(command, env=env, stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True) as process:
+        for line in process.stdout:
+            if line.startswith(ANNOUNCEMENT):
+                now = time.perf_counter()
+                _report(current, now - since)
+                current, since = line[len(ANNOUNCEMENT):].strip().removesuffix(".py"), now
+    if process.returncode:
+        raise SystemExit(f"{' '.join(command)} failed with exit status {process.returncode}")
+    end = time.perf_counter()
+    _report(current, end - since)
+    return end - start
+
+
+def _report(name, seconds: float) -> None:
+    if name is not None:
+        print(f"{name:22} {seconds:6.1f} s wall", flush=True)
 
 
 def _children_cpu() -> float:

@@ -17,6 +17,7 @@ imports its kernel by name and returns its outputs is what carries over to a clu
 
 import asyncio
 import importlib
+import itertools
 import os
 import time
 from concurrent.futures import ThreadPoolExecutor, as_completed
@@ -169,12 +170,15 @@ def run_many(batches: list, *, workers=None, progress: str | None = None, chunk:
         _check_batch(batch)
     if chunk is not None and (isinstance(chunk, bool) or not isinstance(chunk, int) or chunk < 1):
         raise ValueError(f"chunk must be a whole number of runs >= 1 or None, got {chunk!r}")
-    jobs = []  # (batch number, start, stop, the outputs' initial slices)
+    per_batch = []  # each batch's jobs: (batch number, start, stop, the outputs' initial slices)
     for k, batch in enumerate(batches):
         n_runs = batch.outputs[0].shape[0]
         size = chunk_size(n_runs, workers) if chunk is None else chunk
-        jobs += [(k, start, min(start + size, n_runs), tuple(out[start:start + size] for out in batch.outputs))
-                 for start in range(0, n_runs, size)]
+        per_batch.append([(k, start, min(start + size, n_runs), tuple(out[start:start + size] for out in batch.outputs))
+                          for start in range(0, n_runs, size)])
+    # The batches' jobs taken in turn: the workers start on different kernels, so that each
+    # compiles (or loads) a different one at first instead of all the same.
+    jobs = [job for turn in itertools.zip_longest(*per_batch) for job in turn if job is not None]
     if not isinstance(workers, Dask) and (workers.workers or cores()) > len(jobs):
         workers = type(workers)(max(1, len(jobs)))  # a worker without a job would only cost its start-up
     if isinstance(workers, Threads):
