@@ -64,8 +64,6 @@ def learn(iterations, automaton, init_scale, task, network, probes, params, prob
     is filled with uniform points of region I, ``params`` with the initial and then the learned
     unit parameters, ``prob_left`` with Fig. 7b's curve.
     """
-    temperature, L, mode = automaton.temperature, automaton.L, automaton.bounding
-    curvature, offset, reward_inside, reward_outside, reward_other = task
     for agent in range(2):
         for k in range(params.shape[1]):
             for a in range(params.shape[2]):
@@ -73,14 +71,23 @@ def learn(iterations, automaton, init_scale, task, network, probes, params, prob
                     params[agent, k, a, i] = init_scale * (2.0 * rng.uniform(state) - 1.0)
     for i in range(probes.shape[0]):  # rejection sampling: uniform in region I
         x1, x2 = lineworld.restart(state)
-        while not lineworld.inside_parabola(x1, x2, curvature, offset):
+        while not lineworld.inside_parabola(x1, x2, task.curvature, task.offset):
             x1, x2 = lineworld.restart(state)
         probes[i, 0], probes[i, 1] = x1, x2
     n_units, n_inputs = params.shape[1], params.shape[3]
-    inputs = np.zeros((2, n_units, n_inputs))
-    probs = np.zeros((2, n_units, params.shape[2]))
-    chosen = np.zeros((2, n_units), dtype=np.int64)
-    context = np.empty(CONTEXT_LENGTH)
+    units = (np.zeros((2, n_units, n_inputs)), np.zeros((2, n_units, params.shape[2])),
+             np.zeros((2, n_units), dtype=np.int64))
+    iterate(iterations, automaton, task, network, probes, params, prob_left, state, np.empty(CONTEXT_LENGTH), units)
+
+
+@njit(cache=True, nogil=True, _nrt=False)
+def iterate(iterations, automaton, task, network, probes, params, prob_left, state, context, units):
+    """The learning loop of :func:`learn`, compiled without reference counting as the gridworld
+    learners' episode loops are (glamas.learners.episode.LOOP); ``units``: each agent's unit
+    inputs, probabilities and chosen actions."""
+    temperature, L, mode = automaton.temperature, automaton.L, automaton.bounding
+    curvature, offset, reward_inside, reward_outside, reward_other = task
+    inputs, probs, chosen = units
     n_points = prob_left.shape[0]
     point = 0
     next_record = 0  # the curve starts at the initial policy, iteration 0

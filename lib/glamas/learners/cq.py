@@ -184,14 +184,16 @@ def add_reward(samples, added, summary, r):
 
 # --- the learner ------------------------------------------------------------------------------
 
-@njit(cache=True)
-def learn_alone(world, learning, n_episodes, max_steps, q, samples, added, summary, state):
+@njit(**ep.LOOP)
+def learn_alone(world, learning, n_episodes, max_steps, q, windows, state, buffers):
     """The single-agent phase: each agent in turn learns ``n_episodes`` episodes alone (the other
-    counts as already in the goal, so it neither acts nor collides) and fills its reward windows."""
+    counts as already in the goal, so it neither acts nor collides) and fills its reward
+    ``windows`` (samples, added, summary)."""
     alpha, gamma, exploit = learning.q_learning_rate, learning.discount, learning.exploit_prob
     starts = world.starts
     n_agents = starts.shape[0]
-    cells, done, actions, new_cells, rewards, bumped, collided, reached, acc = ep.buffers(n_agents)
+    samples, added, summary = windows
+    cells, done, actions, new_cells, rewards, bumped, collided, reached, acc = buffers
     for k in range(n_agents):
         for _ in range(n_episodes):
             ep.start_episode(starts, cells, done, acc)
@@ -237,22 +239,34 @@ def run(world, learning, t_test, schedule, q, q_aug, marked, log, state):
     """One run: ``cq_solo_episodes`` episodes alone per agent, then ``schedule.episodes`` episodes
     together; learns in ``q``, ``q_aug`` and ``marked``, writes the binned ``log`` of the joint
     episodes (coordinations: steps on which an agent acted on a marked joint state)."""
-    alpha, gamma, exploit = learning.q_learning_rate, learning.discount, learning.exploit_prob
-    window, t_critical = t_test.cq_window, t_test.t_critical
-    starts, edges, max_steps = world.starts, schedule.edges, schedule.max_steps
-    n_agents, n_cells = starts.shape[0], world.next_cell.shape[0]
-    distances = rules.distance_table(n_cells, world.n_cols)
-    coordinations_column = ep.column(n_agents, ep.COORDINATIONS)
-    samples = np.zeros((n_agents, n_cells, rules.N_ACTIONS, window))
+    n_agents, n_cells = world.starts.shape[0], world.next_cell.shape[0]
+    samples = np.zeros((n_agents, n_cells, rules.N_ACTIONS, t_test.cq_window))
     added = np.zeros((n_agents, n_cells, rules.N_ACTIONS), np.int64)
     summary = np.zeros((n_agents, n_cells, rules.N_ACTIONS, 3))
-    learn_alone(world, learning, t_test.cq_solo_episodes, max_steps, q, samples, added, summary, state)
+    buffers = ep.buffers(n_agents)
+    learn_alone(world, learning, t_test.cq_solo_episodes, schedule.max_steps, q, (samples, added, summary), state,
+                buffers)
     baseline = summary.copy()  # frozen: the rewards of the task alone
     summary[:] = 0.0
     added[:] = 0
-    cells, done, actions, new_cells, rewards, bumped, collided, reached, acc = ep.buffers(n_agents)
-    joint = np.zeros(n_agents, np.bool_)
-    nearest, deltas = np.empty(n_agents, np.int64), np.empty(n_agents, np.int64)
+    observing = (np.zeros(n_agents, np.bool_), np.empty(n_agents, np.int64), np.empty(n_agents, np.int64),
+                 rules.distance_table(n_cells, world.n_cols))
+    episodes(world, learning, t_test, schedule, q, q_aug, marked, log, state,
+             (buffers, (samples, added, summary), baseline, observing))
+
+
+@njit(**ep.LOOP)
+def episodes(world, learning, t_test, schedule, q, q_aug, marked, log, state, arrays):
+    """The joint phase of :func:`run`: its reward windows (samples, added, summary), the frozen
+    ``baseline``, and per agent whether it observes its nearest agent (``joint``), which agent
+    that is and how far, from the distance table."""
+    alpha, gamma, exploit = learning.q_learning_rate, learning.discount, learning.exploit_prob
+    window, t_critical = t_test.cq_window, t_test.t_critical
+    starts, edges, max_steps = world.starts, schedule.edges, schedule.max_steps
+    n_agents = starts.shape[0]
+    coordinations_column = ep.column(n_agents, ep.COORDINATIONS)
+    buffers, (samples, added, summary), baseline, (joint, nearest, deltas, distances) = arrays
+    cells, done, actions, new_cells, rewards, bumped, collided, reached, acc = buffers
     for episode in range(schedule.episodes):
         ep.start_episode(starts, cells, done, acc)
         t = 0

@@ -14,13 +14,19 @@ def table_shape(n_cells: int, n_agents: int) -> tuple:
     return n_agents, n_cells, rules.N_ACTIONS
 
 
-@njit(cache=True, nogil=True, error_model="numpy")
+@njit(cache=True, nogil=True)
 def run(world, learning, schedule, q, log, state):
     """One run of ``schedule.episodes`` episodes; learns in ``q`` and writes the binned ``log``."""
+    episodes(world, learning, schedule, q, log, state, ep.buffers(world.starts.shape[0]))
+
+
+@njit(**ep.LOOP)
+def episodes(world, learning, schedule, q, log, state, buffers):
+    """The episode loop of :func:`run`."""
     alpha, gamma, exploit = learning.q_learning_rate, learning.discount, learning.exploit_prob
     starts, edges, max_steps = world.starts, schedule.edges, schedule.max_steps
     n_agents = starts.shape[0]
-    cells, done, actions, new_cells, rewards, bumped, collided, reached, acc = ep.buffers(n_agents)
+    cells, done, actions, new_cells, rewards, bumped, collided, reached, acc = buffers
     for episode in range(schedule.episodes):
         ep.start_episode(starts, cells, done, acc)
         t = 0

@@ -17,14 +17,21 @@ def learn(encoding, iterations, automaton, init_scale, params, reward, state):
     filled with the initial and then the learned parameters, ``reward`` with the average feedback
     of each of its len(reward) windows.
     """
-    learning_rate, temperature, K, L, mode = automaton
     n_inputs = params.shape[2]
     for agent in range(2):
         for action in range(2):
             for k in range(n_inputs):
                 params[agent, action, k] = init_scale * (2.0 * rng.uniform(state) - 1.0)
-    context_a, context_b = np.empty(n_inputs), np.empty(n_inputs)
-    probs_a, probs_b = np.empty(2), np.empty(2)
+    iterate(encoding, iterations, automaton, params, reward, state, np.empty((2, n_inputs)), np.empty((2, 2)))
+
+
+@njit(cache=True, nogil=True, _nrt=False)
+def iterate(encoding, iterations, automaton, params, reward, state, contexts, probs):
+    """The learning loop of :func:`learn`, compiled without reference counting as the gridworld
+    learners' episode loops are (glamas.learners.episode.LOOP); ``contexts`` and ``probs`` hold
+    each agent's context and action probabilities."""
+    learning_rate, temperature, K, L, mode = automaton
+    context_a, context_b, probs_a, probs_b = contexts[0], contexts[1], probs[0], probs[1]
     u_a, u_b = params[0], params[1]
     n_points = reward.shape[0]
     point, window_start, window_sum = 0, 0, 0.0

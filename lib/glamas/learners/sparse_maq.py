@@ -220,19 +220,27 @@ def learn_pairs(q, q_pairs, cells, done, actions, rewards, new_cells, reached, m
             q_pairs[pair, row, joint_i] += alpha * (target - q_pairs[pair, row, joint_i])
 
 
-@njit(cache=True, nogil=True, error_model="numpy")
+@njit(cache=True, nogil=True)
 def run(world, learning, coordination, schedule, q, q_pairs, log, state):
     """One run of ``schedule.episodes`` episodes with pairwise coordination; learns in ``q`` and
     ``q_pairs``, writes the binned ``log`` (coordinations: coordinating pairs summed over the steps)."""
+    n_agents = world.starts.shape[0]
+    pairing = (np.empty(n_agents, np.bool_), rules.distance_table(world.next_cell.shape[0], world.n_cols),
+               (np.empty(n_agents, np.int64), np.empty(n_agents, np.int64), np.zeros(n_agents, np.int64),
+                np.empty(n_agents, np.int64), np.empty(n_agents, np.int64)))
+    episodes(world, learning, coordination, schedule, q, q_pairs, log, state, ep.buffers(n_agents), pairing)
+
+
+@njit(**ep.LOOP)
+def episodes(world, learning, coordination, schedule, q, q_pairs, log, state, buffers, pairing):
+    """The episode loop of :func:`run`; ``pairing``: who acts, the distance table and the
+    matches (partner, rows, joint actions, next partner, next rows)."""
     starts, edges, max_steps = world.starts, schedule.edges, schedule.max_steps
-    n_agents, n_cells = starts.shape[0], world.next_cell.shape[0]
+    n_agents = starts.shape[0]
     coordinations_column = ep.column(n_agents, ep.COORDINATIONS)
-    cells, done, actions, new_cells, rewards, bumped, collided, reached, acc = ep.buffers(n_agents)
-    acting = np.empty(n_agents, np.bool_)
-    partner, rows, joint = np.empty(n_agents, np.int64), np.empty(n_agents, np.int64), np.zeros(n_agents, np.int64)
-    partner_next, rows_next = np.empty(n_agents, np.int64), np.empty(n_agents, np.int64)
-    matches = (partner, rows, joint, partner_next, rows_next)
-    distances = rules.distance_table(n_cells, world.n_cols)
+    cells, done, actions, new_cells, rewards, bumped, collided, reached, acc = buffers
+    acting, distances, matches = pairing
+    partner, rows, joint, partner_next, rows_next = matches
     for episode in range(schedule.episodes):
         ep.start_episode(starts, cells, done, acc)
         t = 0

@@ -259,7 +259,7 @@ def coordinate_group(next_cell, is_goal, cells, done, choices, preferred, action
     return count
 
 
-@njit(cache=True, nogil=True, error_model="numpy")
+@njit(cache=True, nogil=True)
 def run(world, learning, automata, schedule, q, u, need_counts, log, state):
     """One run of ``schedule.episodes`` episodes of Alg. 4 for any number of agents: two on
     :func:`run_two`, more on :func:`run_group` (module docstring)."""
@@ -269,9 +269,34 @@ def run(world, learning, automata, schedule, q, u, need_counts, log, state):
         run_group(world, learning, automata, schedule, q, u, need_counts, log, state)
 
 
-@njit(cache=True, nogil=True, error_model="numpy")
+@njit(cache=True, inline="always")
+def per_agent(world):
+    """The per-run arrays of both episode loops: in-range table, buffers, and each agent's
+    level-one choice, preferred action (an action even for agents already done:
+    rules.would_collide reads it), GLA probabilities and GLA input."""
+    n = world.starts.shape[0]
+    return (rules.in_range_table(world.next_cell, world.is_goal), ep.buffers(n),
+            (np.empty(n, np.int64), np.zeros(n, np.int64), np.empty((n, 2)), np.ones((n, N_GLA_INPUTS))))
+
+
+@njit(cache=True, nogil=True)
 def run_two(world, learning, automata, schedule, q, u, need_counts, log, state):
-    """One run of Alg. 4 for two agents; learns in ``q`` and ``u``, writes ``log`` and counts the
+    """One run of Alg. 4 for two agents (:func:`episodes_two`)."""
+    episodes_two(world, learning, automata, schedule, q, u, need_counts, log, state, per_agent(world))
+
+
+@njit(cache=True, nogil=True)
+def run_group(world, learning, automata, schedule, q, u, need_counts, log, state):
+    """One run of Alg. 4 for any number of agents (:func:`episodes_group`)."""
+    n = world.starts.shape[0]
+    group = (np.empty(n, np.int64), np.empty(n, np.int64), np.empty(n, np.bool_), np.empty(n, np.bool_),
+             np.empty(n, np.int64), np.empty(n, np.bool_), rules.distance_table(world.next_cell.shape[0], world.n_cols))
+    episodes_group(world, learning, automata, schedule, q, u, need_counts, log, state, (*per_agent(world), group))
+
+
+@njit(**ep.LOOP)
+def episodes_two(world, learning, automata, schedule, q, u, need_counts, log, state, arrays):
+    """The episodes of Alg. 4 for two agents; learns in ``q`` and ``u``, writes ``log`` and counts the
     observing agent-steps per (delta, need) in ``need_counts``.
 
     The GLAs see ``[delta * gla_delta_scale, 1]``. When one agent is in the goal there is nobody
@@ -284,13 +309,10 @@ def run_two(world, learning, automata, schedule, q, u, need_counts, log, state):
     need, rule_distance, feedback = automata.gla_need, automata.rule_distance, automata.gla_feedback
     learn_first_level = rule_distance < 0
     n_agents = starts.shape[0]
-    cells, done, actions, new_cells, rewards, bumped, collided, reached, acc = ep.buffers(n_agents)
+    in_range, buffers, (choices, preferred, probs, inputs) = arrays
+    cells, done, actions, new_cells, rewards, bumped, collided, reached, acc = buffers
     coordinations_column = ep.column(n_agents, ep.COORDINATIONS)
-    choices = np.empty(n_agents, np.int64)
-    preferred = np.zeros(n_agents, np.int64)  # one of the actions even for done agents (rules.would_collide)
-    probs = np.empty((n_agents, 2))
-    x = np.ones(N_GLA_INPUTS)
-    in_range = rules.in_range_table(next_cell, is_goal)
+    x = inputs[0]  # both agents' GLAs see the same input
     needed = False
     init_glas(u, automata.gla_init_range, state)
     for episode in range(schedule.episodes):
@@ -337,26 +359,18 @@ def run_two(world, learning, automata, schedule, q, u, need_counts, log, state):
         ep.end_episode(log, episode, schedule.edges, acc, t, done)
 
 
-@njit(cache=True, nogil=True, error_model="numpy")
-def run_group(world, learning, automata, schedule, q, u, need_counts, log, state):
-    """:func:`run_two` for any number of agents, with the group coordination of the module docstring."""
+@njit(**ep.LOOP)
+def episodes_group(world, learning, automata, schedule, q, u, need_counts, log, state, arrays):
+    """:func:`episodes_two` for any number of agents, with the group coordination of the module docstring."""
     next_cell, is_goal, n_agents = world.next_cell, world.is_goal, world.starts.shape[0]
     alpha, gamma = learning.q_learning_rate, learning.discount
     learn_first_level = automata.rule_distance < 0
     coordinations_column = ep.column(n_agents, ep.COORDINATIONS)
-    cells, done, actions, new_cells, rewards, bumped, collided, reached, acc = ep.buffers(n_agents)
-    choices = np.empty(n_agents, np.int64)
-    preferred = np.zeros(n_agents, np.int64)  # one of the actions even for done agents (rules.would_collide)
-    nearest = np.empty(n_agents, np.int64)
-    deltas = np.empty(n_agents, np.int64)
-    coming = np.empty(n_agents, np.bool_)
-    needed = np.empty(n_agents, np.bool_)
-    order = np.empty(n_agents, np.int64)
-    kept = np.empty(n_agents, np.bool_)
-    probs = np.empty((n_agents, 2))
-    x = np.ones((n_agents, N_GLA_INPUTS))
-    in_range = rules.in_range_table(next_cell, is_goal)
-    distances = rules.distance_table(next_cell.shape[0], world.n_cols)
+    in_range, buffers, (choices, preferred, probs, x), group = arrays
+    cells, done, actions, new_cells, rewards, bumped, collided, reached, acc = buffers
+    # each agent's nearest other agent and its distance, whether a collision is coming, its need,
+    # the coordination order and who keeps its action (coordinate_group); the distance table
+    nearest, deltas, coming, needed, order, kept, distances = group
     init_glas(u, automata.gla_init_range, state)
     for episode in range(schedule.episodes):
         ep.start_episode(world.starts, cells, done, acc)
