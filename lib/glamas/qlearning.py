@@ -73,11 +73,7 @@ def nth_best(q_row, best, pick):
 
 @njit(cache=True, inline="always")
 def greedy(q_row, state):
-    """argmax_a q_row[a], ties broken uniformly at random (one draw, only when there is a tie).
-
-    Two loops with the draw between them, rather than one function with early returns: inlined
-    into a kernel's step loop, this shape lets numba drop the reference counting of ``q_row``.
-    """
+    """argmax_a q_row[a], ties broken uniformly at random (one draw, only when there is a tie)."""
     best, ties = best_and_ties(q_row)
     pick = 0 if ties == 1 else rng.integer(state, ties)
     return nth_best(q_row, best, pick)

@@ -145,8 +145,7 @@ def step_two(world, cells, done, actions, new_cells, rewards, bumped, collided, 
     bounce to distinct cells, so the later rounds of :func:`step` never find anything.
 
     Every array is read and written outside the branches, the rules applied to scalars in
-    between: inlined into a kernel, numba can then drop the reference counting of the arrays,
-    which would cost more than the step itself.
+    between, as in :func:`step`: the compiler keeps the scalars in registers.
     """
     next_cell, is_goal, starts, bounce = world.next_cell, world.is_goal, world.starts, world.bounce
     cell0, cell1, done0, done1 = cells[0], cells[1], done[0], done[1]

@@ -8,19 +8,15 @@ run stays small. The blocks are given by their ``edges`` (block k holds the epis
 :func:`log_edges` for blocks that start one episode wide and widen geometrically, so that the
 first episodes, where learning happens, are resolved as well as the last ones.
 
-The helpers are inlined into the kernels (``inline="always"``), as are all the pieces of their
-step loops, and the kernels use numpy's error model (no zero-division checks; no divisor in them
-can be zero). An inlined piece reads and writes its array arguments outside its branches where it
-can (a value read before an ``if``, not inside it): numba counts references on every array handed
-to an inlined function, and only removes that counting, which costs more than a whole step, when
-the array is used on every path through the function.
-
-Each learner's run kernel is two functions: ``run`` allocates the run's buffers and calls
-``episodes``, the episode loop, compiled with :data:`LOOP` options. The loop allocates nothing,
-so it is compiled without numba's reference counting (``_nrt=False``), which otherwise counts
-references on the arrays the loop hands to its inlined pieces at every step: the counting cost
-sparse MAQ's loop more than its learning (175 against 47 ns per step for two agents). The arrays
-stay alive in ``run``, which holds them until the loop returns.
+Each learner's run kernel is two functions: ``run`` allocates the run's buffers and calls its
+episode loop (``episodes``), compiled with the :data:`LOOP` options. The helpers here, like all
+the pieces of the step loops, are inlined into the loop (``inline="always"``). The loop allocates
+nothing, so it is compiled without numba's reference counting (``_nrt=False``): numba otherwise
+counts references on the arrays the loop hands to its inlined pieces, at every step, whenever a
+piece uses an array on some of its paths only, and that counting cost sparse MAQ's loop more than
+its learning (175 against 47 ns per step for two agents, the same results). The arrays stay alive
+in ``run``, which holds them until the loop returns. The loops use numpy's error model (no
+zero-division checks; no divisor in them can be zero).
 
 A log row has the same layout for any number of agents N (:func:`n_columns`): N columns of steps
 (the steps agent i took to reach the goal, the cap if it did not), N columns of reward (agent i's

@@ -111,8 +111,7 @@ def joint_learned(outputs: dict, settings, gridmap: GridMap) -> np.ndarray:
 
 @njit(cache=True, inline="always")
 def best_of(tables, k, row):
-    """max_a tables[k, row, a]: :func:`glamas.qlearning.row_max` of table k, without making a view
-    of it (a view made inside a branch costs the kernels reference counting)."""
+    """max_a tables[k, row, a]: :func:`glamas.qlearning.row_max` of table k's row ``row``."""
     best = tables[k, row, 0]
     for a in range(1, tables.shape[2]):
         value = tables[k, row, a]
