@@ -30,8 +30,9 @@ coordinate. The log's coordinations count agent-steps coordinating with their ne
 halved: for two agents, the steps on which both coordinated.
 
 With two agents :func:`run_group` plays exactly :func:`run_two` (same random numbers, log, Q
-tables and GLA parameters, under every reading), so :func:`run`, the learner's kernel, runs two
-agents on :func:`run_two`, the chapter's Alg. 4 written for two, which is faster. ``need_counts``
+tables and GLA parameters, under every reading), so the learner runs two agents on
+:func:`run_two`, the chapter's Alg. 4 written for two, which is faster, and more on
+:func:`run_group` (its spec's ``two_agent_kernel`` and ``kernel``). ``need_counts``
 counts observing agent-steps per distance, without and with need: for two agents both observe at
 the same distance with the same need, so each step counts twice.
 """
@@ -259,16 +260,6 @@ def coordinate_group(next_cell, is_goal, cells, done, choices, preferred, action
     return count
 
 
-@njit(cache=True, nogil=True)
-def run(world, learning, automata, schedule, q, u, need_counts, log, state):
-    """One run of ``schedule.episodes`` episodes of Alg. 4 for any number of agents: two on
-    :func:`run_two`, more on :func:`run_group` (module docstring)."""
-    if world.starts.shape[0] == 2:
-        run_two(world, learning, automata, schedule, q, u, need_counts, log, state)
-    else:
-        run_group(world, learning, automata, schedule, q, u, need_counts, log, state)
-
-
 @njit(cache=True, inline="always")
 def per_agent(world):
     """The per-run arrays of both episode loops: in-range table, buffers, and each agent's
@@ -421,5 +412,5 @@ def episodes_group(world, learning, automata, schedule, q, u, need_counts, log, 
 
 
 LEARNER = Learner(name="two_observe", label="2observe", n_agent_label="2observe (N agents)",
-                  kernel=run, table_shape=table_shape, inputs=automata,
+                  kernel=run_group, two_agent_kernel=run_two, table_shape=table_shape, inputs=automata,
                   outputs=outputs, gla_parameters=gla_parameters, family="chapter")
