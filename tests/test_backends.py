@@ -191,3 +191,11 @@ def test_command_line_with_an_unreachable_scheduler_names_its_address(monkeypatc
     with pytest.raises(SystemExit):
         _parse(["--scheduler", "tcp://127.0.0.1:9"])
     assert "cannot reach the Dask scheduler at tcp://127.0.0.1:9 within 0.5 s" in capsys.readouterr().err
+
+
+def test_an_output_slice_of_one_value_travels_as_its_value_and_comes_back_equal():
+    filled, varied, nan = np.full((2, 3), 5.0), np.arange(6.0).reshape(2, 3), np.full(3, np.nan)
+    sent = runs._Filled.of(filled)
+    assert isinstance(sent, runs._Filled) and runs._Filled.array(sent).dtype == filled.dtype
+    assert np.array_equal(runs._Filled.array(sent), filled)
+    assert runs._Filled.of(varied) is varied and runs._Filled.of(nan) is nan  # sent as they are

@@ -186,7 +186,8 @@ def run_many(batches: list, *, workers=None, progress: str | None = None, chunk:
                                          for k, start, stop, first in jobs])
     else:
         sent = [(_kernel_name(b.kernel), tuple(_for_transport(x) for x in b.inputs)) for b in batches]
-        tasks = [(k, *sent[k], batches[k].seed, start, stop, first) for k, start, stop, first in jobs]
+        tasks = [(k, *sent[k], batches[k].seed, start, stop, tuple(_Filled.of(x) for x in first))
+                 for k, start, stop, first in jobs]
         done = (_run_in_processes if isinstance(workers, Processes) else _run_on_dask)(workers, tasks)
     total = sum(batch.outputs[0].shape[0] for batch in batches)
     with tqdm(total=total, desc=progress, unit="run", disable=progress is None) as bar:
@@ -255,7 +256,8 @@ def fill_chunk(kernel, inputs: tuple, seed: int, start: int, stop: int, initial:
 def run_chunk(kernel: str, inputs: tuple, seed: int, start: int, stop: int,
               initial: tuple) -> tuple[int, tuple]:
     """:func:`fill_chunk` in a worker process: ``kernel`` is the run kernel's 'module:name'."""
-    return fill_chunk(_resolve_kernel(kernel), tuple(_as_sent(x) for x in inputs), seed, start, stop, initial)
+    return fill_chunk(_resolve_kernel(kernel), tuple(_as_sent(x) for x in inputs), seed, start, stop,
+                      tuple(_Filled.array(x) for x in initial))
 
 
 def _batch_chunk(k: int, run, *job) -> tuple[int, int, tuple]:
@@ -268,6 +270,29 @@ def _run_in_threads(backend: Threads, jobs: list):
     with ThreadPoolExecutor(backend.workers or cores()) as pool:
         for future in as_completed([pool.submit(_batch_chunk, k, fill_chunk, *job) for k, *job in jobs]):
             yield future.result()
+
+
+@dataclass(frozen=True)
+class _Filled:
+    """An output slice of one value in transit: its shape, type and value instead of its bytes.
+    Initial outputs mostly are (Q tables filled with their initial value, zeros), and the joint
+    learners' tables of four agents take hundreds of MB per job."""
+
+    shape: tuple
+    dtype: np.dtype
+    value: object
+
+    @staticmethod
+    def of(x: np.ndarray):
+        """``x`` as a _Filled if every element equals the first (NaN never does), else ``x``."""
+        if x.size == 0 or not (x == x.flat[0]).all():
+            return x
+        return _Filled(x.shape, x.dtype, x.flat[0])
+
+    @staticmethod
+    def array(x) -> np.ndarray:
+        """The array a transported slice stands for."""
+        return np.full(x.shape, x.value, x.dtype) if isinstance(x, _Filled) else x
 
 
 @dataclass(frozen=True)
