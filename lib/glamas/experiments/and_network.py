@@ -15,7 +15,7 @@ from glamas import checks, claims, figures, gla, lineworld, memory
 from glamas.learners import and_network as learner
 from glamas.learners.and_network import CONTEXT_LENGTH, NETWORK, left_probability
 from glamas.plotting import legend_below
-from glamas.runs import run_batches
+from glamas.runs import Batch, run_many
 
 
 
@@ -111,15 +111,25 @@ def run(config: ANDNetworkConfig, seed: int = 0, workers=None,
         progress: str | None = None) -> ANDNetworkResult:
     """All runs of experiment 2 for ``config``; identical for any number of workers."""
     memory.check(config)
+    work = batch(config, seed)
+    run_many([work], workers=workers, progress=progress)
+    return result_of(config, work)
+
+
+def batch(config: ANDNetworkConfig, seed: int) -> Batch:
+    """The runs of ``config`` ready to run (:func:`glamas.runs.run_many`): their outputs probes,
+    unit parameters and Fig. 7b's curve."""
     c = config
     shape = (c.runs, 2, NETWORK.n_units, max(NETWORK.unit_actions), NETWORK.n_inputs)
-    params = np.zeros(shape)
-    probes = np.zeros((c.runs, c.probe_points, 2))
-    prob_left = np.zeros((c.runs, c.record_points, 2))
-    run_batches(learner.learn, learner.kernel_inputs(config), (probes, params, prob_left), seed, workers=workers,
-                progress=progress)
-    n = c.record_points
-    iteration = np.arange(n) * c.iterations // (n - 1) if n > 1 else np.array([0])
+    outputs = (np.zeros((c.runs, c.probe_points, 2)), np.zeros(shape), np.zeros((c.runs, c.record_points, 2)))
+    return Batch(learner.learn, learner.kernel_inputs(config), outputs, seed)
+
+
+def result_of(config: ANDNetworkConfig, work: Batch) -> ANDNetworkResult:
+    """The result of ``config`` once its :func:`batch` has run."""
+    _, params, prob_left = work.outputs
+    n = config.record_points
+    iteration = np.arange(n) * config.iterations // (n - 1) if n > 1 else np.array([0])
     return ANDNetworkResult(config, iteration, prob_left, params)
 
 
@@ -233,11 +243,14 @@ def sweep(config: ANDNetworkConfig, rewards_outside=DEFAULT_SWEEP, seed: int = 0
     values = np.array(rewards_outside, dtype=np.float64)
     if values.ndim != 1 or values.size < 2:
         raise ValueError(f"rewards_outside needs at least two values, got {rewards_outside!r}")
+    configs = [replace(config, reward_outside=float(value)) for value in values]
+    for c in configs:
+        memory.check(c)
+    batches = [batch(c, seed) for c in configs]
+    run_many(batches, workers=workers, progress=progress)  # every reward's runs on one pool
     stuck_runs, left_I = [], []
-    for value in values:
-        result = run(replace(config, reward_outside=float(value)), seed, workers,
-                     None if progress is None else f"{progress} (region II reward {value:g})")
-        in_I, _ = final_left_by_region(result)
+    for c, work in zip(configs, batches):
+        in_I, _ = final_left_by_region(result_of(c, work))
         left_I.append(in_I)
         stuck_runs.append((in_I < config.stuck_threshold).all(axis=1))
     return SweepResult(config, values, np.array(stuck_runs), np.array(left_I))
