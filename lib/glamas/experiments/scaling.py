@@ -247,7 +247,9 @@ def run(config: ScalingConfig = ScalingConfig(), seed: int = 0, workers=None, pr
                 batch, outputs = spec.batch(learner, settings, gridmap, schedule, config.runs, seed_of(seed, method, n))
                 trainings[k] = learner, settings, batch, outputs
         label = None if progress is None else f"{progress}: N={n}"
-        runs.run_many([batch for _, _, batch, _ in trainings.values()], workers=workers, progress=label)
+        # One run per job: runs of one N differ widely in length (some spend most episodes at the
+        # step cap), and small jobs keep every worker busy until the last runs of the N are done.
+        runs.run_many([batch for _, _, batch, _ in trainings.values()], workers=workers, progress=label, chunk=1)
         for k, (learner, settings, _, outputs) in trainings.items():
             shapes[k, j] = outputs["q"].shape[1:]
             joints[k, j] = learner.joint_learned(outputs, settings, gridmap).mean()
