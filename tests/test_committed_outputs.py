@@ -1,7 +1,7 @@
 """The committed figures and results are what the code makes.
 
-Every figure script redraws its figures from the committed results into a temporary directory,
-byte for byte equal to ``paper_figures/output``; the fast experiments (Fig. 5, 6 and 7) are
+Every figure script redraws its figures from the committed results into a temporary directory
+(all in one process, as ``make figures`` runs them), byte for byte equal to ``paper_figures/output``; the fast experiments (Fig. 5, 6 and 7) are
 recomputed at paper scale (--rerun) and their arrays compared with ``data/results``. The slow ones
 (the gridworld, the Fig. 10 readings, related work, scaling, and the Fig. 7 sweep) are recomputed
 by ``make verify``.
@@ -9,7 +9,6 @@ by ``make verify``.
 
 import subprocess
 import sys
-from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
 import pytest
@@ -17,8 +16,6 @@ import pytest
 from glamas.paths import REPO, RESULTS
 
 OUTPUT = REPO / "paper_figures" / "output"
-SCRIPTS = sorted(path.stem for path in (REPO / "paper_figures").glob("*.py"))
-"""Every figure script: each draws from a committed result (or from nothing random)."""
 RECOMPUTED = {"fig5": "fig5", "fig6": "fig6", "fig7a": "fig7"}
 """Fast scripts recomputed at paper scale: script -> the result file it writes."""
 
@@ -36,15 +33,12 @@ def _same_figures(directory) -> list[str]:
 
 
 def test_every_figure_redraws_to_the_committed_bytes(tmp_path):
-    def redraw(name):
-        out = tmp_path / name
-        done = _script(name, "--out", out)
-        assert done.returncode == 0, f"{name}: {done.stderr[-500:]}"
-        return _same_figures(out)
-
-    with ThreadPoolExecutor(2) as pool:
-        differing = [name for names in pool.map(redraw, SCRIPTS) for name in names]
-    assert not differing, f"figures that differ from paper_figures/output: {differing}"
+    # as `make figures` draws them: every script, one after the other in one process
+    done = subprocess.run([sys.executable, "-m", "glamas.reproduce", "--all", "--out", str(tmp_path)],
+                          capture_output=True, text=True, timeout=300)
+    assert done.returncode == 0, done.stderr[-500:]
+    assert sorted(path.name for path in tmp_path.iterdir()) == sorted(path.name for path in OUTPUT.iterdir())
+    assert _same_figures(tmp_path) == [], "figures that differ from paper_figures/output"
 
 
 @pytest.mark.parametrize("script", sorted(RECOMPUTED))
