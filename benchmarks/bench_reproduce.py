@@ -2,9 +2,10 @@
 ``--all`` of recomputing everything, the studies beyond the chapter included, as `make verify`
 does: ``python -m glamas.reproduce`` as one process, into empty result and figure directories and
 with an empty numba cache, so that every kernel compiles and every experiment is recomputed at
-paper scale. Prints the wall time of each script (from the driver's announcements) and the total
-wall and CPU time of the process and its workers (user + system): on a machine shared with other
-jobs the wall time grows with their load, the CPU time much less.
+paper scale. Prints the wall time of the driver's start (its imports) and of each script (from
+the driver's announcements), and the total wall and CPU time of the process and its workers
+(user + system): on a machine shared with other jobs the wall time grows with their load, the CPU
+time much less.
 
 It costs minutes of both cores: run it on a quiet machine (`make benchmark` runs it too).
 """
@@ -44,7 +45,7 @@ def main():
 def time_scripts(command: list, env: dict) -> float:
     """Run ``command``, printing the wall time of each script it announces; its total wall time."""
     start = time.perf_counter()
-    current, since = None, start
+    current, since = "(start)", start  # the driver's imports, before its first script
     with subprocess.Popen(command, env=env, stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True) as process:
         for line in process.stdout:
             if line.startswith(ANNOUNCEMENT):
@@ -59,8 +60,7 @@ def time_scripts(command: list, env: dict) -> float:
 
 
 def _report(name, seconds: float) -> None:
-    if name is not None:
-        print(f"{name:22} {seconds:6.1f} s wall", flush=True)
+    print(f"{name:22} {seconds:6.1f} s wall", flush=True)
 
 
 def _children_cpu() -> float:
