@@ -244,8 +244,7 @@ def sweep(config: ANDNetworkConfig, rewards_outside=DEFAULT_SWEEP, seed: int = 0
     if values.ndim != 1 or values.size < 2:
         raise ValueError(f"rewards_outside needs at least two values, got {rewards_outside!r}")
     configs = [replace(config, reward_outside=float(value)) for value in values]
-    for c in configs:
-        memory.check(c)
+    memory.check(config, copies=len(configs))  # every reward's arrays are held at once
     batches = [batch(c, seed) for c in configs]
     run_many(batches, workers=workers, progress=progress)  # every reward's runs on one pool
     stuck_runs, left_I = [], []
@@ -281,7 +280,7 @@ def scaled(runs: int, iterations: int) -> ANDNetworkConfig:
 FIG7 = figures.Experiment("fig7", run, ANDNetworkConfig.runs, ANDNetworkConfig.iterations, scaled, ANDNetworkResult)
 """Fig. 7a and 7b's experiment for the figure scripts (one run for both)."""
 FIG7_SWEEP = figures.Experiment("fig7_sweep", sweep, ANDNetworkConfig.runs, ANDNetworkConfig.iterations, scaled,
-                                SweepResult)
+                                SweepResult, copies=len(DEFAULT_SWEEP))
 """The stuck sweep for its figure script: experiment 2 at each region II reward of DEFAULT_SWEEP."""
 
 
