@@ -18,11 +18,15 @@ def test_a_script_run_by_the_driver_draws_the_committed_figure(tmp_path, capsys)
     assert capsys.readouterr().out.count("== paper_figures/fig9.py") == 2
 
 
-def test_a_user_error_stops_the_driver_with_one_line_and_status_2(tmp_path, capsys):
+@pytest.mark.parametrize("option", ["--out", "--results"])
+def test_a_user_error_stops_the_driver_with_one_line_and_status_2(tmp_path, capsys, option):
     not_a_directory = tmp_path / "file"
-    not_a_directory.write_text("")
+    not_a_directory.write_text("kept")
     with pytest.raises(SystemExit) as stopped:
-        reproduce.main(["--out", str(not_a_directory)])
+        reproduce.main([option, str(not_a_directory)])
     assert stopped.value.code == 2
-    err = capsys.readouterr().err.strip()
-    assert len(err.splitlines()) == 1 and "--out" in err
+    captured = capsys.readouterr()
+    err = captured.err.strip()
+    assert len(err.splitlines()) == 1 and option in err
+    assert "== paper_figures" not in captured.out  # refused before any script ran
+    assert not_a_directory.read_text() == "kept"
