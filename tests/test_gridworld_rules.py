@@ -5,6 +5,7 @@ import pytest
 
 from glamas.gridworld import rules, load_map, tunnel_to_goal
 from glamas.gridworld.rules import E, N, S, W
+from glamas.learners import episode
 
 # A 1x4 corridor with the goal at the right end, and a 3x3 open room.
 CORRIDOR = """\
@@ -218,3 +219,22 @@ def test_two_agent_fast_path_equals_the_general_step(tunnel, bounce):
             actions = np.array(divmod(joint, 4), np.int64)
             assert (_step_outputs(rules.step_two, tunnel, cells, done, actions, bounce)
                     == _step_outputs(rules.step, tunnel, cells, done, actions, bounce)), (a, b, done, actions)
+
+
+@pytest.mark.parametrize("lone", [0, 1, 2])
+def test_lone_agent_step_equals_the_general_step(tunnel, lone):
+    """step_alone gives step's outputs for the only acting agent (the others on the goal), from
+    every free cell with every action, and no collision."""
+    goal = int(np.flatnonzero(tunnel.is_goal)[0])
+    world = rules.World(tunnel.next_cell, tunnel.is_goal, np.zeros(3, np.int64), rules.BOUNCE_PREVIOUS, tunnel.n_cols)
+    done = np.arange(3) != lone
+    assert episode.lone_agent(done) == lone and episode.lone_agent(np.zeros(3, bool)) == -1
+    for cell in (c for c in range(tunnel.n_cells) if not tunnel.is_goal[c]):
+        cells = np.where(done, goal, cell).astype(np.int64)
+        for action in range(4):
+            actions = np.full(3, action, np.int64)
+            general = (np.empty(3, np.int64), np.empty(3), np.empty(3, bool), np.empty(3, bool), np.empty(3, bool))
+            alone = tuple(np.zeros_like(a) for a in general)
+            assert rules.step(world, cells, done, actions, *general) == 0
+            assert rules.step_alone(world, cells, actions, *alone, lone) == 0
+            assert [a[lone] for a in alone] == [a[lone] for a in general], (cell, action)

@@ -90,6 +90,7 @@ def step(world, cells, done, actions, new_cells, rewards, bumped, collided, reac
     """
     next_cell, is_goal, starts, bounce = world.next_cell, world.is_goal, world.starts, world.bounce
     n = cells.shape[0]
+    acting = 0
     for i in range(n):
         cell, is_done = cells[i], done[i]
         target = next_cell[cell, actions[i]]  # a done agent's is ignored
@@ -100,10 +101,11 @@ def step(world, cells, done, actions, new_cells, rewards, bumped, collided, reac
         rewards[i] = BUMP_PENALTY if bump else 0.0
         collided[i] = False
         reached[i] = False
+        acting += 0 if is_done else 1
 
     # First round: the moves themselves (same non-goal target, or a swap).
     n_collisions = 0
-    for i in range(n):
+    for i in range(n if acting > 1 else 0):  # a collision takes two acting agents
         new_i, cell_i, done_i = new_cells[i], cells[i], done[i]
         goal_i = is_goal[new_i]
         for j in range(i + 1, n):
@@ -177,6 +179,22 @@ def step_two(world, cells, done, actions, new_cells, rewards, bumped, collided, 
     collided[0], collided[1] = hit, hit
     reached[0], reached[1] = arrived0, arrived1
     return 1 if hit else 0
+
+
+@njit(cache=True, inline="always")
+def step_alone(world, cells, actions, new_cells, rewards, bumped, collided, reached, i):
+    """:func:`step` when agent i is the only one acting (the others are in the goal): no
+    collision is possible; fills agent i's entries of the output arrays, returns 0."""
+    cell = cells[i]
+    new = world.next_cell[cell, actions[i]]
+    bump = new == cell
+    arrived = world.is_goal[new]
+    new_cells[i] = new
+    bumped[i] = bump
+    collided[i] = False
+    reached[i] = arrived
+    rewards[i] = (BUMP_PENALTY if bump else 0.0) + (GOAL_REWARD if arrived else 0.0)
+    return 0
 
 
 @njit(cache=True, inline="always")

@@ -203,7 +203,7 @@ def learn_alone(world, learning, n_episodes, max_steps, q, windows, state, buffe
             while t < max_steps and not done[k]:
                 s, a = cells[k], epsilon_greedy(q[k, cells[k]], exploit, state)
                 actions[k] = a
-                rules.step(world, cells, done, actions, new_cells, rewards, bumped, collided, reached)
+                rules.step_alone(world, cells, actions, new_cells, rewards, bumped, collided, reached, k)
                 q_update(q[k], s, a, rewards[k], new_cells[k], reached[k], alpha, gamma)
                 added[k, s, a] = add_reward(samples[k, s, a], added[k, s, a], summary[k, s, a], rewards[k])
                 t += 1

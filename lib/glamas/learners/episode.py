@@ -131,6 +131,18 @@ def all_done(done):
 
 
 @njit(cache=True, inline="always")
+def lone_agent(done):
+    """The only agent not yet in the goal, or -1 when two or more are (or none)."""
+    lone = -1
+    for i in range(done.shape[0]):
+        if not done[i]:
+            if lone >= 0:
+                return -1
+            lone = i
+    return lone
+
+
+@njit(cache=True, inline="always")
 def end_step(t, cells, done, new_cells, rewards, reached, collisions, acc):
     """Book step ``t``'s rewards, arrivals and collisions, then move the agents to their new cells."""
     n = cells.shape[0]

@@ -39,7 +39,7 @@ from numba import njit
 
 from glamas.gridworld import GridMap, rules
 from glamas.learners import episode as ep
-from glamas.learners.independent import table_shape
+from glamas.learners.independent import lone_step, table_shape
 from glamas.learners.spec import Learner
 from glamas.qlearning import epsilon_greedy
 
@@ -244,6 +244,12 @@ def episodes(world, learning, coordination, schedule, q, q_pairs, log, state, bu
         ep.start_episode(starts, cells, done, acc)
         t = 0
         while t < max_steps and not ep.all_done(done):
+            lone = ep.lone_agent(done)
+            if lone >= 0:  # the others are in the goal: nobody to coordinate with, u -> u
+                lone_step(world, learning, q, lone, state, buffers)
+                t += 1
+                ep.end_step(t, cells, done, new_cells, rewards, reached, 0, acc)
+                continue
             for i in range(n_agents):
                 acting[i] = not done[i]
             acc[coordinations_column] += match_pairs(coordination, distances, cells, acting, partner, rows)

@@ -45,7 +45,7 @@ from numba import njit
 from glamas import gla, rng
 from glamas.gridworld import GridMap, rules
 from glamas.learners import episode as ep
-from glamas.learners.independent import table_shape
+from glamas.learners.independent import lone_step, table_shape
 from glamas.learners.spec import Learner
 from glamas.qlearning import epsilon_greedy, q_update
 
@@ -367,6 +367,12 @@ def episodes_group(world, learning, automata, schedule, q, u, need_counts, log, 
         ep.start_episode(world.starts, cells, done, acc)
         t = 0
         while t < schedule.max_steps and not ep.all_done(done):
+            lone = ep.lone_agent(done)
+            if lone >= 0:  # the others are in the goal: nobody to observe
+                lone_step(world, learning, q, lone, state, buffers)
+                t += 1
+                ep.end_step(t, cells, done, new_cells, rewards, reached, 0, acc)
+                continue
             nearest_others(distances, cells, done, nearest, deltas)
             for i in range(n_agents):
                 choices[i] = ACT_ALONE
