@@ -199,3 +199,12 @@ def test_an_output_slice_of_one_value_travels_as_its_value_and_comes_back_equal(
     assert isinstance(sent, runs._Filled) and runs._Filled.array(sent).dtype == filled.dtype
     assert np.array_equal(runs._Filled.array(sent), filled)
     assert runs._Filled.of(varied) is varied and runs._Filled.of(nan) is nan  # sent as they are
+
+
+def test_a_second_worker_takes_another_kernel_while_the_first_compiles_one():
+    """runs._next_job: a job of a kernel whose first job still runs (maybe compiling it) waits
+    while another kernel has a job; in order otherwise."""
+    a1, a2, b1 = (0, "m:a", 1), (0, "m:a", 2), (1, "m:b", 1)
+    assert runs._next_job([a2, b1], [a1], set()) == b1
+    assert runs._next_job([a2, b1], [a1], {"m:a"}) == a2
+    assert runs._next_job([a2], [a1], set()) == a2

@@ -4,7 +4,8 @@ A run kernel is the compiled function of one run, ``kernel(*inputs, *outputs_of_
 with ``@njit(cache=True, nogil=True)``: it reads the shared ``inputs`` and its own generator
 ``state`` and writes only its run's slice of each output. A job is one chunk of runs, and the
 ``workers`` argument of :func:`run_batches` and :func:`run_many` (and of every experiment's
-``run``) picks who runs the jobs: local processes by default (joblib; an int or None is their number, see
+``run``) picks who runs the jobs: local processes by default (loky, joblib's pool of reusable
+workers; an int or None is their number, see
 :class:`Processes`), threads in this process (:class:`Threads`), or a Dask distributed cluster
 (:class:`Dask`, optional extra ``dask``). A job derives its runs' generator states from the
 master seed and its run indices (:func:`glamas.rng.chunk_states`), so every backend, number of
@@ -20,7 +21,7 @@ import importlib
 import itertools
 import os
 import time
-from concurrent.futures import ThreadPoolExecutor, as_completed
+from concurrent.futures import FIRST_COMPLETED, ThreadPoolExecutor, as_completed, wait
 from dataclasses import dataclass
 
 import numpy as np
@@ -63,9 +64,9 @@ class Threads:
 
 @dataclass(frozen=True)
 class Processes:
-    """Local worker processes (joblib's loky backend), each running one job at a time; the
-    default, what an int or None ``workers`` means. One process is this one: joblib runs a
-    single worker's jobs in the calling process."""
+    """Local worker processes (loky's reusable executor, from joblib), each running one job at a
+    time; the default, what an int or None ``workers`` means. One process is this one: a single
+    worker's jobs run in the calling process."""
 
     workers: int | None = None
     """Processes (None: one per core)."""
@@ -341,18 +342,45 @@ def _resolve_kernel(name: str):
 
 
 def _run_in_processes(backend: Processes, jobs: list):
-    from joblib import Parallel, delayed
+    """Jobs on local worker processes (loky's reusable executor: the workers outlive the call and
+    keep the kernels they loaded), one job per worker at a time, in the order of ``jobs`` but
+    for :func:`_next_job`'s choice; yields ``(k, start, filled outputs)`` as jobs finish."""
+    from joblib.externals.loky import get_reusable_executor
     from joblib.externals.loky.process_executor import TerminatedWorkerError
 
-    # max_nbytes=None: no memory-mapped (read-only) arguments.
-    parallel = Parallel(n_jobs=backend.workers or cores(), backend="loky", return_as="generator_unordered",
-                        max_nbytes=None)
+    n_workers = backend.workers or cores()
+    if n_workers == 1:  # one process: this one
+        yield from (_batch_chunk(job[0], run_chunk, *job[1:]) for job in jobs)
+        return
+    executor = get_reusable_executor(max_workers=n_workers)
+    waiting, running, ready = list(jobs), {}, set()
     try:
-        yield from parallel(delayed(_batch_chunk)(k, run_chunk, *job) for k, *job in jobs)
+        while waiting or running:
+            while waiting and len(running) < n_workers:
+                job = _next_job(waiting, running.values(), ready)
+                waiting.remove(job)
+                running[executor.submit(_batch_chunk, job[0], run_chunk, *job[1:])] = job
+            finished, _ = wait(running, return_when=FIRST_COMPLETED)
+            for future in finished:
+                ready.add(running.pop(future)[1])
+                yield future.result()
     except TerminatedWorkerError as error:
         codes = next((line for line in str(error).splitlines() if "exit codes" in line), "").strip()
         raise BackendError(f"a worker process died mid-run (killed, out of memory or crashed; {codes}); "
                            "run again, with fewer --workers if memory is short") from None
+    finally:
+        if waiting or running:  # stopped early (an error): no work left behind in the workers
+            executor.shutdown(wait=False, kill_workers=True)
+
+
+def _next_job(waiting: list, running, ready: set):
+    """The first waiting job whose kernel is not being compiled: a kernel whose first job still
+    runs may be compiling (numba's cache holds it only once that job has it), and a second
+    worker taking up the same kernel then would compile it again instead of doing other work.
+    The first waiting job when every waiting job's kernel is being compiled. Jobs are
+    ``(k, kernel name, ...)``."""
+    compiling = {job[1] for job in running} - ready
+    return next((job for job in waiting if job[1] not in compiling), waiting[0])
 
 
 def connect(backend: Dask):
