@@ -13,7 +13,7 @@ def probabilities(u, x, temperature, L):
     """Eq. 15 at h(u): one probability per row (action) of u."""
     z = [sum(xk * bound(v, L) for xk, v in zip(x, row)) / temperature for row in u]
     top = max(z)
-    e = [math.exp(v - top) for v in z]
+    e = [1.0 if v == top else math.exp(v - top) for v in z]  # exp(0) is 1 exactly, as glamas.gla.boltzmann
     total = sum(e)
     return [v / total for v in e]
 

@@ -246,7 +246,11 @@ static int64_t gla_act(const double *u, const double *x, const GLAParams *p, dou
         probs[i] = z / p->temperature;
         if (probs[i] > largest) largest = probs[i];
     }
-    for (int i = 0; i < 2; i++) { probs[i] = exp(probs[i] - largest); total += probs[i]; }
+    for (int i = 0; i < 2; i++) {  /* exp(0) is 1 exactly: no exp for the largest, as glamas.gla.boltzmann */
+        double shifted = probs[i] - largest;
+        probs[i] = shifted == 0.0 ? 1.0 : exp(shifted);
+        total += probs[i];
+    }
     for (int i = 0; i < 2; i++) probs[i] /= total;
     r = uniform(s);
     return r < probs[0] ? 0 : 1;

@@ -97,7 +97,8 @@ def boltzmann(u, x, temperature, L, mode, probs):
         largest = max(largest, probs[i])
     total = 0.0
     for i in range(n_actions):
-        probs[i] = np.exp(probs[i] - largest)  # shifted for overflow safety; the ratio is unchanged
+        shifted = probs[i] - largest  # shifted for overflow safety; the ratio is unchanged
+        probs[i] = 1.0 if shifted == 0.0 else np.exp(shifted)  # exp(0) is 1 exactly: no exp for the largest
         total += probs[i]
     for i in range(n_actions):
         probs[i] /= total
