@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 from numba import njit
 
-from glamas import cli, rng, runs
+from glamas import cli, reproduce, rng, runs
 from glamas.experiments import gridworld, single_gla
 from glamas.learners import and_network as and_network_learner
 from glamas.learners import registry, two_observe
@@ -208,3 +208,22 @@ def test_a_second_worker_takes_another_kernel_while_the_first_compiles_one():
     assert runs._next_job([a2, b1], [a1], set()) == b1
     assert runs._next_job([a2, b1], [a1], {"m:a"}) == a2
     assert runs._next_job([a2], [a1], set()) == a2
+
+
+def test_a_batch_run_before_takes_its_outputs_instead_of_running_again(monkeypatch):
+    monkeypatch.setattr(runs, "_memo", type(runs._memo)())
+    monkeypatch.setattr(runs, "MEMO_BYTES", runs.MEMO_BYTES)
+    runs.reuse_batches(reproduce.REUSED_BYTES)
+    first = gridworld.run(GRID, workers=1)
+
+    def no_run(*args):
+        raise AssertionError("ran a batch it had run before")
+
+    monkeypatch.setattr(runs, "_run_in_processes", no_run)
+    _assert_identical(first, gridworld.run(GRID, workers=2))
+    with pytest.raises(AssertionError, match="ran a batch"):  # another seed: other runs
+        gridworld.run(GRID, seed=1, workers=2)
+    with pytest.raises(AssertionError, match="ran a batch"):  # another setting
+        gridworld.run(dataclasses.replace(GRID, q_initial=0.25), workers=2)
+    with pytest.raises(ValueError, match="max_bytes must be a whole number >= 0, got -1"):
+        runs.reuse_batches(-1)

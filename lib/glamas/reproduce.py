@@ -8,9 +8,10 @@ holds no result, the first script of each experiment recomputes it and the scrip
 figures of that experiment read what it just saved; without --results every script draws from the
 committed results.
 
-One process instead of one per script: Python, numba and matplotlib are imported once, and the
+One process instead of one per script: Python, numba and matplotlib are imported once, the
 worker processes of the runs (:mod:`glamas.runs`) start once and keep the kernels they loaded
-(about a second per script otherwise). A script's figure is the same either way (``make verify``
+(about a second per script otherwise), and runs that two scripts' experiments share are run once
+(:data:`REUSED_BYTES`). A script's figure is the same either way (``make verify``
 compares them byte for byte with the committed ones). A user error in a script stops the
 sequence there with exit status 2; an --out or --results that cannot be written is refused
 with one line before any script runs.
@@ -21,7 +22,7 @@ import importlib.util
 import sys
 from pathlib import Path
 
-from glamas import atomic, cli
+from glamas import atomic, cli, runs
 from glamas.paths import REPO
 
 SCRIPTS = REPO / "paper_figures"
@@ -29,6 +30,11 @@ CHAPTER = ("fig5", "fig6", "fig7a", "fig7b", "fig9", "fig9_optimum", "fig10", "f
            "fig12b")
 """The scripts of the chapter's figures (Fig. 5-12), in the order they run: each experiment's
 first figure computes it."""
+
+
+REUSED_BYTES = 128 * 2 ** 20
+"""Outputs of the runs that the scripts share, at most (glamas.runs.reuse_batches): Fig. 11's
+learners train as the Fig. 10 study's default reading and the related-work comparison's do."""
 
 
 def every_script() -> tuple:
@@ -65,6 +71,7 @@ def main(argv=None) -> int:
                 atomic.check_writable_directory(directory, flag)
     options = [item for flag, value in (("--out", args.out), ("--results", args.results)) if value is not None
                for item in (flag, str(value))]
+    runs.reuse_batches(REUSED_BYTES)
     run(every_script() if args.all else CHAPTER, options)  # a script's user error exits with status 2
     return 0
 

@@ -11,12 +11,20 @@ workers; an int or None is their number, see
 master seed and its run indices (:func:`glamas.rng.chunk_states`), so every backend, number of
 workers and chunking gives bit-identical results.
 
+A process may keep the outputs of the batches it runs (:func:`reuse_batches`): the runs are
+deterministic, so a later batch with the same kernel, master seed, inputs and initial outputs
+takes them instead of running again. glamas.reproduce does so, running every figure script in
+one process: the 2observe of Fig. 11 is the default reading of the Fig. 10 study, and the
+related-work comparison trains the chapter's learners as Fig. 11 does.
+
 On one machine threads do the same work without the processes' start-up, which costs about a
 second per script (benchmarks/bench_backends.py). Processes are the default because a job that
 imports its kernel by name and returns its outputs is what carries over to a cluster unchanged.
 """
 
 import asyncio
+import collections
+import hashlib
 import importlib
 import itertools
 import os
@@ -165,14 +173,21 @@ def run_batches(kernel, inputs: tuple, outputs: tuple, seed: int, *, workers=Non
 def run_many(batches: list, *, workers=None, progress: str | None = None, chunk: int | None = None) -> None:
     """:func:`run_batches` for several batches at once, all their jobs on one pool of workers: the
     workers take up the next batch's jobs while the last jobs of another still run, instead of
-    waiting for them. Each batch's runs get the streams and results they get alone."""
+    waiting for them. Each batch's runs get the streams and results they get alone.
+
+    After :func:`reuse_batches`, a batch that this process has run before (the same kernel,
+    master seed, inputs and initial outputs) is not run again: its outputs are copied from that
+    run's (:func:`_recall`)."""
     workers = _backend(workers)
     for batch in batches:
         _check_batch(batch)
     if chunk is not None and (isinstance(chunk, bool) or not isinstance(chunk, int) or chunk < 1):
         raise ValueError(f"chunk must be a whole number of runs >= 1 or None, got {chunk!r}")
+    keys = [_memo_key(batch) for batch in batches]
+    to_run = [k for k, key in enumerate(keys) if not _recall(key, batches[k])]
     per_batch = []  # each batch's jobs: (batch number, start, stop, the outputs' initial slices)
-    for k, batch in enumerate(batches):
+    for k in to_run:
+        batch = batches[k]
         n_runs = batch.outputs[0].shape[0]
         size = chunk_size(n_runs, workers) if chunk is None else chunk
         per_batch.append([(k, start, min(start + size, n_runs), tuple(out[start:start + size] for out in batch.outputs))
@@ -180,6 +195,8 @@ def run_many(batches: list, *, workers=None, progress: str | None = None, chunk:
     # The batches' jobs taken in turn: the workers start on different kernels, so that each
     # compiles (or loads) a different one at first instead of all the same.
     jobs = [job for turn in itertools.zip_longest(*per_batch) for job in turn if job is not None]
+    if not jobs:
+        return
     if not isinstance(workers, Dask) and (workers.workers or cores()) > len(jobs):
         workers = type(workers)(max(1, len(jobs)))  # a worker without a job would only cost its start-up
     if isinstance(workers, Threads):
@@ -190,13 +207,91 @@ def run_many(batches: list, *, workers=None, progress: str | None = None, chunk:
         tasks = [(k, *sent[k], batches[k].seed, start, stop, tuple(_Filled.of(x) for x in first))
                  for k, start, stop, first in jobs]
         done = (_run_in_processes if isinstance(workers, Processes) else _run_on_dask)(workers, tasks)
-    total = sum(batch.outputs[0].shape[0] for batch in batches)
+    total = sum(batches[k].outputs[0].shape[0] for k in to_run)
     with tqdm(total=total, desc=progress, unit="run", disable=progress is None) as bar:
         for k, start, filled in done:
             check_finite(batches[k].kernel, start, filled)
             for out, part in zip(batches[k].outputs, filled):
                 out[start:start + part.shape[0]] = part
             bar.update(filled[0].shape[0])
+    for k in to_run:
+        _remember(keys[k], batches[k])
+
+
+MEMO_BYTES = 0
+"""Most bytes of outputs that this process keeps of the batches it has run, to fill an identical
+batch with instead of running it (:func:`_recall`); 0, the default, keeps none
+(:func:`reuse_batches` sets it)."""
+_memo = collections.OrderedDict()  # batch key -> copies of its filled outputs, least recently used first
+
+
+def reuse_batches(max_bytes: int) -> None:
+    """From now on keep up to ``max_bytes`` of the outputs of the batches this process runs, and
+    fill a batch identical to one of them from them instead of running it (0: keep none, the
+    default). glamas.reproduce does, running every figure script in one process."""
+    global MEMO_BYTES
+    if isinstance(max_bytes, bool) or not isinstance(max_bytes, int) or max_bytes < 0:
+        raise ValueError(f"max_bytes must be a whole number >= 0, got {max_bytes!r}")
+    MEMO_BYTES = max_bytes
+    while _memo and _kept_bytes() > MEMO_BYTES:
+        _memo.popitem(last=False)
+
+
+def _kept_bytes() -> int:
+    return sum(out.nbytes for kept in _memo.values() for out in kept)
+
+
+def _memo_key(batch: Batch):
+    """What makes a batch's outputs what they are: its kernel, and a digest of its master seed,
+    inputs and initial outputs (the runs are deterministic); None for a batch whose outputs
+    take more than an eighth of MEMO_BYTES, or whose inputs hold something other than arrays,
+    numbers, strings and tuples of them."""
+    if sum(out.nbytes for out in batch.outputs) > MEMO_BYTES // 8:
+        return None
+    digest = hashlib.blake2b(digest_size=20)
+    if not _digest(digest, (batch.seed, batch.inputs, batch.outputs)):
+        return None
+    return batch.kernel, digest.hexdigest()
+
+
+def _digest(digest, x) -> bool:
+    """Feed ``x`` to ``digest``; False where it holds something else than :func:`_memo_key` takes."""
+    if isinstance(x, np.ndarray):
+        digest.update(f"array {x.dtype.str} {x.shape}:".encode())
+        digest.update(np.ascontiguousarray(x).tobytes())
+        return True
+    if isinstance(x, tuple):
+        digest.update(f"{type(x).__qualname__} {len(x)}(".encode())
+        if not all(_digest(digest, item) for item in x):
+            return False
+        digest.update(b")")
+        return True
+    if x is None or isinstance(x, (bool, int, float, str, np.generic)):
+        digest.update(f"{type(x).__qualname__} {x!r};".encode())
+        return True
+    return False
+
+
+def _recall(key, batch: Batch) -> bool:
+    """Fill ``batch``'s outputs from the batch of the same ``key`` that this process ran before
+    (a figure script drawing what another one has trained, as glamas.reproduce runs them all);
+    False if there is none."""
+    if key is None or key not in _memo:
+        return False
+    _memo.move_to_end(key)
+    for out, kept in zip(batch.outputs, _memo[key]):
+        out[...] = kept
+    return True
+
+
+def _remember(key, batch: Batch) -> None:
+    """Keep copies of ``batch``'s filled outputs under ``key``, forgetting the least recently
+    used batches beyond MEMO_BYTES."""
+    if key is None:
+        return
+    _memo[key] = tuple(out.copy() for out in batch.outputs)
+    while _kept_bytes() > MEMO_BYTES:
+        _memo.popitem(last=False)
 
 
 def _backend(workers):
