@@ -6,12 +6,13 @@ agent plays L only when both units output 1 (``glamas.gla.and_network``). Inside
 (region I) (L, L) pays 0.9, outside it (region II) (R, R) pays 0.5, anything else 0.1.
 """
 
+from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, replace
 
 import numpy as np
 from numba import njit
 
-from glamas import checks, claims, figures, gla, lineworld, memory
+from glamas import checks, claims, figures, gla, lineworld, memory, runs
 from glamas.learners import and_network as learner
 from glamas.learners.and_network import CONTEXT_LENGTH, NETWORK, left_probability
 from glamas.plotting import legend_below
@@ -133,7 +134,7 @@ def result_of(config: ANDNetworkConfig, work: Batch) -> ANDNetworkResult:
     return ANDNetworkResult(config, iteration, prob_left, params)
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def _left_map(params, x1, x2, temperature, L, mode, out):
     """out[agent, i] = P(agent plays L) at (x1[i], x2[i])."""
     inputs = np.zeros((params.shape[1], params.shape[3]))
@@ -179,9 +180,11 @@ def _agreement(p_left: np.ndarray, config: ANDNetworkConfig) -> np.ndarray:
 
 
 def _left_maps(result: ANDNetworkResult) -> np.ndarray:
-    """(runs, 2 agents, points) every run's final P(L) on the evaluation grid."""
+    """(runs, 2 agents, points) every run's final P(L) on the evaluation grid, the runs' maps
+    drawn on one thread per core (the kernel releases the GIL)."""
     x1, x2, _ = _evaluation_points(result.config)
-    return np.stack([left_map(result, r, x1, x2) for r in range(result.params.shape[0])])
+    with ThreadPoolExecutor(runs.cores()) as pool:
+        return np.stack(list(pool.map(lambda r: left_map(result, r, x1, x2), range(result.params.shape[0]))))
 
 
 def _evaluation_points(config: ANDNetworkConfig):
