@@ -27,14 +27,19 @@ $(EXTRAS): $(READY) requirements-extras.txt
 figures: $(READY)
 	$(PY) -m glamas.reproduce --all
 
-## test: unit tests, then every notebook under nbval
+## test: unit tests, then every notebook under nbval, each on one pytest worker per core
+## (pytest-xdist; TEST_WORKERS=1 runs them one after the other)
+TEST_WORKERS ?= auto
+
 test: unit notebooks-check
 
 unit: $(READY) $(EXTRAS)
-	$(PY) -m pytest -p no:cacheprovider tests
+	$(PY) -m pytest -p no:cacheprovider -n $(TEST_WORKERS) tests
 
+# --dist loadfile: a notebook's cells run in order on one worker, in one kernel
 notebooks-check: $(READY)
-	$(PY) -m pytest -p no:cacheprovider --nbval --nbval-current-env --nbval-sanitize-with notebooks/sanitize.cfg $(NOTEBOOKS)
+	$(PY) -m pytest -p no:cacheprovider -n $(TEST_WORKERS) --dist loadfile --nbval --nbval-current-env \
+		--nbval-sanitize-with notebooks/sanitize.cfg $(NOTEBOOKS)
 
 ## notebooks: re-execute every notebook in place at paper scale (commit the outputs)
 notebooks: $(READY)

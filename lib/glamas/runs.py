@@ -199,7 +199,12 @@ def run_many(batches: list, *, workers=None, progress: str | None = None, chunk:
         return
     if not isinstance(workers, Dask) and (workers.workers or cores()) > len(jobs):
         workers = type(workers)(max(1, len(jobs)))  # a worker without a job would only cost its start-up
-    if isinstance(workers, Threads):
+    if isinstance(workers, Processes) and (workers.workers or cores()) == 1:  # one process: this one
+        for k in to_run:
+            _kernel_name(batches[k].kernel)  # importable, as for more workers
+        done = (_batch_chunk(k, fill_chunk, batches[k].kernel, batches[k].inputs, batches[k].seed, start, stop, first,
+                             False) for k, start, stop, first in jobs)
+    elif isinstance(workers, Threads):
         done = _run_in_threads(workers, [(k, batches[k].kernel, batches[k].inputs, batches[k].seed, start, stop, first)
                                          for k, start, stop, first in jobs])
     else:
@@ -212,7 +217,9 @@ def run_many(batches: list, *, workers=None, progress: str | None = None, chunk:
         for k, start, filled in done:
             check_finite(batches[k].kernel, start, filled)
             for out, part in zip(batches[k].outputs, filled):
-                out[start:start + part.shape[0]] = part
+                target = out[start:start + part.shape[0]]
+                if not np.may_share_memory(target, part):  # else filled in place
+                    target[...] = part
             bar.update(filled[0].shape[0])
     for k in to_run:
         _remember(keys[k], batches[k])
@@ -336,14 +343,17 @@ def chunk_size(n_runs: int, backend) -> int:
     return max(1, -(-n_runs // (4 * (backend.workers or cores()))))
 
 
-def fill_chunk(kernel, inputs: tuple, seed: int, start: int, stop: int, initial: tuple) -> tuple[int, tuple]:
+def fill_chunk(kernel, inputs: tuple, seed: int, start: int, stop: int, initial: tuple,
+               copy: bool = True) -> tuple[int, tuple]:
     """One job: runs ``start`` to ``stop - 1`` of a sweep; returns ``(start, filled outputs)``.
 
     ``initial`` are the outputs' initial slices (some kernels read them, e.g. initial Q values).
-    The job fills copies: the caller's arrays stay untouched until it writes the result back,
-    and jobs running at once never write to one cache line (which would slow them down).
+    With ``copy`` the job fills copies: the caller's arrays stay untouched until it writes the
+    result back, and jobs running at once never write to one cache line (which would slow them
+    down). Without, it fills ``initial`` itself: arrays the job owns, or the caller's when one
+    job runs at a time in the caller's process (no copy of tables that may take gigabytes).
     """
-    outputs = tuple(np.array(x) for x in initial)
+    outputs = tuple(np.array(x) for x in initial) if copy else initial
     for r, state in enumerate(chunk_states(seed, start, stop)):
         kernel(*inputs, *(out[r] for out in outputs), state)
     return start, outputs
@@ -351,9 +361,11 @@ def fill_chunk(kernel, inputs: tuple, seed: int, start: int, stop: int, initial:
 
 def run_chunk(kernel: str, inputs: tuple, seed: int, start: int, stop: int,
               initial: tuple) -> tuple[int, tuple]:
-    """:func:`fill_chunk` in a worker process: ``kernel`` is the run kernel's 'module:name'."""
-    return fill_chunk(_resolve_kernel(kernel), tuple(_as_sent(x) for x in inputs), seed, start, stop,
-                      tuple(_Filled.array(x) for x in initial))
+    """:func:`fill_chunk` in a worker process: ``kernel`` is the run kernel's 'module:name'. It
+    fills arrays of its own: made from a _Filled, or copies of what it was sent."""
+    owned = tuple(_Filled.array(x) if isinstance(x, _Filled) else np.array(x) for x in initial)
+    return fill_chunk(_resolve_kernel(kernel), tuple(_as_sent(x) for x in inputs), seed, start, stop, owned,
+                      copy=False)
 
 
 def _batch_chunk(k: int, run, *job) -> tuple[int, int, tuple]:
@@ -444,9 +456,6 @@ def _run_in_processes(backend: Processes, jobs: list):
     from joblib.externals.loky.process_executor import TerminatedWorkerError
 
     n_workers = backend.workers or cores()
-    if n_workers == 1:  # one process: this one
-        yield from (_batch_chunk(job[0], run_chunk, *job[1:]) for job in jobs)
-        return
     executor = get_reusable_executor(max_workers=n_workers)
     waiting, running, ready = list(jobs), {}, set()
     try:

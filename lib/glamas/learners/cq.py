@@ -30,6 +30,7 @@ neither acts on nor marks joint states. With two agents the nearest other agent 
 other one, so this is the two-agent algorithm, unchanged.
 """
 
+import functools
 import math
 from typing import NamedTuple
 
@@ -128,9 +129,15 @@ def two_sided_p_value(t: float, df: int) -> float:
 
 def t_critical_values(max_df: int, significance: float) -> np.ndarray:
     """The two-sided critical values of Student's t at ``significance`` for 0 .. ``max_df``
-    degrees of freedom (index = df; infinite at df 0, where there is no test), by bisection."""
+    degrees of freedom (index = df; infinite at df 0, where there is no test), by bisection
+    (computed once per process for each (max_df, significance))."""
     if not 0.0 < significance < 1.0:
         raise ValueError(f"the significance level must be in (0, 1), got {significance!r}")
+    return np.array(_t_critical_values(max_df, significance))
+
+
+@functools.lru_cache(maxsize=None)
+def _t_critical_values(max_df: int, significance: float) -> tuple:
     values = np.full(max_df + 1, np.inf)
     for df in range(1, max_df + 1):
         low, high = 0.0, 1.0
@@ -140,7 +147,7 @@ def t_critical_values(max_df: int, significance: float) -> np.ndarray:
             mid = 0.5 * (low + high)
             low, high = (mid, high) if two_sided_p_value(mid, df) > significance else (low, mid)
         values[df] = high
-    return values
+    return tuple(values)
 
 
 @njit(cache=True)
