@@ -205,9 +205,9 @@ def test_a_second_worker_takes_another_kernel_while_the_first_compiles_one():
     """runs._next_job: a job of a kernel whose first job still runs (maybe compiling it) waits
     while another kernel has a job; in order otherwise."""
     a1, a2, b1 = (0, "m:a", 1), (0, "m:a", 2), (1, "m:b", 1)
-    assert runs._next_job([a2, b1], [a1], set()) == b1
-    assert runs._next_job([a2, b1], [a1], {"m:a"}) == a2
-    assert runs._next_job([a2], [a1], set()) == a2
+    assert runs._next_job([a2, b1], [a1], set()) == 1
+    assert runs._next_job([a2, b1], [a1], {"m:a"}) == 0
+    assert runs._next_job([a2], [a1], set()) == 0
 
 
 def test_a_batch_run_before_takes_its_outputs_instead_of_running_again(monkeypatch):

@@ -461,8 +461,7 @@ def _run_in_processes(backend: Processes, jobs: list):
     try:
         while waiting or running:
             while waiting and len(running) < n_workers:
-                job = _next_job(waiting, running.values(), ready)
-                waiting.remove(job)
+                job = waiting.pop(_next_job(waiting, running.values(), ready))
                 running[executor.submit(_batch_chunk, job[0], run_chunk, *job[1:])] = job
             finished, _ = wait(running, return_when=FIRST_COMPLETED)
             for future in finished:
@@ -477,14 +476,14 @@ def _run_in_processes(backend: Processes, jobs: list):
             executor.shutdown(wait=False, kill_workers=True)
 
 
-def _next_job(waiting: list, running, ready: set):
-    """The first waiting job whose kernel is not being compiled: a kernel whose first job still
-    runs may be compiling (numba's cache holds it only once that job has it), and a second
-    worker taking up the same kernel then would compile it again instead of doing other work.
-    The first waiting job when every waiting job's kernel is being compiled. Jobs are
-    ``(k, kernel name, ...)``."""
+def _next_job(waiting: list, running, ready: set) -> int:
+    """Where in ``waiting`` the next job to hand out is: the first job whose kernel is not being
+    compiled. A kernel whose first job still runs may be compiling (numba's cache holds it only
+    once that job has it), and a second worker taking up the same kernel then would compile it
+    again instead of doing other work. The first job when every waiting job's kernel is being
+    compiled. Jobs are ``(k, kernel name, ...)``; ``ready`` holds the kernels with a job done."""
     compiling = {job[1] for job in running} - ready
-    return next((job for job in waiting if job[1] not in compiling), waiting[0])
+    return next((i for i, job in enumerate(waiting) if job[1] not in compiling), 0)
 
 
 def connect(backend: Dask):
