@@ -1,8 +1,9 @@
 """The committed figures and results are what the code makes.
 
 Every figure script redraws its figures from the committed results into a temporary directory
-(all in one process, as ``make figures`` runs them), byte for byte equal to ``paper_figures/output``; the fast experiments (Fig. 5, 6 and 7) are
-recomputed at paper scale (--rerun) and their arrays compared with ``data/results``. The slow ones
+(all in one process, as ``make figures`` runs them), byte for byte equal to
+``paper_figures/output``; the fast experiments (Fig. 5, 6 and 7) are recomputed at paper scale
+(--rerun) and their arrays compared with ``data/results``. The slow ones
 (the gridworld, the Fig. 10 readings, related work, scaling, and the Fig. 7 sweep) are recomputed
 by ``make verify``.
 """

@@ -12,11 +12,11 @@ from dataclasses import dataclass, replace
 import numpy as np
 from numba import njit
 
-from glamas import checks, claims, figures, gla, lineworld, memory, runs
+from glamas import checks, claims, figures, gla, lineworld, memory
 from glamas.learners import and_network as learner
 from glamas.learners.and_network import CONTEXT_LENGTH, NETWORK, left_probability
 from glamas.plotting import legend_below
-from glamas.runs import Batch, run_many
+from glamas.runs import Batch, cores, run_many
 
 
 
@@ -183,7 +183,7 @@ def _left_maps(result: ANDNetworkResult) -> np.ndarray:
     """(runs, 2 agents, points) every run's final P(L) on the evaluation grid, the runs' maps
     drawn on one thread per core (the kernel releases the GIL)."""
     x1, x2, _ = _evaluation_points(result.config)
-    with ThreadPoolExecutor(runs.cores()) as pool:
+    with ThreadPoolExecutor(cores()) as pool:
         return np.stack(list(pool.map(lambda r: left_map(result, r, x1, x2), range(result.params.shape[0]))))
 
 
