@@ -196,9 +196,22 @@ def test_command_line_with_an_unreachable_scheduler_names_its_address(monkeypatc
 def test_an_output_slice_of_one_value_travels_as_its_value_and_comes_back_equal():
     filled, varied, nan = np.full((2, 3), 5.0), np.arange(6.0).reshape(2, 3), np.full(3, np.nan)
     sent = runs._Filled.of(filled)
-    assert isinstance(sent, runs._Filled) and runs._Filled.array(sent).dtype == filled.dtype
-    assert np.array_equal(runs._Filled.array(sent), filled)
+    assert isinstance(sent, runs._Filled) and runs._array_of(sent, copy=False).dtype == filled.dtype
+    assert np.array_equal(runs._array_of(sent, copy=False), filled)
     assert runs._Filled.of(varied) is varied and runs._Filled.of(nan) is nan  # sent as they are
+
+
+@pytest.mark.parametrize("workers", [runs.Processes(1), runs.Processes(2), runs.Threads(2)], ids=repr)
+def test_a_scratch_output_is_filled_by_the_runs_and_not_kept(reference, workers):
+    """A Scratch output changes nothing of the kept outputs, and nothing of it comes back."""
+    reward = np.zeros_like(reference["single"].reward)
+    params = runs.Scratch(reference["single"].params.shape, np.dtype(float), 0.0)
+    runs.run_batches(single_gla_learner.learn, single_gla_learner.kernel_inputs(SINGLE), (params, reward), 11,
+                     workers=workers, chunk=3)
+    assert np.array_equal(reward, reference["single"].reward)
+    _, (dropped, kept) = runs.run_chunk("glamas.learners.single_gla:learn", single_gla_learner.kernel_inputs(SINGLE),
+                                        11, 4, 6, (params.runs(4, 6), np.zeros((2, SINGLE.record_points))))
+    assert dropped is None and np.array_equal(kept, reference["single"].reward[4:6])
 
 
 def test_a_second_worker_takes_another_kernel_while_the_first_compiles_one():

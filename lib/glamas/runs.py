@@ -153,9 +153,34 @@ class Batch:
     inputs: tuple
     """What every run reads."""
     outputs: tuple
-    """Arrays whose first axis is the run, each run filling its own slice."""
+    """Arrays whose first axis is the run, each run filling its own slice, or :class:`Scratch`
+    for an output that the caller does not keep."""
     seed: int
     """The master seed of the runs' streams (:func:`glamas.rng.chunk_states`)."""
+
+
+@dataclass(frozen=True)
+class Scratch:
+    """An output that the caller does not keep, in place of its array in :attr:`Batch.outputs`:
+    each run fills an array of its own (``shape[1:]`` of ``dtype``, starting at ``value``) that
+    is dropped after the run. Nothing of it is allocated in the caller or sent back: an
+    experiment that wants only the learning curves of a joint learner of four agents would
+    otherwise allocate and receive gigabytes of Q tables."""
+
+    shape: tuple
+    """(runs, ...): the run axis, then one run's array."""
+    dtype: np.dtype
+    value: object
+    """Every element's value at the start of a run."""
+
+    @property
+    def ndim(self) -> int:
+        return len(self.shape)
+
+    def runs(self, start: int, stop: int) -> "Scratch":
+        """Runs ``start`` to ``stop - 1`` (as slicing an array's first axis)."""
+        return Scratch((len(range(*slice(start, stop).indices(self.shape[0]))), *self.shape[1:]), self.dtype,
+                       self.value)
 
 
 def run_batches(kernel, inputs: tuple, outputs: tuple, seed: int, *, workers=None,
@@ -190,7 +215,8 @@ def run_many(batches: list, *, workers=None, progress: str | None = None, chunk:
         batch = batches[k]
         n_runs = batch.outputs[0].shape[0]
         size = chunk_size(n_runs, workers) if chunk is None else chunk
-        per_batch.append([(k, start, min(start + size, n_runs), tuple(out[start:start + size] for out in batch.outputs))
+        per_batch.append([(k, start, min(start + size, n_runs), tuple(_runs_of(out, start, start + size)
+                                                                       for out in batch.outputs))
                           for start in range(0, n_runs, size)])
     # The batches' jobs taken in turn: the workers start on different kernels, so that each
     # compiles (or loads) a different one at first instead of all the same.
@@ -212,15 +238,18 @@ def run_many(batches: list, *, workers=None, progress: str | None = None, chunk:
         tasks = [(k, *sent[k], batches[k].seed, start, stop, tuple(_Filled.of(x) for x in first))
                  for k, start, stop, first in jobs]
         done = (_run_in_processes if isinstance(workers, Processes) else _run_on_dask)(workers, tasks)
-    total = sum(batches[k].outputs[0].shape[0] for k in to_run)
-    with tqdm(total=total, desc=progress, unit="run", disable=progress is None) as bar:
+    stops = {(k, start): stop for k, start, stop, _ in jobs}
+    with tqdm(total=sum(stop - start for _, start, stop, _ in jobs), desc=progress, unit="run",
+              disable=progress is None) as bar:
         for k, start, filled in done:
             check_finite(batches[k].kernel, start, filled)
             for out, part in zip(batches[k].outputs, filled):
+                if part is None:  # a Scratch output: nothing came back
+                    continue
                 target = out[start:start + part.shape[0]]
                 if not np.may_share_memory(target, part):  # else filled in place
                     target[...] = part
-            bar.update(filled[0].shape[0])
+            bar.update(stops[k, start] - start)
     for k in to_run:
         _remember(keys[k], batches[k])
 
@@ -250,10 +279,10 @@ def _kept_bytes() -> int:
 
 def _memo_key(batch: Batch):
     """What makes a batch's outputs what they are: its kernel, and a digest of its master seed,
-    inputs and initial outputs (the runs are deterministic); None for a batch whose outputs
-    take more than an eighth of MEMO_BYTES, or whose inputs hold something other than arrays,
-    numbers, strings and tuples of them."""
-    if sum(out.nbytes for out in batch.outputs) > MEMO_BYTES // 8:
+    inputs and initial outputs (the runs are deterministic); None for a batch with a Scratch
+    output, whose outputs take more than an eighth of MEMO_BYTES, or whose inputs hold something
+    other than arrays, numbers, strings and tuples of them."""
+    if any(isinstance(out, Scratch) for out in batch.outputs) or sum(out.nbytes for out in batch.outputs) > MEMO_BYTES // 8:
         return None
     digest = hashlib.blake2b(digest_size=20)
     if not _digest(digest, (batch.seed, batch.inputs, batch.outputs)):
@@ -323,7 +352,7 @@ def check_finite(kernel, start: int, filled: tuple) -> None:
     or infinity: a learning rate, K, reward or penalty too large makes the updates overflow, and
     every later number would be meaningless."""
     for k, part in enumerate(filled):
-        if not np.issubdtype(part.dtype, np.floating):
+        if part is None or not np.issubdtype(part.dtype, np.floating):
             continue
         finite = np.isfinite(part.reshape(part.shape[0], -1)).all(axis=1)
         if not finite.all():
@@ -352,20 +381,32 @@ def fill_chunk(kernel, inputs: tuple, seed: int, start: int, stop: int, initial:
     result back, and jobs running at once never write to one cache line (which would slow them
     down). Without, it fills ``initial`` itself: arrays the job owns, or the caller's when one
     job runs at a time in the caller's process (no copy of tables that may take gigabytes).
+    A :class:`Scratch` (or a :class:`_Filled` in transit) becomes an array of the job's own;
+    a Scratch's filled output is returned as None.
     """
-    outputs = tuple(np.array(x) for x in initial) if copy else initial
+    outputs = tuple(_array_of(x, copy) for x in initial)
     for r, state in enumerate(chunk_states(seed, start, stop)):
         kernel(*inputs, *(out[r] for out in outputs), state)
-    return start, outputs
+    return start, tuple(None if isinstance(x, Scratch) else out for x, out in zip(initial, outputs))
+
+
+def _array_of(x, copy: bool) -> np.ndarray:
+    """The array a job fills for the initial output slice ``x`` (:func:`fill_chunk`)."""
+    if isinstance(x, (Scratch, _Filled)):
+        return np.full(x.shape, x.value, x.dtype)
+    return np.array(x) if copy else x
+
+
+def _runs_of(out, start: int, stop: int):
+    """Runs ``start`` to ``stop - 1`` of an output: an array's slice, or a Scratch's."""
+    return out.runs(start, stop) if isinstance(out, Scratch) else out[start:stop]
 
 
 def run_chunk(kernel: str, inputs: tuple, seed: int, start: int, stop: int,
               initial: tuple) -> tuple[int, tuple]:
     """:func:`fill_chunk` in a worker process: ``kernel`` is the run kernel's 'module:name'. It
-    fills arrays of its own: made from a _Filled, or copies of what it was sent."""
-    owned = tuple(_Filled.array(x) if isinstance(x, _Filled) else np.array(x) for x in initial)
-    return fill_chunk(_resolve_kernel(kernel), tuple(_as_sent(x) for x in inputs), seed, start, stop, owned,
-                      copy=False)
+    fills arrays of its own: made from a _Filled or Scratch, or copies of what it was sent."""
+    return fill_chunk(_resolve_kernel(kernel), tuple(_as_sent(x) for x in inputs), seed, start, stop, initial)
 
 
 def _batch_chunk(k: int, run, *job) -> tuple[int, int, tuple]:
@@ -391,16 +432,12 @@ class _Filled:
     value: object
 
     @staticmethod
-    def of(x: np.ndarray):
-        """``x`` as a _Filled if every element equals the first (NaN never does), else ``x``."""
-        if x.size == 0 or not (x == x.flat[0]).all():
+    def of(x):
+        """An output slice ``x`` as a _Filled if every element equals the first (NaN never
+        does), else ``x`` (a Scratch as it is)."""
+        if isinstance(x, Scratch) or x.size == 0 or not (x == x.flat[0]).all():
             return x
         return _Filled(x.shape, x.dtype, x.flat[0])
-
-    @staticmethod
-    def array(x) -> np.ndarray:
-        """The array a transported slice stands for."""
-        return np.full(x.shape, x.value, x.dtype) if isinstance(x, _Filled) else x
 
 
 @dataclass(frozen=True)

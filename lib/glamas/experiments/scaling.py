@@ -175,8 +175,8 @@ class ScalingResult:
     ran: np.ndarray
     """bool (methods, agents): whether the learner ran (False: its tables exceed the budget)."""
     table_shapes: np.ndarray
-    """int (methods, agents, 3): (tables, states, actions) of the Q tables per run: measured from
-    the allocated tables where the learner ran, computed where it was skipped."""
+    """int (methods, agents, 3): (tables, states, actions) of the Q tables per run: of the tables
+    the runs filled where the learner ran, computed where it was skipped."""
     gla_parameters: np.ndarray
     """int (methods, agents): GLA parameters per run (2observe: 4 per agent)."""
     joint_entries: np.ndarray
@@ -244,7 +244,8 @@ def run(config: ScalingConfig = ScalingConfig(), seed: int = 0, workers=None, pr
             joints[k, j], samples[k, j] = learner.joint_room(settings, gridmap), learner.reward_samples(settings, gridmap)
             needed[k, j] = memory_needed(config, method, gridmap)
             if needed[k, j] <= budget:
-                batch, outputs = spec.batch(learner, settings, gridmap, schedule, config.runs, seed_of(seed, method, n))
+                batch, outputs = spec.batch(learner, settings, gridmap, schedule, config.runs, seed_of(seed, method, n),
+                                            keep_q=False)  # the study keeps learning curves and table sizes
                 trainings[k] = learner, settings, batch, outputs
         label = None if progress is None else f"{progress}: N={n}"
         # One run per job: runs of one N differ widely in length (some spend most episodes at the

@@ -104,19 +104,25 @@ def kernel_inputs(learner: Learner, settings, gridmap: GridMap, schedule: ep.Sch
     return (world, learning) + tuple(learner.inputs(settings, gridmap)) + (schedule,)
 
 
-def allocate(learner: Learner, settings, gridmap: GridMap, schedule: ep.Schedule, n_runs: int) -> dict:
-    """Every run's outputs, in kernel order: q (filled with ``q_initial``), the learner's own, log."""
-    shape = learner.table_shape(gridmap.n_cells, gridmap.n_agents)
+def allocate(learner: Learner, settings, gridmap: GridMap, schedule: ep.Schedule, n_runs: int,
+             keep_q: bool = True) -> dict:
+    """Every run's outputs, in kernel order: q (filled with ``q_initial``; without ``keep_q`` a
+    :class:`glamas.runs.Scratch` that the runs fill and drop), the learner's own, log."""
+    shape = (n_runs,) + learner.table_shape(gridmap.n_cells, gridmap.n_agents)
+    q = np.full(shape, float(settings.q_initial)) if keep_q else runs.Scratch(shape, np.dtype(float),
+                                                                               float(settings.q_initial))
     own = {name: np.stack([array] * n_runs) for name, array in learner.outputs(settings, gridmap).items()}
     log = np.zeros((n_runs, schedule.edges.size - 1, ep.n_columns(gridmap.n_agents)))
-    return {"q": np.full((n_runs,) + shape, float(settings.q_initial)), **own, "log": log}
+    return {"q": q, **own, "log": log}
 
 
 def batch(learner: Learner, settings, gridmap: GridMap, schedule: ep.Schedule, n_runs: int,
-          master_seed: int) -> tuple[runs.Batch, dict]:
+          master_seed: int, keep_q: bool = True) -> tuple[runs.Batch, dict]:
     """``n_runs`` runs of ``learner`` on ``gridmap``, ready to run (:func:`glamas.runs.run_many`),
-    and the outputs they fill, by name (``q``, the learner's own, ``log``; runs on the first axis)."""
-    outputs = allocate(learner, settings, gridmap, schedule, n_runs)
+    and the outputs they fill, by name (``q``, the learner's own, ``log``; runs on the first axis).
+    Without ``keep_q`` the runs' Q tables are not kept (:func:`allocate`): an experiment that
+    reads only the learning curves saves their memory and their transport."""
+    outputs = allocate(learner, settings, gridmap, schedule, n_runs, keep_q)
     inputs = kernel_inputs(learner, settings, gridmap, schedule)
     return runs.Batch(learner.kernel_for(gridmap.n_agents), inputs, tuple(outputs.values()), master_seed), outputs
 
