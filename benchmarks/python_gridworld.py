@@ -28,7 +28,7 @@ def below(rnd, n):
 
 class World:
     """A map as lists, with the rules of glamas.gridworld.rules: ``step`` for any number of
-    agents (rules.step), ``step_two`` for two (rules.step_two, the chapter learners' fast path)."""
+    agents (rules.step), ``step_two`` for two (rules.step_pair, the learners' two-agent path)."""
 
     def __init__(self, gridmap, bounce="previous"):
         self.next_cell = gridmap.next_cell.tolist()
@@ -258,7 +258,7 @@ def mmdp(world, workload, rnd):
 
 
 def two_observe(world, workload, rnd):
-    """Alg. 4: two agents as glamas.learners.two_observe.run_two, more as run_group."""
+    """Alg. 4: two agents as glamas.learners.two_observe.pair_step, more as group_step."""
     if len(world.starts) != 2:
         return two_observe_group(world, workload, rnd)
     c = workload.settings
@@ -312,7 +312,7 @@ def coordinate_group(world, cells, done, choices, preferred, rnd):
 
 
 def two_observe_group(world, workload, rnd):
-    """2observe for N agents (glamas.learners.two_observe.run_group)."""
+    """2observe for N agents (glamas.learners.two_observe.group_step)."""
     c, n = workload.settings, len(world.starts)
     alpha, gamma, exploit = c.q_learning_rate, c.discount, c.exploit_prob
     q = tables(n, world.n_cells, N_ACTIONS)

@@ -198,27 +198,35 @@ def test_corridor_same_target_between_the_starts():
     assert out["new_cells"].tolist() == gridmap.starts.tolist()
 
 
-def _step_outputs(step, gridmap, cells, done, actions, bounce):
-    out = (np.empty(2, np.int64), np.empty(2), np.empty(2, bool), np.empty(2, bool), np.empty(2, bool))
-    world = rules.World(gridmap.next_cell, gridmap.is_goal, gridmap.starts, bounce, gridmap.n_cols)
-    n = step(world, cells, done, actions, *out)
-    return [n] + [a.tolist() for a in out]
+def _step_outputs(step, gridmap, cells, done, actions, bounce, agents):
+    """``step``'s collisions and the outputs of ``agents``."""
+    n = cells.shape[0]
+    out = (np.empty(n, np.int64), np.empty(n), np.empty(n, bool), np.empty(n, bool), np.empty(n, bool))
+    starts = np.arange(n, dtype=np.int64)  # distinct start cells, for the bounce to the start
+    world = rules.World(gridmap.next_cell, gridmap.is_goal, starts, bounce, gridmap.n_cols)
+    collisions = step(world, cells, done, actions, *out)
+    return [collisions] + [a[list(agents)].tolist() for a in out]
 
 
 @pytest.mark.parametrize("bounce", [rules.BOUNCE_PREVIOUS, rules.BOUNCE_START])
-def test_two_agent_fast_path_equals_the_general_step(tunnel, bounce):
-    """step_two gives step's outputs for every joint action from every pair of cells the rules can
-    reach (distinct acting cells; a done agent on the goal)."""
+@pytest.mark.parametrize("pair", [(0, 1), (0, 2), (1, 2)])
+def test_two_agent_fast_path_equals_the_general_step(tunnel, bounce, pair):
+    """step_pair gives step's outputs for agents i and j, the third agent in the goal, for every
+    joint action from every pair of cells the rules can reach (distinct acting cells; a done
+    agent on the goal)."""
     goal = int(np.flatnonzero(tunnel.is_goal)[0])
     free = [c for c in range(tunnel.n_cells) if not tunnel.is_goal[c]]
     placements = [((a, b), (False, False)) for a in free for b in free if a != b]
     placements += [((goal, b), (True, False)) for b in free] + [((a, goal), (False, True)) for a in free]
-    for (a, b), done in placements:
-        cells, done = np.array([a, b], np.int64), np.array(done)
+    i, j = pair
+    for (a, b), pair_done in placements:
+        cells, done = np.full(3, goal, np.int64), np.ones(3, bool)
+        cells[[i, j]], done[[i, j]] = (a, b), pair_done
         for joint in range(16):
-            actions = np.array(divmod(joint, 4), np.int64)
-            assert (_step_outputs(rules.step_two, tunnel, cells, done, actions, bounce)
-                    == _step_outputs(rules.step, tunnel, cells, done, actions, bounce)), (a, b, done, actions)
+            actions = np.zeros(3, np.int64)
+            actions[[i, j]] = divmod(joint, 4)
+            assert (_step_outputs(lambda *step: rules.step_pair(*step, pair), tunnel, cells, done, actions, bounce, pair)
+                    == _step_outputs(rules.step, tunnel, cells, done, actions, bounce, pair)), (a, b, done, actions)
 
 
 @pytest.mark.parametrize("lone", [0, 1, 2])
@@ -228,7 +236,8 @@ def test_lone_agent_step_equals_the_general_step(tunnel, lone):
     goal = int(np.flatnonzero(tunnel.is_goal)[0])
     world = rules.World(tunnel.next_cell, tunnel.is_goal, np.zeros(3, np.int64), rules.BOUNCE_PREVIOUS, tunnel.n_cols)
     done = np.arange(3) != lone
-    assert episode.lone_agent(done) == lone and episode.lone_agent(np.zeros(3, bool)) == -1
+    assert episode.few_acting(done) == (lone, -1) and episode.few_acting(np.zeros(3, bool)) == (-1, -1)
+    assert episode.few_acting(np.arange(3) == lone) == tuple(a for a in range(3) if a != lone)
     for cell in (c for c in range(tunnel.n_cells) if not tunnel.is_goal[c]):
         cells = np.where(done, goal, cell).astype(np.int64)
         for action in range(4):

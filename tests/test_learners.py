@@ -81,10 +81,10 @@ def tunnel_entrance():
 
 def _first_level(g, cells, done, choices, preferred, state):
     """The actions of Alg. 4's first level, as the kernel plays it."""
-    coming, both = first_level(g.next_cell, g.is_goal, cells, done, np.array(choices), preferred)
+    coming, both = first_level(g.next_cell, g.is_goal, cells, done, np.array(choices), preferred, (0, 1))
     actions = preferred.copy()
     if both and coming:
-        yield_at_random(preferred, actions, state)
+        yield_at_random(preferred, actions, (0, 1), state)
     return actions, coming, both
 
 

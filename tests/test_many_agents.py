@@ -1,6 +1,8 @@
 """N agents: the warehouse maps, the N-agent log, 2observe's group coordination rule by rule, the
 N-agent learners in small runs, and the scaling study's config, memory check, claims and figures."""
 
+import collections
+
 import numpy as np
 import pytest
 
@@ -14,7 +16,6 @@ from glamas.learners import independent, joint_state, mmdp, registry, spec, two_
 from glamas.learners.two_observe import ACT_ALONE, COORDINATE
 from glamas.paths import MAPS
 from glamas.rng import run_states
-from glamas import runs
 
 OPEN_3X3 = """\
 +-+-+-+
@@ -129,8 +130,8 @@ def test_two_agents_draw_what_the_two_agent_rule_draws():
     cells2, done2, pref2 = cells[:2].copy(), done[:2].copy(), preferred[:2].copy()
     for state in run_states(15, 50):
         a, b = state.copy(), state.copy()
-        expected = np.zeros(2, np.int64)
-        two_observe.yield_at_random(pref2, expected, a)
+        expected = pref2.copy()
+        two_observe.yield_at_random(pref2, expected, (0, 1), a)
         actions = np.zeros(2, np.int64)
         two_observe.coordinate_group(g.next_cell, g.is_goal, cells2, done2, np.array([COORDINATE] * 2), pref2,
                                        actions, np.zeros(2, np.int64), np.zeros(2, np.bool_), b)
@@ -147,25 +148,45 @@ def test_nearest_other_agent_ignores_agents_in_the_goal_and_breaks_ties_by_numbe
     assert nearest.tolist() == [two_observe.NOBODY] * 3
 
 
-@pytest.mark.parametrize("need", sorted(two_observe.NEEDS))
-@pytest.mark.parametrize("gla_L", [1.0, 8.0])
-def test_n_agent_2observe_is_the_two_agent_kernel_for_two_agents(need, gla_L):
-    config = gw.GridworldConfig(episodes=300, runs=2, bins=3, learners=("two_observe",),
-                                gla_feedback=((1.0, 0.0), (1.0, 1.0)), gla_need=need, gla_L=gla_L)
+@pytest.mark.parametrize("reading", [{"gla_need": need, "gla_L": L} for need in sorted(two_observe.NEEDS)
+                                     for L in (1.0, 8.0)] + [{"rule_distance": 3}], ids=str)
+def test_2observe_pair_step_plays_the_group_step_for_two_agents(reading):
+    """pair_step (two acting agents: the chapter's Alg. 4) draws, moves and learns as group_step
+    does for the same two agents, from every pair of distinct free cells of TunnelToGoal, with
+    Q values and GLA parameters that make the agents coordinate, yield and collide."""
+    config = gw.GridworldConfig(learners=("two_observe",), gla_feedback=((1.0, 0.0), (1.0, 1.0)), **reading)
     g = config.gridmap()
-    learner = registry.get("two_observe")
-    inputs = spec.kernel_inputs(learner, config, g, config.schedule())
-    out = []
-    assert learner.kernel_for(2) is two_observe.run_two and learner.kernel_for(3) is two_observe.run_group
-    for kernel in (two_observe.run_two, two_observe.run_group):
-        arrays = tuple(spec.allocate(learner, config, g, config.schedule(), 2).values())
-        runs.run_batches(kernel, inputs, arrays, 3, workers=1)
-        out.append(arrays)
-    (q, u, needs, log), group = out
-    assert ep.metric(log, "coordinations").sum() > 0  # the comparison covers coordinated steps
-    assert needs[..., 1].sum() > 0  # and steps with need
-    for a, b in zip((q, u, needs, log), group):
-        assert np.array_equal(a, b)
+    world, learning, automata, _ = spec.kernel_inputs(registry.get("two_observe"), config, g, config.schedule())
+    free = [c for c in range(g.n_cells) if not (g.is_goal[c] or g.blocked[c])]
+    pairs = [(a, b) for a in free for b in free if a != b]
+    draws = np.random.default_rng(5)
+    outcomes = collections.Counter()
+    for (a, b), state in zip(pairs, run_states(17, len(pairs))):
+        q = draws.uniform(-1.0, 1.0, (2, g.n_cells, rules.N_ACTIONS))
+        u = draws.uniform(-3.0, 3.0, (2, 2, two_observe.N_GLA_INPUTS))
+        steps = []
+        for step in ("pair", "group"):
+            arrays = two_observe.per_run(world)
+            _, buffers, agents, _ = arrays
+            buffers[0][:], buffers[1][:], buffers[-1][:] = (a, b), False, 0.0  # cells, done, episode counters
+            agents[2][:] = 0.0  # GLA probabilities: written only where the GLAs act
+            learned = (q.copy(), u.copy(), np.zeros((g.n_rows + g.n_cols - 1, 2)), state.copy())
+            if step == "pair":
+                collisions = two_observe.pair_step(world, learning, automata, *learned[:3], (0, 1), learned[3], arrays)
+            else:
+                collisions = two_observe.group_step(world, learning, automata, *learned, arrays)
+            steps.append((collisions, learned, buffers, agents[:3]))
+        (collisions, *pair), (group_collisions, *group) = steps
+        assert collisions == group_collisions, (a, b)
+        for x, y in zip(_flat(pair), _flat(group)):
+            assert np.array_equal(x, y), (a, b)
+        outcomes.update({"coordinated": pair[1][-1][ep.column(2, ep.COORDINATIONS)] > 0, "collided": collisions > 0,
+                         "yielded": not np.array_equal(pair[1][2], pair[2][1])})
+    assert outcomes["coordinated"] and outcomes["collided"] and outcomes["yielded"]  # every branch covered
+
+
+def _flat(arrays) -> list:
+    return [x for a in arrays for x in (_flat(a) if isinstance(a, tuple) else [a])]
 
 
 # --- the scaling study -----------------------------------------------------------------------

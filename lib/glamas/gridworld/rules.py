@@ -139,42 +139,46 @@ def step(world, cells, done, actions, new_cells, rewards, bumped, collided, reac
 
 
 @njit(cache=True, inline="always")
-def step_two(world, cells, done, actions, new_cells, rewards, bumped, collided, reached):
-    """:func:`step` for two agents (the chapter's case). Two agents collide at most once and
-    bounce to distinct cells, so the later rounds of :func:`step` never find anything.
+def step_pair(world, cells, done, actions, new_cells, rewards, bumped, collided, reached, pair):
+    """:func:`step` for the agents ``pair = (i, j)`` when every other agent is in the goal (the
+    chapter's two agents are (0, 1), and one of them may be in the goal too); fills agent i's and
+    j's entries of the output arrays. Two agents
+    collide at most once and bounce to distinct cells, so the later rounds of :func:`step` never
+    find anything.
 
     Every array is read and written outside the branches, the rules applied to scalars in
     between, as in :func:`step`: the compiler keeps the scalars in registers.
     """
     next_cell, is_goal, starts, bounce = world.next_cell, world.is_goal, world.starts, world.bounce
-    cell0, cell1, done0, done1 = cells[0], cells[1], done[0], done[1]
-    target0, target1 = next_cell[cell0, actions[0]], next_cell[cell1, actions[1]]  # a done agent's is ignored
-    start0, start1 = starts[0], starts[1]
-    new0 = cell0 if done0 else target0
-    new1 = cell1 if done1 else target1
-    bump0 = not done0 and new0 == cell0
-    bump1 = not done1 and new1 == cell1
-    target_is_goal = is_goal[new0]
-    same_target = new0 == new1 and not target_is_goal
-    hit = not done0 and not done1 and (same_target or (new0 == cell1 and new1 == cell0))
-    reward0 = BUMP_PENALTY if bump0 else 0.0
-    reward1 = BUMP_PENALTY if bump1 else 0.0
+    i, j = pair
+    cell_i, cell_j, done_i, done_j = cells[i], cells[j], done[i], done[j]
+    target_i, target_j = next_cell[cell_i, actions[i]], next_cell[cell_j, actions[j]]  # a done agent's is ignored
+    start_i, start_j = starts[i], starts[j]
+    new_i = cell_i if done_i else target_i
+    new_j = cell_j if done_j else target_j
+    bump_i = not done_i and new_i == cell_i
+    bump_j = not done_j and new_j == cell_j
+    target_is_goal = is_goal[new_i]
+    same_target = new_i == new_j and not target_is_goal
+    hit = not done_i and not done_j and (same_target or (new_i == cell_j and new_j == cell_i))
+    reward_i = BUMP_PENALTY if bump_i else 0.0
+    reward_j = BUMP_PENALTY if bump_j else 0.0
     if hit:
-        reward0 += COLLISION_PENALTY
-        reward1 += COLLISION_PENALTY
-        new0, new1 = (cell0, cell1) if bounce == BOUNCE_PREVIOUS else (start0, start1)
-    goal0, goal1 = is_goal[new0], is_goal[new1]
-    arrived0 = not done0 and goal0
-    arrived1 = not done1 and goal1
-    if arrived0:
-        reward0 += GOAL_REWARD
-    if arrived1:
-        reward1 += GOAL_REWARD
-    new_cells[0], new_cells[1] = new0, new1
-    rewards[0], rewards[1] = reward0, reward1
-    bumped[0], bumped[1] = bump0, bump1
-    collided[0], collided[1] = hit, hit
-    reached[0], reached[1] = arrived0, arrived1
+        reward_i += COLLISION_PENALTY
+        reward_j += COLLISION_PENALTY
+        new_i, new_j = (cell_i, cell_j) if bounce == BOUNCE_PREVIOUS else (start_i, start_j)
+    goal_i, goal_j = is_goal[new_i], is_goal[new_j]
+    arrived_i = not done_i and goal_i
+    arrived_j = not done_j and goal_j
+    if arrived_i:
+        reward_i += GOAL_REWARD
+    if arrived_j:
+        reward_j += GOAL_REWARD
+    new_cells[i], new_cells[j] = new_i, new_j
+    rewards[i], rewards[j] = reward_i, reward_j
+    bumped[i], bumped[j] = bump_i, bump_j
+    collided[i], collided[j] = hit, hit
+    reached[i], reached[j] = arrived_i, arrived_j
     return 1 if hit else 0
 
 

@@ -131,15 +131,20 @@ def all_done(done):
 
 
 @njit(cache=True, inline="always")
-def lone_agent(done):
-    """The only agent not yet in the goal, or -1 when two or more are (or none)."""
-    lone = -1
+def few_acting(done):
+    """The agents not yet in the goal when they are one or two: ``(i, -1)`` for one alone,
+    ``(i, j)`` with i < j for two; ``(-1, -1)`` when three or more are (or none). The loops of N
+    agents take the one- and two-agent paths of the rules then (rules.step_alone, rules.step_pair)."""
+    first, second = -1, -1
     for i in range(done.shape[0]):
         if not done[i]:
-            if lone >= 0:
-                return -1
-            lone = i
-    return lone
+            if second >= 0:
+                return -1, -1
+            if first >= 0:
+                second = i
+            else:
+                first = i
+    return first, second
 
 
 @njit(cache=True, inline="always")

@@ -24,6 +24,22 @@ def lone_step(world, learning, q, i, state, buffers):
     rules.step_alone(world, cells, actions, new_cells, rewards, bumped, collided, reached, i)
     q_update(q[i], cells[i], actions[i], rewards[i], new_cells[i], reached[i], learning.q_learning_rate,
              learning.discount)
+    return 0
+
+
+@njit(cache=True, inline="always")
+def pair_step(world, learning, q, pair, state, buffers):
+    """One step of the agents ``pair = (i, j)``, i < j, when every other agent is in the goal:
+    Alg. 3 for each, on the rules' two-agent path (rules.step_pair); the same draws and updates
+    as the general step. Returns the number of collisions."""
+    cells, done, actions, new_cells, rewards, bumped, collided, reached, acc = buffers
+    alpha, gamma, exploit = learning.q_learning_rate, learning.discount, learning.exploit_prob
+    for i in pair:
+        actions[i] = epsilon_greedy(q[i, cells[i]], exploit, state)
+    collisions = rules.step_pair(world, cells, done, actions, new_cells, rewards, bumped, collided, reached, pair)
+    for i in pair:
+        q_update(q[i], cells[i], actions[i], rewards[i], new_cells[i], reached[i], alpha, gamma)
+    return collisions
 
 
 @njit(cache=True, nogil=True)
@@ -43,22 +59,19 @@ def episodes(world, learning, schedule, q, log, state, buffers):
         ep.start_episode(starts, cells, done, acc)
         t = 0
         while t < max_steps and not ep.all_done(done):
-            lone = ep.lone_agent(done)
-            if lone >= 0:  # the others are in the goal
-                lone_step(world, learning, q, lone, state, buffers)
-                t += 1
-                ep.end_step(t, cells, done, new_cells, rewards, reached, 0, acc)
-                continue
-            for i in range(n_agents):
-                if not done[i]:
-                    actions[i] = epsilon_greedy(q[i, cells[i]], exploit, state)
-            if n_agents == 2:  # the chapter's case, on the rules' fast path
-                collisions = rules.step_two(world, cells, done, actions, new_cells, rewards, bumped, collided, reached)
+            first, second = ep.few_acting(done)
+            if second >= 0:  # two agents act (the chapter's case, or the others are in the goal)
+                collisions = pair_step(world, learning, q, (first, second), state, buffers)
+            elif first >= 0:  # one agent acts
+                collisions = lone_step(world, learning, q, first, state, buffers)
             else:
+                for i in range(n_agents):
+                    if not done[i]:
+                        actions[i] = epsilon_greedy(q[i, cells[i]], exploit, state)
                 collisions = rules.step(world, cells, done, actions, new_cells, rewards, bumped, collided, reached)
-            for i in range(n_agents):
-                if not done[i]:
-                    q_update(q[i], cells[i], actions[i], rewards[i], new_cells[i], reached[i], alpha, gamma)
+                for i in range(n_agents):
+                    if not done[i]:
+                        q_update(q[i], cells[i], actions[i], rewards[i], new_cells[i], reached[i], alpha, gamma)
             t += 1
             ep.end_step(t, cells, done, new_cells, rewards, reached, collisions, acc)
         ep.end_episode(log, episode, edges, acc, t, done)

@@ -14,7 +14,7 @@ three readings (``NEEDS``):
 * ``sampled``: the actions the agents' Q-learners prefer in this step would collide.
 * ``outcome``: a collision happened in this step.
 
-**N agents** (the chapter has two; :func:`run_group`). Each agent keeps the first level: one
+**N agents** (the chapter has two; :func:`group_step`). Each agent keeps the first level: one
 2-action GLA with the context [delta, 1], delta now the Manhattan distance to the *nearest* other
 agent still acting (lowest agent number on ties). An agent alone in the world (every other agent
 in the goal) acts on its Q-learner and its GLA is not updated, as with two agents. The second level
@@ -29,12 +29,11 @@ acting agent; ``sampled``, its preferred action would collide with another actin
 coordinate. The log's coordinations count agent-steps coordinating with their nearest agent,
 halved: for two agents, the steps on which both coordinated.
 
-With two agents :func:`run_group` plays exactly :func:`run_two` (same random numbers, log, Q
-tables and GLA parameters, under every reading), so the learner runs two agents on
-:func:`run_two`, the chapter's Alg. 4 written for two, which is faster, and more on
-:func:`run_group` (its spec's ``two_agent_kernel`` and ``kernel``). ``need_counts``
-counts observing agent-steps per distance, without and with need: for two agents both observe at
-the same distance with the same need, so each step counts twice.
+Whenever exactly two agents act (the chapter's two, or two left of N), the loop takes
+:func:`pair_step`, the chapter's Alg. 4 written for two, which is faster and plays exactly what
+:func:`group_step` plays for them (same random numbers, Q tables, GLA parameters and counts, under
+every reading). ``need_counts`` counts observing agent-steps per distance, without and with need:
+two agents observe at the same distance with the same need, so such a step counts twice.
 """
 
 from typing import NamedTuple
@@ -126,26 +125,27 @@ def init_glas(u, init_range, state):
 
 
 @njit(cache=True, inline="always")
-def yield_at_random(preferred, actions, state):
-    """Section 5.2's coordination: one agent (picked at random) keeps its preferred action, the
-    other takes an action drawn uniformly from its other three."""
-    actions[0], actions[1] = preferred[0], preferred[1]
-    yielder = rng.integer(state, 2)
+def yield_at_random(preferred, actions, pair, state):
+    """Section 5.2's coordination of the agents ``pair``: one of them (picked at random) keeps
+    its preferred action, the other takes an action drawn uniformly from its other three."""
+    yielder = pair[rng.integer(state, 2)]
     other = rng.integer(state, 3)
     actions[yielder] = other + 1 if other >= preferred[yielder] else other
 
 
 @njit(cache=True, inline="always")
-def first_level(next_cell, is_goal, cells, done, choices, preferred):
-    """Alg. 4's if-condition for GLA ``choices`` and Q-preferred actions ``preferred``: (collision
-    coming, both coordinated). When both hold, one agent yields (:func:`yield_at_random`).
+def first_level(next_cell, is_goal, cells, done, choices, preferred, pair):
+    """Alg. 4's if-condition for the agents ``pair = (i, j)``, their GLA ``choices`` and
+    Q-preferred actions ``preferred``: (collision coming, both coordinated). When both hold, one
+    agent yields (:func:`yield_at_random`).
 
     "Collision coming" means the preferred actions would collide (rules.would_collide): Section
     5.2's check, made only when both chose to coordinate.
     """
-    coming = rules.would_collide(next_cell, is_goal, cells, done, preferred, 0, 1)
-    choice0, choice1 = choices[0], choices[1]  # both read: arrays outside branches (glamas.learners.episode)
-    return coming, choice0 == COORDINATE and choice1 == COORDINATE
+    i, j = pair
+    coming = rules.would_collide(next_cell, is_goal, cells, done, preferred, i, j)
+    choice_i, choice_j = choices[i], choices[j]  # both read: arrays outside branches (glamas.learners.episode)
+    return coming, choice_i == COORDINATE and choice_j == COORDINATE
 
 
 @njit(cache=True, inline="always")
@@ -261,162 +261,152 @@ def coordinate_group(next_cell, is_goal, cells, done, choices, preferred, action
 
 
 @njit(cache=True, inline="always")
-def per_agent(world):
-    """The per-run arrays of both episode loops: in-range table, buffers, and each agent's
+def per_run(world):
+    """The per-run arrays of :func:`episodes`: the in-range table, the step buffers, each agent's
     level-one choice, preferred action (an action even for agents already done:
-    rules.would_collide reads it), GLA probabilities and GLA input."""
+    rules.would_collide reads it), GLA probabilities and GLA input, and :func:`group_step`'s."""
     n = world.starts.shape[0]
-    return (rules.in_range_table(world.next_cell, world.is_goal), ep.buffers(n),
-            (np.empty(n, np.int64), np.zeros(n, np.int64), np.empty((n, 2)), np.ones((n, N_GLA_INPUTS))))
-
-
-@njit(cache=True, nogil=True)
-def run_two(world, learning, automata, schedule, q, u, need_counts, log, state):
-    """One run of Alg. 4 for two agents (:func:`episodes_two`)."""
-    episodes_two(world, learning, automata, schedule, q, u, need_counts, log, state, per_agent(world))
-
-
-@njit(cache=True, nogil=True)
-def run_group(world, learning, automata, schedule, q, u, need_counts, log, state):
-    """One run of Alg. 4 for any number of agents (:func:`episodes_group`)."""
-    n = world.starts.shape[0]
+    agents = (np.empty(n, np.int64), np.zeros(n, np.int64), np.empty((n, 2)), np.ones((n, N_GLA_INPUTS)))
     group = (np.empty(n, np.int64), np.empty(n, np.int64), np.empty(n, np.bool_), np.empty(n, np.bool_),
              np.empty(n, np.int64), np.empty(n, np.bool_), rules.distance_table(world.next_cell.shape[0], world.n_cols))
-    episodes_group(world, learning, automata, schedule, q, u, need_counts, log, state, (*per_agent(world), group))
+    return rules.in_range_table(world.next_cell, world.is_goal), ep.buffers(n), agents, group
 
 
-@njit(**ep.LOOP)
-def episodes_two(world, learning, automata, schedule, q, u, need_counts, log, state, arrays):
-    """The episodes of Alg. 4 for two agents; learns in ``q`` and ``u``, writes ``log`` and counts the
-    observing agent-steps per (delta, need) in ``need_counts``.
+@njit(cache=True, nogil=True)
+def run(world, learning, automata, schedule, q, u, need_counts, log, state):
+    """One run of Alg. 4 (:func:`episodes`)."""
+    episodes(world, learning, automata, schedule, q, u, need_counts, log, state, per_run(world))
 
-    The GLAs see ``[delta * gla_delta_scale, 1]``. When one agent is in the goal there is nobody
-    to observe: the other acts on its Q alone and the GLAs are not updated. ``rule_distance`` >= 0
-    replaces the GLAs by the fixed rule "coordinate when delta < rule_distance" (a diagnostic).
+
+@njit(cache=True, inline="always")
+def pair_step(world, learning, automata, q, u, need_counts, pair, state, arrays):
+    """One step of Alg. 4 for the agents ``pair = (i, j)``, i < j, when every other agent is in
+    the goal (the chapter's two agents); learns in ``q`` and ``u``, counts the step in
+    ``need_counts`` and returns the number of collisions. ``arrays``: as :func:`episodes`.
+
+    The GLAs see ``[delta * gla_delta_scale, 1]``. ``rule_distance`` >= 0 replaces the GLAs by the
+    fixed rule "coordinate when delta < rule_distance" (a diagnostic).
     """
-    next_cell, is_goal, starts = world.next_cell, world.is_goal, world.starts
+    next_cell, is_goal, n_agents = world.next_cell, world.is_goal, world.starts.shape[0]
     alpha, gamma, exploit = learning.q_learning_rate, learning.discount, learning.exploit_prob
     temperature, L, bounding = automata.gla_temperature, automata.gla_L, automata.gla_bounding
     need, rule_distance, feedback = automata.gla_need, automata.rule_distance, automata.gla_feedback
     learn_first_level = rule_distance < 0
-    n_agents = starts.shape[0]
-    in_range, buffers, (choices, preferred, probs, inputs) = arrays
+    in_range, buffers, agents, _ = arrays
     cells, done, actions, new_cells, rewards, bumped, collided, reached, acc = buffers
-    coordinations_column = ep.column(n_agents, ep.COORDINATIONS)
-    x = inputs[0]  # both agents' GLAs see the same input
-    needed = False
-    init_glas(u, automata.gla_init_range, state)
-    for episode in range(schedule.episodes):
-        ep.start_episode(starts, cells, done, acc)
-        t = 0
-        while t < schedule.max_steps and not ep.all_done(done):
-            observing = not (done[0] or done[1])
-            if observing:
-                delta = rules.manhattan(world.n_cols, cells[0], cells[1])
-                x[0] = delta * automata.gla_delta_scale
-                for i in range(n_agents):
-                    if learn_first_level:
-                        choices[i] = gla.act(u[i], x, temperature, L, bounding, probs[i], state)
-                    else:
-                        choices[i] = COORDINATE if delta < rule_distance else ACT_ALONE
-                for i in range(n_agents):
-                    preferred[i] = epsilon_greedy(q[i, cells[i]], exploit, state)
-                coming, both = first_level(next_cell, is_goal, cells, done, choices, preferred)
-                actions[0], actions[1] = preferred[0], preferred[1]
-                if both and coming:
-                    yield_at_random(preferred, actions, state)
-                needed = need_before_step(need, in_range, cells, 0, 1, coming)
-                if both:
-                    acc[coordinations_column] += 1
-            else:
-                for i in range(n_agents):
-                    if not done[i]:
-                        actions[i] = epsilon_greedy(q[i, cells[i]], exploit, state)
-            collisions = rules.step_two(world, cells, done, actions, new_cells, rewards, bumped, collided, reached)
-            if observing:
-                if need == NEED_OUTCOME:
-                    needed = collisions > 0
-                need_counts[delta, 1 if needed else 0] += 2  # both agents observe: same delta, same need
-            for i in range(n_agents):
-                if not done[i]:
-                    q_update(q[i], cells[i], actions[i], rewards[i], new_cells[i], reached[i], alpha, gamma)
-            if observing and learn_first_level:
-                for i in range(n_agents):
-                    beta = gla_feedback(feedback, automata.coordination_penalty_per_cell, choices[i], needed, both, delta)
-                    gla.update(u[i], x, choices[i], beta, automata.gla_learning_rate, temperature, automata.gla_K, L,
-                               bounding, probs[i])
-            t += 1
-            ep.end_step(t, cells, done, new_cells, rewards, reached, collisions, acc)
-        ep.end_episode(log, episode, schedule.edges, acc, t, done)
+    choices, preferred, probs, inputs = agents
+    i, j = pair
+    delta = rules.manhattan(world.n_cols, cells[i], cells[j])
+    x = inputs[i]  # both agents' GLAs see the same input
+    x[0] = delta * automata.gla_delta_scale
+    for k in pair:
+        if learn_first_level:
+            choices[k] = gla.act(u[k], x, temperature, L, bounding, probs[k], state)
+        else:
+            choices[k] = COORDINATE if delta < rule_distance else ACT_ALONE
+    for k in pair:
+        preferred[k] = epsilon_greedy(q[k, cells[k]], exploit, state)
+    coming, both = first_level(next_cell, is_goal, cells, done, choices, preferred, pair)
+    actions[i], actions[j] = preferred[i], preferred[j]
+    if both and coming:
+        yield_at_random(preferred, actions, pair, state)
+    needed = need_before_step(need, in_range, cells, i, j, coming)
+    if both:
+        acc[ep.column(n_agents, ep.COORDINATIONS)] += 1
+    collisions = rules.step_pair(world, cells, done, actions, new_cells, rewards, bumped, collided, reached, pair)
+    if need == NEED_OUTCOME:
+        needed = collisions > 0
+    need_counts[delta, 1 if needed else 0] += 2  # both agents observe: same delta, same need
+    for k in pair:
+        q_update(q[k], cells[k], actions[k], rewards[k], new_cells[k], reached[k], alpha, gamma)
+    if learn_first_level:
+        for k in pair:
+            beta = gla_feedback(feedback, automata.coordination_penalty_per_cell, choices[k], needed, both, delta)
+            gla.update(u[k], x, choices[k], beta, automata.gla_learning_rate, temperature, automata.gla_K, L,
+                       bounding, probs[k])
+    return collisions
 
 
-@njit(**ep.LOOP)
-def episodes_group(world, learning, automata, schedule, q, u, need_counts, log, state, arrays):
-    """:func:`episodes_two` for any number of agents, with the group coordination of the module docstring."""
+@njit(cache=True, inline="always")
+def group_step(world, learning, automata, q, u, need_counts, state, arrays):
+    """One step of Alg. 4 for any number of acting agents, with the group coordination of the
+    module docstring; as :func:`pair_step` otherwise. ``arrays``: as :func:`episodes`; its
+    ``group`` holds each agent's nearest other agent and its distance, whether a collision is
+    coming, its need, the coordination order and who keeps its action (:func:`coordinate_group`),
+    and the distance table."""
+    in_range, buffers, agents, group = arrays
     next_cell, is_goal, n_agents = world.next_cell, world.is_goal, world.starts.shape[0]
     alpha, gamma = learning.q_learning_rate, learning.discount
     learn_first_level = automata.rule_distance < 0
-    coordinations_column = ep.column(n_agents, ep.COORDINATIONS)
-    in_range, buffers, (choices, preferred, probs, x), group = arrays
     cells, done, actions, new_cells, rewards, bumped, collided, reached, acc = buffers
-    # each agent's nearest other agent and its distance, whether a collision is coming, its need,
-    # the coordination order and who keeps its action (coordinate_group); the distance table
+    choices, preferred, probs, x = agents
     nearest, deltas, coming, needed, order, kept, distances = group
+    nearest_others(distances, cells, done, nearest, deltas)
+    for i in range(n_agents):
+        choices[i] = ACT_ALONE
+        if nearest[i] == NOBODY:
+            continue
+        x[i, 0] = deltas[i] * automata.gla_delta_scale
+        if learn_first_level:
+            choices[i] = gla.act(u[i], x[i], automata.gla_temperature, automata.gla_L, automata.gla_bounding,
+                                 probs[i], state)
+        elif deltas[i] < automata.rule_distance:
+            choices[i] = COORDINATE
+    for i in range(n_agents):
+        if not done[i]:
+            preferred[i] = epsilon_greedy(q[i, cells[i]], learning.exploit_prob, state)
+    for i in range(n_agents):
+        coming[i] = collision_coming(next_cell, is_goal, cells, done, preferred, i)
+    coordinate_group(next_cell, is_goal, cells, done, choices, preferred, actions, order, kept, state)
+    paired = 0
+    for i in range(n_agents):
+        if nearest[i] != NOBODY and choices[i] == COORDINATE and choices[nearest[i]] == COORDINATE:
+            paired += 1
+    acc[ep.column(n_agents, ep.COORDINATIONS)] += paired / 2
+    collisions = rules.step(world, cells, done, actions, new_cells, rewards, bumped, collided, reached)
+    for i in range(n_agents):
+        if nearest[i] != NOBODY:
+            needed[i] = need_of(automata.gla_need, in_range, cells, done, coming, collided, i)
+            need_counts[deltas[i], 1 if needed[i] else 0] += 1
+    for i in range(n_agents):
+        if not done[i]:
+            q_update(q[i], cells[i], actions[i], rewards[i], new_cells[i], reached[i], alpha, gamma)
+    if learn_first_level:
+        for i in range(n_agents):
+            if nearest[i] == NOBODY:
+                continue
+            both = choices[i] == COORDINATE and choices[nearest[i]] == COORDINATE
+            beta = gla_feedback(automata.gla_feedback, automata.coordination_penalty_per_cell, choices[i],
+                                needed[i], both, deltas[i])
+            gla.update(u[i], x[i], choices[i], beta, automata.gla_learning_rate, automata.gla_temperature,
+                       automata.gla_K, automata.gla_L, automata.gla_bounding, probs[i])
+    return collisions
+
+
+@njit(**ep.LOOP)
+def episodes(world, learning, automata, schedule, q, u, need_counts, log, state, arrays):
+    """The episodes of Alg. 4; learns in ``q`` and ``u``, writes ``log`` and counts the observing
+    agent-steps per (delta, need) in ``need_counts``. Two acting agents take :func:`pair_step`
+    (the chapter's case), more :func:`group_step`; an agent alone (the others in the goal) acts
+    on its Q-learner, with nobody to observe and its GLA not updated."""
+    cells, done, actions, new_cells, rewards, bumped, collided, reached, acc = arrays[1]
     init_glas(u, automata.gla_init_range, state)
     for episode in range(schedule.episodes):
         ep.start_episode(world.starts, cells, done, acc)
         t = 0
         while t < schedule.max_steps and not ep.all_done(done):
-            lone = ep.lone_agent(done)
-            if lone >= 0:  # the others are in the goal: nobody to observe
-                lone_step(world, learning, q, lone, state, buffers)
-                t += 1
-                ep.end_step(t, cells, done, new_cells, rewards, reached, 0, acc)
-                continue
-            nearest_others(distances, cells, done, nearest, deltas)
-            for i in range(n_agents):
-                choices[i] = ACT_ALONE
-                if nearest[i] == NOBODY:
-                    continue
-                x[i, 0] = deltas[i] * automata.gla_delta_scale
-                if learn_first_level:
-                    choices[i] = gla.act(u[i], x[i], automata.gla_temperature, automata.gla_L, automata.gla_bounding,
-                                         probs[i], state)
-                elif deltas[i] < automata.rule_distance:
-                    choices[i] = COORDINATE
-            for i in range(n_agents):
-                if not done[i]:
-                    preferred[i] = epsilon_greedy(q[i, cells[i]], learning.exploit_prob, state)
-            for i in range(n_agents):
-                coming[i] = collision_coming(next_cell, is_goal, cells, done, preferred, i)
-            coordinate_group(next_cell, is_goal, cells, done, choices, preferred, actions, order, kept, state)
-            paired = 0
-            for i in range(n_agents):
-                if nearest[i] != NOBODY and choices[i] == COORDINATE and choices[nearest[i]] == COORDINATE:
-                    paired += 1
-            acc[coordinations_column] += paired / 2
-            collisions = rules.step(world, cells, done, actions, new_cells, rewards, bumped, collided, reached)
-            for i in range(n_agents):
-                if nearest[i] != NOBODY:
-                    needed[i] = need_of(automata.gla_need, in_range, cells, done, coming, collided, i)
-                    need_counts[deltas[i], 1 if needed[i] else 0] += 1
-            for i in range(n_agents):
-                if not done[i]:
-                    q_update(q[i], cells[i], actions[i], rewards[i], new_cells[i], reached[i], alpha, gamma)
-            if learn_first_level:
-                for i in range(n_agents):
-                    if nearest[i] == NOBODY:
-                        continue
-                    both = choices[i] == COORDINATE and choices[nearest[i]] == COORDINATE
-                    beta = gla_feedback(automata.gla_feedback, automata.coordination_penalty_per_cell, choices[i],
-                                        needed[i], both, deltas[i])
-                    gla.update(u[i], x[i], choices[i], beta, automata.gla_learning_rate, automata.gla_temperature,
-                               automata.gla_K, automata.gla_L, automata.gla_bounding, probs[i])
+            first, second = ep.few_acting(done)
+            if second >= 0:
+                collisions = pair_step(world, learning, automata, q, u, need_counts, (first, second), state, arrays)
+            elif first >= 0:
+                collisions = lone_step(world, learning, q, first, state, arrays[1])
+            else:
+                collisions = group_step(world, learning, automata, q, u, need_counts, state, arrays)
             t += 1
             ep.end_step(t, cells, done, new_cells, rewards, reached, collisions, acc)
         ep.end_episode(log, episode, schedule.edges, acc, t, done)
 
 
 LEARNER = Learner(name="two_observe", label="2observe", n_agent_label="2observe (N agents)",
-                  kernel=run_group, two_agent_kernel=run_two, table_shape=table_shape, inputs=automata,
+                  kernel=run, table_shape=table_shape, inputs=automata,
                   outputs=outputs, gla_parameters=gla_parameters, family="chapter")
