@@ -100,12 +100,12 @@ def run_compiled(workload: Workload, seed: int = 0, n_runs: int = 1, workers=Non
     arrays = new_outputs(workload, n_runs)
     if workers is None:
         start = time.thread_time()
-        _, filled = runs.fill_chunk(learner.kernel, inputs, seed, 0, n_runs, tuple(arrays.values()))
+        _, filled = runs.fill_chunk(learner.kernel_for(gridmap.n_agents), inputs, seed, 0, n_runs, tuple(arrays.values()))
         seconds = time.thread_time() - start
         arrays = dict(zip(arrays, filled))
     else:
         start = time.perf_counter()
-        runs.run_batches(learner.kernel, inputs, tuple(arrays.values()), seed, workers=workers)
+        runs.run_batches(learner.kernel_for(gridmap.n_agents), inputs, tuple(arrays.values()), seed, workers=workers)
         seconds = time.perf_counter() - start
     return Outputs(arrays, seconds, workload.block)
 

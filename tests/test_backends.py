@@ -12,7 +12,7 @@ from numba import njit
 from glamas import cli, reproduce, rng, runs
 from glamas.experiments import gridworld, single_gla
 from glamas.learners import and_network as and_network_learner
-from glamas.learners import registry
+from glamas.learners import registry, two_observe
 from glamas.learners import single_gla as single_gla_learner
 
 SINGLE = single_gla.SingleGLAConfig(iterations=600, runs=7, record_points=6)
@@ -90,7 +90,7 @@ def test_a_job_runs_any_slice_of_the_sweep_on_its_own(reference):
     assert not initial[1].any()  # the job fills copies, not the arrays it was given
 
 
-RUN_KERNELS = ([single_gla_learner.learn, and_network_learner.learn]
+RUN_KERNELS = ([single_gla_learner.learn, and_network_learner.learn, two_observe.run_two]
                + [learner.kernel for learner in registry.LEARNERS.values()])
 
 

@@ -153,10 +153,13 @@ def test_nearest_other_agent_ignores_agents_in_the_goal_and_breaks_ties_by_numbe
 def test_2observe_pair_step_plays_the_group_step_for_two_agents(reading):
     """pair_step (two acting agents: the chapter's Alg. 4) draws, moves and learns as group_step
     does for the same two agents, from every pair of distinct free cells of TunnelToGoal, with
-    Q values and GLA parameters that make the agents coordinate, yield and collide."""
+    Q values and GLA parameters that make the agents coordinate, yield and collide. So run_two,
+    which steps with pair_step, plays what run plays for two agents."""
+    learner = registry.get("two_observe")
+    assert learner.kernel_for(2) is two_observe.run_two and learner.kernel_for(3) is two_observe.run
     config = gw.GridworldConfig(learners=("two_observe",), gla_feedback=((1.0, 0.0), (1.0, 1.0)), **reading)
     g = config.gridmap()
-    world, learning, automata, _ = spec.kernel_inputs(registry.get("two_observe"), config, g, config.schedule())
+    world, learning, automata, _ = spec.kernel_inputs(learner, config, g, config.schedule())
     free = [c for c in range(g.n_cells) if not (g.is_goal[c] or g.blocked[c])]
     pairs = [(a, b) for a in free for b in free if a != b]
     draws = np.random.default_rng(5)

@@ -29,10 +29,11 @@ acting agent; ``sampled``, its preferred action would collide with another actin
 coordinate. The log's coordinations count agent-steps coordinating with their nearest agent,
 halved: for two agents, the steps on which both coordinated.
 
-Whenever exactly two agents act (the chapter's two, or two left of N), the loop takes
-:func:`pair_step`, the chapter's Alg. 4 written for two, which is faster and plays exactly what
-:func:`group_step` plays for them (same random numbers, Q tables, GLA parameters and counts, under
-every reading). ``need_counts`` counts observing agent-steps per distance, without and with need:
+For two agents :func:`group_step` plays exactly what :func:`pair_step`, the chapter's Alg. 4
+written for two, plays (same random numbers, Q tables, GLA parameters and counts, under every
+reading); the learner runs two agents on :func:`run_two`, which steps with :func:`pair_step` and
+is faster and quicker to compile, and more on :func:`run` (its spec's ``two_agent_kernel`` and
+``kernel``). ``need_counts`` counts observing agent-steps per distance, without and with need:
 two agents observe at the same distance with the same need, so such a step counts twice.
 """
 
@@ -273,8 +274,14 @@ def per_run(world):
 
 
 @njit(cache=True, nogil=True)
+def run_two(world, learning, automata, schedule, q, u, need_counts, log, state):
+    """One run of Alg. 4 for two agents, the chapter's case (:func:`episodes_two`)."""
+    episodes_two(world, learning, automata, schedule, q, u, need_counts, log, state, per_run(world))
+
+
+@njit(cache=True, nogil=True)
 def run(world, learning, automata, schedule, q, u, need_counts, log, state):
-    """One run of Alg. 4 (:func:`episodes`)."""
+    """One run of Alg. 4 for any number of agents (:func:`episodes`)."""
     episodes(world, learning, automata, schedule, q, u, need_counts, log, state, per_run(world))
 
 
@@ -384,11 +391,11 @@ def group_step(world, learning, automata, q, u, need_counts, state, arrays):
 
 
 @njit(**ep.LOOP)
-def episodes(world, learning, automata, schedule, q, u, need_counts, log, state, arrays):
-    """The episodes of Alg. 4; learns in ``q`` and ``u``, writes ``log`` and counts the observing
-    agent-steps per (delta, need) in ``need_counts``. Two acting agents take :func:`pair_step`
-    (the chapter's case), more :func:`group_step`; an agent alone (the others in the goal) acts
-    on its Q-learner, with nobody to observe and its GLA not updated."""
+def episodes_two(world, learning, automata, schedule, q, u, need_counts, log, state, arrays):
+    """The episodes of Alg. 4 for two agents; learns in ``q`` and ``u``, writes ``log`` and counts
+    the observing agent-steps per (delta, need) in ``need_counts``. While both act they take
+    :func:`pair_step`; once one is in the goal, the other acts on its Q-learner, with nobody to
+    observe and its GLA not updated."""
     cells, done, actions, new_cells, rewards, bumped, collided, reached, acc = arrays[1]
     init_glas(u, automata.gla_init_range, state)
     for episode in range(schedule.episodes):
@@ -398,7 +405,26 @@ def episodes(world, learning, automata, schedule, q, u, need_counts, log, state,
             first, second = ep.few_acting(done)
             if second >= 0:
                 collisions = pair_step(world, learning, automata, q, u, need_counts, (first, second), state, arrays)
-            elif first >= 0:
+            else:
+                collisions = lone_step(world, learning, q, first, state, arrays[1])
+            t += 1
+            ep.end_step(t, cells, done, new_cells, rewards, reached, collisions, acc)
+        ep.end_episode(log, episode, schedule.edges, acc, t, done)
+
+
+@njit(**ep.LOOP)
+def episodes(world, learning, automata, schedule, q, u, need_counts, log, state, arrays):
+    """:func:`episodes_two` for any number of agents: :func:`group_step` while two or more act
+    (for two it plays what :func:`pair_step` plays, which would cost this loop its compile time
+    and save it little: with three or more agents one often acts alone)."""
+    cells, done, actions, new_cells, rewards, bumped, collided, reached, acc = arrays[1]
+    init_glas(u, automata.gla_init_range, state)
+    for episode in range(schedule.episodes):
+        ep.start_episode(world.starts, cells, done, acc)
+        t = 0
+        while t < schedule.max_steps and not ep.all_done(done):
+            first, second = ep.few_acting(done)
+            if first >= 0 and second < 0:
                 collisions = lone_step(world, learning, q, first, state, arrays[1])
             else:
                 collisions = group_step(world, learning, automata, q, u, need_counts, state, arrays)
@@ -408,5 +434,5 @@ def episodes(world, learning, automata, schedule, q, u, need_counts, log, state,
 
 
 LEARNER = Learner(name="two_observe", label="2observe", n_agent_label="2observe (N agents)",
-                  kernel=run, table_shape=table_shape, inputs=automata,
+                  kernel=run, two_agent_kernel=run_two, table_shape=table_shape, inputs=automata,
                   outputs=outputs, gla_parameters=gla_parameters, family="chapter")
