@@ -221,9 +221,10 @@ def seed_of(seed: int, method: str, n_agents: int) -> int:
 
 
 def run(config: ScalingConfig = ScalingConfig(), seed: int = 0, workers=None, progress=None) -> ScalingResult:
-    """Train every method at every N that fits the memory budget (``config.runs`` runs each): the
-    methods of one N at a time, their runs on one pool of workers (:func:`glamas.runs.run_many`),
-    so that memory holds the tables of one N."""
+    """Train every method at every N that fits the memory budget (``config.runs`` runs each), all
+    runs on one pool of workers (:func:`glamas.runs.run_many`). Each run's Q tables stay in the
+    worker that fills them (the study keeps learning curves and table sizes), so memory holds
+    the tables of the runs in progress only."""
     m, a = len(config.methods), len(config.agents)
     ran = np.zeros((m, a), dtype=bool)
     shapes = np.zeros((m, a, 3), dtype=np.int64)
@@ -234,9 +235,9 @@ def run(config: ScalingConfig = ScalingConfig(), seed: int = 0, workers=None, pr
     log = np.full((m, a, config.runs, config.n_bins, len(METRICS)), np.nan)
     budget = config.memory_budget_gib * 2 ** 30
     schedule = config.schedule()
+    trainings = {}
     for j, n in enumerate(config.agents):
         gridmap = config.gridmap(n)
-        trainings = {}
         for k, method in enumerate(config.methods):
             learner, settings = learner_of(method), config.settings(method)
             shapes[k, j] = learner.table_shape(gridmap.n_cells, n)
@@ -245,17 +246,16 @@ def run(config: ScalingConfig = ScalingConfig(), seed: int = 0, workers=None, pr
             needed[k, j] = memory_needed(config, method, gridmap)
             if needed[k, j] <= budget:
                 batch, outputs = spec.batch(learner, settings, gridmap, schedule, config.runs, seed_of(seed, method, n),
-                                            keep_q=False)  # the study keeps learning curves and table sizes
-                trainings[k] = learner, settings, batch, outputs
-        label = None if progress is None else f"{progress}: N={n}"
-        # One run per job: runs of one N differ widely in length (some spend most episodes at the
-        # step cap), and small jobs keep every worker busy until the last runs of the N are done.
-        runs.run_many([batch for _, _, batch, _ in trainings.values()], workers=workers, progress=label, chunk=1)
-        for k, (learner, settings, _, outputs) in trainings.items():
-            shapes[k, j] = outputs["q"].shape[1:]
-            joints[k, j] = learner.joint_learned(outputs, settings, gridmap).mean()
-            ran[k, j] = True
-            log[k, j] = agent_means(outputs["log"])
+                                            keep_q=False)
+                trainings[k, j] = learner, settings, gridmap, batch, outputs
+    # One run per job: runs differ widely in length (some spend most episodes at the step cap),
+    # and small jobs keep every worker busy until the last runs are done.
+    runs.run_many([batch for *_, batch, _ in trainings.values()], workers=workers, progress=progress, chunk=1)
+    for (k, j), (learner, settings, gridmap, _, outputs) in trainings.items():
+        shapes[k, j] = outputs["q"].shape[1:]
+        joints[k, j] = learner.joint_learned(outputs, settings, gridmap).mean()
+        ran[k, j] = True
+        log[k, j] = agent_means(outputs["log"])
     codes = np.array([known_methods().index(name) for name in config.methods], dtype=np.int64)
     return ScalingResult(config=config, methods=codes, agents=np.array(config.agents, dtype=np.int64), ran=ran,
                          table_shapes=shapes, gla_parameters=glas, joint_entries=joints, reward_samples=samples,

@@ -31,9 +31,10 @@ halved: for two agents, the steps on which both coordinated.
 
 For two agents :func:`group_step` plays exactly what :func:`pair_step`, the chapter's Alg. 4
 written for two, plays (same random numbers, Q tables, GLA parameters and counts, under every
-reading); the learner runs two agents on :func:`run_two`, which steps with :func:`pair_step` and
-is faster and quicker to compile, and more on :func:`run` (its spec's ``two_agent_kernel`` and
-``kernel``). ``need_counts`` counts observing agent-steps per distance, without and with need:
+reading), so the episode loops step with :func:`pair_step` whenever two agents act, which is
+faster. The learner runs two agents on :func:`run_two`, whose loop has no group step and compiles
+in half the time, and more on :func:`run` (its spec's ``two_agent_kernel`` and ``kernel``).
+``need_counts`` counts observing agent-steps per distance, without and with need:
 two agents observe at the same distance with the same need, so such a step counts twice.
 """
 
@@ -414,9 +415,7 @@ def episodes_two(world, learning, automata, schedule, q, u, need_counts, log, st
 
 @njit(**ep.LOOP)
 def episodes(world, learning, automata, schedule, q, u, need_counts, log, state, arrays):
-    """:func:`episodes_two` for any number of agents: :func:`group_step` while two or more act
-    (for two it plays what :func:`pair_step` plays, which would cost this loop its compile time
-    and save it little: with three or more agents one often acts alone)."""
+    """:func:`episodes_two` for any number of agents: :func:`group_step` while three or more act."""
     cells, done, actions, new_cells, rewards, bumped, collided, reached, acc = arrays[1]
     init_glas(u, automata.gla_init_range, state)
     for episode in range(schedule.episodes):
@@ -424,7 +423,9 @@ def episodes(world, learning, automata, schedule, q, u, need_counts, log, state,
         t = 0
         while t < schedule.max_steps and not ep.all_done(done):
             first, second = ep.few_acting(done)
-            if first >= 0 and second < 0:
+            if second >= 0:
+                collisions = pair_step(world, learning, automata, q, u, need_counts, (first, second), state, arrays)
+            elif first >= 0:
                 collisions = lone_step(world, learning, q, first, state, arrays[1])
             else:
                 collisions = group_step(world, learning, automata, q, u, need_counts, state, arrays)
