@@ -87,13 +87,13 @@ def _scaling(config) -> int:
     from glamas.experiments import scaling
 
     budget = config.memory_budget_gib * 2 ** 30
-    at_one_n = []  # the methods of one N train together
-    for n in config.agents:
-        gridmap = config.gridmap(n)
-        needs = [scaling.memory_needed(config, method, gridmap) for method in config.methods]
-        at_one_n.append(sum(need for need in needs if need <= budget))
+    # A run's tables live in the worker that fills it, one run per worker at a time: at most the
+    # runs of the largest learner that fits the budget at once, whatever the number of workers.
+    needs = [scaling.memory_needed(config, method, config.gridmap(n))
+             for n in config.agents for method in config.methods]
+    largest = max((need for need in needs if need <= budget), default=0)
     logs = len(config.methods) * len(config.agents) * config.runs * config.n_bins * len(scaling.METRICS)
-    return max(at_one_n, default=0) * WORKING_COPIES + logs * BYTES_PER_VALUE
+    return largest * WORKING_COPIES + logs * BYTES_PER_VALUE
 
 
 def _gridworld_optimum(config) -> int:

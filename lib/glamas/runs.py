@@ -282,7 +282,9 @@ def _memo_key(batch: Batch):
     inputs and initial outputs (the runs are deterministic); None for a batch with a Scratch
     output, whose outputs take more than an eighth of MEMO_BYTES, or whose inputs hold something
     other than arrays, numbers, strings and tuples of them."""
-    if any(isinstance(out, Scratch) for out in batch.outputs) or sum(out.nbytes for out in batch.outputs) > MEMO_BYTES // 8:
+    if any(isinstance(out, Scratch) for out in batch.outputs):
+        return None
+    if sum(out.nbytes for out in batch.outputs) > MEMO_BYTES // 8:
         return None
     digest = hashlib.blake2b(digest_size=20)
     if not _digest(digest, (batch.seed, batch.inputs, batch.outputs)):

@@ -37,7 +37,8 @@ def episodes(world, learning, schedule, q, log, state, buffers):
                 if not done[i]:
                     actions[i] = epsilon_greedy(q[i, s], exploit, state)
             if n_agents == 2:  # the chapter's case, on the rules' fast path
-                collisions = rules.step_pair(world, cells, done, actions, new_cells, rewards, bumped, collided, reached, (0, 1))
+                collisions = rules.step_pair(world, cells, done, actions, new_cells, rewards, bumped, collided, reached,
+                                             (0, 1))
             else:
                 collisions = rules.step(world, cells, done, actions, new_cells, rewards, bumped, collided, reached)
             s_next = joint_index(new_cells, n_cells)

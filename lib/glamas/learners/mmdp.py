@@ -46,7 +46,8 @@ def episodes(world, learning, schedule, q, log, state, buffers):
             joint = epsilon_greedy(table[s], exploit, state)
             split_joint_action(joint, actions)
             if n_agents == 2:  # the chapter's case, on the rules' fast path
-                collisions = rules.step_pair(world, cells, done, actions, new_cells, rewards, bumped, collided, reached, (0, 1))
+                collisions = rules.step_pair(world, cells, done, actions, new_cells, rewards, bumped, collided, reached,
+                                             (0, 1))
             else:
                 collisions = rules.step(world, cells, done, actions, new_cells, rewards, bumped, collided, reached)
             finished = True
