@@ -34,11 +34,12 @@ def pair_step(world, learning, q, pair, state, buffers):
     as the general step. Returns the number of collisions."""
     cells, done, actions, new_cells, rewards, bumped, collided, reached, acc = buffers
     alpha, gamma, exploit = learning.q_learning_rate, learning.discount, learning.exploit_prob
-    for i in pair:
-        actions[i] = epsilon_greedy(q[i, cells[i]], exploit, state)
+    i, j = pair  # written out for i and j: a loop over the pair costs the loop its speed
+    actions[i] = epsilon_greedy(q[i, cells[i]], exploit, state)
+    actions[j] = epsilon_greedy(q[j, cells[j]], exploit, state)
     collisions = rules.step_pair(world, cells, done, actions, new_cells, rewards, bumped, collided, reached, pair)
-    for i in pair:
-        q_update(q[i], cells[i], actions[i], rewards[i], new_cells[i], reached[i], alpha, gamma)
+    q_update(q[i], cells[i], actions[i], rewards[i], new_cells[i], reached[i], alpha, gamma)
+    q_update(q[j], cells[j], actions[j], rewards[j], new_cells[j], reached[j], alpha, gamma)
     return collisions
 
 

@@ -303,17 +303,17 @@ def pair_step(world, learning, automata, q, u, need_counts, pair, state, arrays)
     in_range, buffers, agents, _ = arrays
     cells, done, actions, new_cells, rewards, bumped, collided, reached, acc = buffers
     choices, preferred, probs, inputs = agents
-    i, j = pair
+    i, j = pair  # written out for i and j: a loop over the pair costs the loop its speed
     delta = rules.manhattan(world.n_cols, cells[i], cells[j])
     x = inputs[i]  # both agents' GLAs see the same input
     x[0] = delta * automata.gla_delta_scale
-    for k in pair:
-        if learn_first_level:
-            choices[k] = gla.act(u[k], x, temperature, L, bounding, probs[k], state)
-        else:
-            choices[k] = COORDINATE if delta < rule_distance else ACT_ALONE
-    for k in pair:
-        preferred[k] = epsilon_greedy(q[k, cells[k]], exploit, state)
+    if learn_first_level:
+        choices[i] = gla.act(u[i], x, temperature, L, bounding, probs[i], state)
+        choices[j] = gla.act(u[j], x, temperature, L, bounding, probs[j], state)
+    else:
+        choices[i] = choices[j] = COORDINATE if delta < rule_distance else ACT_ALONE
+    preferred[i] = epsilon_greedy(q[i, cells[i]], exploit, state)
+    preferred[j] = epsilon_greedy(q[j, cells[j]], exploit, state)
     coming, both = first_level(next_cell, is_goal, cells, done, choices, preferred, pair)
     actions[i], actions[j] = preferred[i], preferred[j]
     if both and coming:
@@ -325,13 +325,14 @@ def pair_step(world, learning, automata, q, u, need_counts, pair, state, arrays)
     if need == NEED_OUTCOME:
         needed = collisions > 0
     need_counts[delta, 1 if needed else 0] += 2  # both agents observe: same delta, same need
-    for k in pair:
-        q_update(q[k], cells[k], actions[k], rewards[k], new_cells[k], reached[k], alpha, gamma)
+    q_update(q[i], cells[i], actions[i], rewards[i], new_cells[i], reached[i], alpha, gamma)
+    q_update(q[j], cells[j], actions[j], rewards[j], new_cells[j], reached[j], alpha, gamma)
     if learn_first_level:
-        for k in pair:
-            beta = gla_feedback(feedback, automata.coordination_penalty_per_cell, choices[k], needed, both, delta)
-            gla.update(u[k], x, choices[k], beta, automata.gla_learning_rate, temperature, automata.gla_K, L,
-                       bounding, probs[k])
+        penalty, rate, K = automata.coordination_penalty_per_cell, automata.gla_learning_rate, automata.gla_K
+        beta_i = gla_feedback(feedback, penalty, choices[i], needed, both, delta)
+        gla.update(u[i], x, choices[i], beta_i, rate, temperature, K, L, bounding, probs[i])
+        beta_j = gla_feedback(feedback, penalty, choices[j], needed, both, delta)
+        gla.update(u[j], x, choices[j], beta_j, rate, temperature, K, L, bounding, probs[j])
     return collisions
 
 
