@@ -169,7 +169,7 @@ def test_2observe_pair_step_plays_the_group_step_for_two_agents(reading):
         u = draws.uniform(-3.0, 3.0, (2, 2, two_observe.N_GLA_INPUTS))
         steps = []
         for step in ("pair", "group"):
-            arrays = two_observe.per_run(world)
+            arrays = (*two_observe.per_run(world), two_observe.group_arrays(world))
             _, buffers, agents, _ = arrays
             buffers[0][:], buffers[1][:], buffers[-1][:] = (a, b), False, 0.0  # cells, done, episode counters
             agents[2][:] = 0.0  # GLA probabilities: written only where the GLAs act

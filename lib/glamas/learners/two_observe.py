@@ -264,14 +264,20 @@ def coordinate_group(next_cell, is_goal, cells, done, choices, preferred, action
 
 @njit(cache=True, inline="always")
 def per_run(world):
-    """The per-run arrays of :func:`episodes`: the in-range table, the step buffers, each agent's
-    level-one choice, preferred action (an action even for agents already done:
-    rules.would_collide reads it), GLA probabilities and GLA input, and :func:`group_step`'s."""
+    """The per-run arrays of :func:`episodes_two`: the in-range table, the step buffers, and each
+    agent's level-one choice, preferred action (an action even for agents already done:
+    rules.would_collide reads it), GLA probabilities and GLA input."""
     n = world.starts.shape[0]
     agents = (np.empty(n, np.int64), np.zeros(n, np.int64), np.empty((n, 2)), np.ones((n, N_GLA_INPUTS)))
-    group = (np.empty(n, np.int64), np.empty(n, np.int64), np.empty(n, np.bool_), np.empty(n, np.bool_),
-             np.empty(n, np.int64), np.empty(n, np.bool_), rules.distance_table(world.next_cell.shape[0], world.n_cols))
-    return rules.in_range_table(world.next_cell, world.is_goal), ep.buffers(n), agents, group
+    return rules.in_range_table(world.next_cell, world.is_goal), ep.buffers(n), agents
+
+
+@njit(cache=True, inline="always")
+def group_arrays(world):
+    """:func:`group_step`'s per-run arrays, which :func:`episodes` adds to :func:`per_run`'s."""
+    n = world.starts.shape[0]
+    return (np.empty(n, np.int64), np.empty(n, np.int64), np.empty(n, np.bool_), np.empty(n, np.bool_),
+            np.empty(n, np.int64), np.empty(n, np.bool_), rules.distance_table(world.next_cell.shape[0], world.n_cols))
 
 
 @njit(cache=True, nogil=True)
@@ -283,14 +289,14 @@ def run_two(world, learning, automata, schedule, q, u, need_counts, log, state):
 @njit(cache=True, nogil=True)
 def run(world, learning, automata, schedule, q, u, need_counts, log, state):
     """One run of Alg. 4 for any number of agents (:func:`episodes`)."""
-    episodes(world, learning, automata, schedule, q, u, need_counts, log, state, per_run(world))
+    episodes(world, learning, automata, schedule, q, u, need_counts, log, state, (*per_run(world), group_arrays(world)))
 
 
 @njit(cache=True, inline="always")
 def pair_step(world, learning, automata, q, u, need_counts, pair, state, arrays):
     """One step of Alg. 4 for the agents ``pair = (i, j)``, i < j, when every other agent is in
     the goal (the chapter's two agents); learns in ``q`` and ``u``, counts the step in
-    ``need_counts`` and returns the number of collisions. ``arrays``: as :func:`episodes`.
+    ``need_counts`` and returns the number of collisions. ``arrays``: :func:`per_run`'s first.
 
     The GLAs see ``[delta * gla_delta_scale, 1]``. ``rule_distance`` >= 0 replaces the GLAs by the
     fixed rule "coordinate when delta < rule_distance" (a diagnostic).
@@ -300,7 +306,7 @@ def pair_step(world, learning, automata, q, u, need_counts, pair, state, arrays)
     temperature, L, bounding = automata.gla_temperature, automata.gla_L, automata.gla_bounding
     need, rule_distance, feedback = automata.gla_need, automata.rule_distance, automata.gla_feedback
     learn_first_level = rule_distance < 0
-    in_range, buffers, agents, _ = arrays
+    in_range, buffers, agents = arrays[:3]
     cells, done, actions, new_cells, rewards, bumped, collided, reached, acc = buffers
     choices, preferred, probs, inputs = agents
     i, j = pair  # written out for i and j: a loop over the pair costs the loop its speed
@@ -339,10 +345,10 @@ def pair_step(world, learning, automata, q, u, need_counts, pair, state, arrays)
 @njit(cache=True, inline="always")
 def group_step(world, learning, automata, q, u, need_counts, state, arrays):
     """One step of Alg. 4 for any number of acting agents, with the group coordination of the
-    module docstring; as :func:`pair_step` otherwise. ``arrays``: as :func:`episodes`; its
-    ``group`` holds each agent's nearest other agent and its distance, whether a collision is
-    coming, its need, the coordination order and who keeps its action (:func:`coordinate_group`),
-    and the distance table."""
+    module docstring; as :func:`pair_step` otherwise. ``arrays``: :func:`per_run`'s, then
+    ``group`` (:func:`group_arrays`): each agent's nearest other agent and its distance, whether a
+    collision is coming, its need, the coordination order and who keeps its action
+    (:func:`coordinate_group`), and the distance table."""
     in_range, buffers, agents, group = arrays
     next_cell, is_goal, n_agents = world.next_cell, world.is_goal, world.starts.shape[0]
     alpha, gamma = learning.q_learning_rate, learning.discount
