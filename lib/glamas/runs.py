@@ -178,9 +178,8 @@ class Scratch:
         return len(self.shape)
 
     def runs(self, start: int, stop: int) -> "Scratch":
-        """Runs ``start`` to ``stop - 1`` (as slicing an array's first axis)."""
-        return Scratch((len(range(*slice(start, stop).indices(self.shape[0]))), *self.shape[1:]), self.dtype,
-                       self.value)
+        """Runs ``start`` to ``stop - 1`` (as slicing an array's first axis; ``start`` < runs)."""
+        return Scratch((min(stop, self.shape[0]) - start, *self.shape[1:]), self.dtype, self.value)
 
 
 def run_batches(kernel, inputs: tuple, outputs: tuple, seed: int, *, workers=None,

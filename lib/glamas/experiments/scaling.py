@@ -9,7 +9,7 @@ number of agents changes between the maps. Every learner runs through its regist
 a learner's tables only when they fit the memory budget (computed from its spec before allocating;
 otherwise the learner is skipped at that N and the reason recorded), trains it and keeps
 agent-mean learning curves. ``measure`` turns the curves
-and the measured table sizes into per-(method, N) numbers and growth rates fitted over N, from
+and the table sizes into per-(method, N) numbers and growth rates fitted over N, from
 which the claims of ``data/chapter/scaling.json`` get their verdicts.
 
 The related-work learners of :mod:`glamas.experiments.related_work` join the study in their N-agent
@@ -164,7 +164,7 @@ def memory_needed(config: ScalingConfig, method: str, gridmap: GridMap) -> int:
 
 @dataclass(frozen=True)
 class ScalingResult:
-    """Agent-mean learning curves and measured table sizes for every (method, N), all arrays."""
+    """Agent-mean learning curves and table sizes for every (method, N), all arrays."""
 
     config: ScalingConfig
     """The configuration that produced the arrays."""
@@ -175,8 +175,8 @@ class ScalingResult:
     ran: np.ndarray
     """bool (methods, agents): whether the learner ran (False: its tables exceed the budget)."""
     table_shapes: np.ndarray
-    """int (methods, agents, 3): (tables, states, actions) of the Q tables per run: of the tables
-    the runs filled where the learner ran, computed where it was skipped."""
+    """int (methods, agents, 3): (tables, states, actions) of the Q tables per run, from the
+    learner's spec: the tables its runs fill, or would fill where it was skipped."""
     gla_parameters: np.ndarray
     """int (methods, agents): GLA parameters per run (2observe: 4 per agent)."""
     joint_entries: np.ndarray
@@ -252,7 +252,6 @@ def run(config: ScalingConfig = ScalingConfig(), seed: int = 0, workers=None, pr
     # and small jobs keep every worker busy until the last runs are done.
     runs.run_many([batch for *_, batch, _ in trainings.values()], workers=workers, progress=progress, chunk=1)
     for (k, j), (learner, settings, gridmap, _, outputs) in trainings.items():
-        shapes[k, j] = outputs["q"].shape[1:]
         joints[k, j] = learner.joint_learned(outputs, settings, gridmap).mean()
         ran[k, j] = True
         log[k, j] = agent_means(outputs["log"])

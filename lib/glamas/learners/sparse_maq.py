@@ -244,9 +244,9 @@ def episodes(world, learning, coordination, schedule, q, q_pairs, log, state, bu
         ep.start_episode(starts, cells, done, acc)
         t = 0
         while t < max_steps and not ep.all_done(done):
-            lone, other = ep.few_acting(done)
-            if lone >= 0 and other < 0:  # the others are in the goal: nobody to coordinate with, u -> u
-                lone_step(world, learning, q, lone, state, buffers)
+            first, second = ep.few_acting(done)
+            if first >= 0 and second < 0:  # the others are in the goal: nobody to coordinate with, u -> u
+                lone_step(world, learning, q, first, state, buffers)
                 t += 1
                 ep.end_step(t, cells, done, new_cells, rewards, reached, 0, acc)
                 continue
@@ -254,9 +254,9 @@ def episodes(world, learning, coordination, schedule, q, q_pairs, log, state, bu
                 acting[i] = not done[i]
             acc[coordinations_column] += match_pairs(coordination, distances, cells, acting, partner, rows)
             choose_actions(q, q_pairs, cells, done, partner, rows, learning.exploit_prob, actions, joint, state)
-            if other >= 0:  # two agents act: the rules' two-agent path
+            if second >= 0:  # two agents act: the rules' two-agent path
                 collisions = rules.step_pair(world, cells, done, actions, new_cells, rewards, bumped, collided, reached,
-                                             (lone, other))
+                                             (first, second))
             else:
                 collisions = rules.step(world, cells, done, actions, new_cells, rewards, bumped, collided, reached)
             for i in range(n_agents):
