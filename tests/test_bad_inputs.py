@@ -217,8 +217,11 @@ def test_a_worker_process_killed_mid_run_is_reported_at_once():
             workers = [p for p in psutil.Process().children(recursive=True) if "popen_loky" in " ".join(p.cmdline())]
             if workers:
                 time.sleep(0.5)  # let it start its job
-                workers[0].kill()
-                return
+                try:
+                    workers[0].kill()
+                    return
+                except (psutil.NoSuchProcess, ProcessLookupError):
+                    pass  # a worker of an earlier pool, gone meanwhile: look again
             time.sleep(0.05)
 
     killer = threading.Thread(target=kill_a_worker, daemon=True)
