@@ -2,7 +2,9 @@
 
 A Q table is a 2-d float array, one row per state and one column per action. Nothing here
 allocates, so the episode loops can call these functions every step; they are inlined into the
-kernels (``inline="always"``), where a call would cost more than the work.
+kernels, where a call would cost more than the work: by numba (``inline="always"``), or, for
+``q_update`` and ``greedy``, which the loops call at several places, by LLVM, which costs compile
+time once instead of at every place (:mod:`glamas.learners.episode`).
 """
 
 from typing import NamedTuple
@@ -23,7 +25,7 @@ class QLearning(NamedTuple):
     """Probability of the greedy action (:func:`epsilon_greedy`)."""
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)  # inlined by LLVM (module docstring)
 def q_update(q, s, a, r, s_next, terminal, alpha, gamma):
     """Eq. 11: Q(s, a) <- (1 - alpha) Q(s, a) + alpha (r + gamma max_a' Q(s', a')).
 
@@ -71,7 +73,7 @@ def nth_best(q_row, best, pick):
     return q_row.shape[0] - 1  # not reached: pick < ties
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)  # inlined by LLVM (module docstring)
 def greedy(q_row, state):
     """argmax_a q_row[a], ties broken uniformly at random (one draw, only when there is a tie)."""
     best, ties = best_and_ties(q_row)

@@ -9,8 +9,14 @@ run stays small. The blocks are given by their ``edges`` (block k holds the epis
 first episodes, where learning happens, are resolved as well as the last ones.
 
 Each learner's run kernel is two functions: ``run`` allocates the run's buffers and calls its
-episode loop (``episodes``), compiled with the :data:`LOOP` options. The helpers here, like all
-the pieces of the step loops, are inlined into the loop (``inline="always"``). The loop allocates
+episode loop (``episodes``), compiled with the :data:`LOOP` options. The helpers here, like the
+pieces of the step loops, are inlined into the loop by numba (``inline="always"``), except the
+small ones called at many places (``rng.next_u64``, ``qlearning.q_update`` and
+``qlearning.greedy``): numba's inlining copies a piece, and every piece inlined into it, at each
+place it is called and compiles every copy, so these are compiled once and left for LLVM to inline
+(which it does: the loops' machine code has no call to them). That halved the compile time of the
+two-agent loops (independent learners from 10 to 6 s, 2observe from 18 to 10 s) and did not change
+their speed. The loop allocates
 nothing, so it is compiled without numba's reference counting (``_nrt=False``): numba otherwise
 counts references on the arrays the loop hands to its inlined pieces, at every step, whenever a
 piece uses an array on some of its paths only, and that counting cost sparse MAQ's loop more than
