@@ -16,13 +16,14 @@ small ones called at many places (``rng.next_u64``, ``qlearning.q_update`` and
 place it is called and compiles every copy, so these are compiled once and left for LLVM to inline
 (which it does: the loops' machine code has no call to them). That halved the compile time of the
 two-agent loops (independent learners from 10 to 6 s, 2observe from 18 to 10 s) and did not change
-their speed. The loop allocates
-nothing, so it is compiled without numba's reference counting (``_nrt=False``): numba otherwise
-counts references on the arrays the loop hands to its inlined pieces, at every step, whenever a
-piece uses an array on some of its paths only, and that counting cost sparse MAQ's loop more than
-its learning (175 against 47 ns per step for two agents, the same results). The arrays stay alive
-in ``run``, which holds them until the loop returns. The loops use numpy's error model (no
-zero-division checks; no divisor in them can be zero).
+their speed.
+
+The loop allocates nothing, so it is compiled without numba's reference counting (``_nrt=False``):
+numba otherwise counts references on the arrays the loop hands to its inlined pieces, at every
+step, whenever a piece uses an array on some of its paths only, and that counting cost sparse
+MAQ's loop more than its learning (175 against 47 ns per step for two agents, the same results).
+The arrays stay alive in ``run``, which holds them until the loop returns. The loops use numpy's
+error model (no zero-division checks; no divisor in them can be zero).
 
 A log row has the same layout for any number of agents N (:func:`n_columns`): N columns of steps
 (the steps agent i took to reach the goal, the cap if it did not), N columns of reward (agent i's
