@@ -142,9 +142,8 @@ def step(world, cells, done, actions, new_cells, rewards, bumped, collided, reac
 def step_pair(world, cells, done, actions, new_cells, rewards, bumped, collided, reached, pair):
     """:func:`step` for the agents ``pair = (i, j)`` when every other agent is in the goal (the
     chapter's two agents are (0, 1), and one of them may be in the goal too); fills agent i's and
-    j's entries of the output arrays. Two agents
-    collide at most once and bounce to distinct cells, so the later rounds of :func:`step` never
-    find anything.
+    j's entries of the output arrays. Two agents collide at most once and bounce to distinct
+    cells, so the later rounds of :func:`step` never find anything.
 
     Every array is read and written outside the branches, the rules applied to scalars in
     between, as in :func:`step`: the compiler keeps the scalars in registers.

@@ -34,8 +34,7 @@ written for two, plays (same random numbers, Q tables, GLA parameters and counts
 reading), so the episode loops step with :func:`pair_step` whenever two agents act, which is
 faster. The learner runs two agents on :func:`run_two`, whose loop has no group step and compiles
 in less time (10 s against 16 s), and more on :func:`run` (its spec's ``two_agent_kernel`` and
-``kernel``).
-``need_counts`` counts observing agent-steps per distance, without and with need:
+``kernel``). ``need_counts`` counts observing agent-steps per distance, without and with need:
 two agents observe at the same distance with the same need, so such a step counts twice.
 """
 
