@@ -34,7 +34,7 @@ def test_a_small_study_runs_and_summarises():
     result = fr.run(config, seed=1, workers=1)
     assert result.log.shape[:2] == (2, 2) and result.need_counts.shape == (2, 2, 9, 2)
     rows = fr.summary(result, config)
-    assert rows[1]["p_coordinate"].tolist() == [1.0, 1.0] + [0.0] * 6  # the rule, not its idle GLAs
+    assert rows[1]["coordinating"].tolist() == [1.0, 1.0] + [0.0] * 6  # the rule, not its idle GLAs
     assert "in_range, L=8" in fr.table(rows)
 
 

@@ -10,6 +10,7 @@ import numpy as np
 import pytest
 
 from glamas import claims
+from glamas.curves import convergence_episode, convergence_grid, convergence_ratio, grid_verdict
 from glamas.experiments import gridworld as gw
 from glamas.gridworld import MapError
 from glamas.paths import REPO
@@ -69,8 +70,8 @@ def test_final_and_convergence_episode_on_a_made_up_curve():
     episodes = np.arange(1, 11) * 100
     curves = np.array([[40.0, 30, 20, 12, 10.4, 10, 10, 10, 10, 10]] * 2)
     assert gw.final(curves, episodes) == 10.0  # the last 10 % of the episodes
-    assert gw.convergence_episode(curves, episodes) == 400.0  # 12 is the last block outside 5 %
-    assert gw.convergence_episode(np.full((2, 10), 3.0), episodes) == 0.0
+    assert convergence_episode(curves, episodes) == 400.0  # 12 is the last block outside 5 %
+    assert convergence_episode(np.full((2, 10), 3.0), episodes) == 0.0
 
 
 @pytest.fixture(scope="module")
@@ -171,10 +172,12 @@ def test_a_convergence_ratio_is_decided_only_when_its_interval_excludes_one():
     episodes = np.arange(1, 101)
     fast = np.where(episodes < 10, 50.0, 10.0) + np.zeros((20, 1))
     slow = np.where(episodes < 60, 50.0, 10.0) + np.zeros((20, 1))
-    m = {}
-    gw._decided_ratio(m, "r", gw.convergence_ratio(fast, slow, episodes))
-    assert m["r"] == pytest.approx(9 / 59) and "r:why_undecidable" not in m
+    point, low, high = convergence_ratio(fast, slow, episodes)
+    assert point == pytest.approx(9 / 59) and high < 1
+    assert grid_verdict(convergence_grid(fast, slow, episodes)) == "faster"
+    assert grid_verdict(convergence_grid(slow, fast, episodes)) == "slower"
     noisy = slow.copy()
     noisy[:10] = fast[:10]  # half the runs converge early, half late: the runs cannot order them
-    gw._decided_ratio(m, "r", gw.convergence_ratio(noisy, slow, episodes))
-    assert np.isnan(m["r"]) and "contains 1" in m["r:why_undecidable"]
+    _, low, high = convergence_ratio(noisy, slow, episodes, "run_mean")
+    assert low <= 1 <= high
+    assert grid_verdict(convergence_grid(noisy, slow, episodes, "run_mean")) == "undecidable"

@@ -152,8 +152,16 @@ def test_fixed_rule_first_level_replaces_the_glas():
     # coordinating at every distance: every observed step is a coordination
     observed = always.need_counts.sum(axis=(1, 2)) / 2  # each agent counts the step it observed
     assert np.allclose(always.curves("two_observe", "coordinations") @ always.widths(), observed)
-    # the GLAs do not learn under a fixed rule: the parameters keep their random initial values
+    # the GLAs do not learn under a fixed rule: the parameters keep their random initial values,
+    # which the result's gla_initial draws again from the runs' streams
     assert np.array_equal(never.gla_parameters, always.gla_parameters)
+    assert np.array_equal(never.gla_initial, never.gla_parameters)
+
+
+def test_the_initial_glas_are_drawn_in_the_init_range(small_result):
+    u = small_result.gla_initial
+    assert 0 < np.abs(u).max() <= SMALL.gla_init_range
+    assert not np.array_equal(u, small_result.gla_parameters)  # learning moved them
 
 
 # --- Fig. 10's readings of "need to coordinate" ------------------------------------------------

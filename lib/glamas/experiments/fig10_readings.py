@@ -22,6 +22,9 @@ from glamas.plotting import legend_below
 
 READINGS = {
     "in_range, L=8": {},
+    "in_range, L=8, init 1": {"gla_init_range": 1.0},
+    "in_range, L=8, unit delta": {"gla_delta_scale": "unit"},
+    "in_range, L=8, unit delta, init 1": {"gla_delta_scale": "unit", "gla_init_range": 1.0},
     "in_range, L=1": {"gla_L": 1.0},
     "in_range, unit delta, L=1": {"gla_delta_scale": "unit", "gla_L": 1.0},
     "in_range, coordinating never wrong": {"gla_feedback": ((1.0, 0.0), (1.0, 1.0))},
@@ -31,10 +34,12 @@ READINGS = {
     "no GLA: fixed rule delta <= 2": {"rule_distance": 3},
 }
 """Each reading as its changes to the 2observe defaults of GridworldConfig (the first is the
-default: need = in range, L = 8, the symmetric 1/0 table). 'sampled, L=1' is the reading this
-repository used before the text's own "range of interference" was read into it. The last is not a
-reading but the reference: the first level replaced by the rule the readings aim at, "coordinate
-when the agents could collide this step" (delta <= 2 is that rule for an agent that sees only delta)."""
+default: need = in range, L = 8, delta in cells, parameters initialised in [-0.1, 0.1], the
+symmetric 1/0 table). 'init 1' starts the parameters in [-1, 1], 'unit delta' divides delta by the
+map's largest distance. 'sampled, L=1' is the reading this repository used before the text's own
+"range of interference" was read into it. The last is not a reading but the reference: the first
+level replaced by the rule the readings aim at, "coordinate when the agents could collide this
+step" (delta <= 2 is that rule for an agent that sees only delta)."""
 
 DELTAS = np.arange(1, 9)
 """The distances at which the learned P(coordinate | delta) is reported (TunnelToGoal: 1 to 8)."""
@@ -72,6 +77,8 @@ class ReadingsResult:
     """(readings, runs, bins, columns): as GridworldResult.log for 2observe."""
     gla_parameters: np.ndarray
     """(readings, runs, agents, 2, 2): the final GLA parameters."""
+    gla_initial: np.ndarray
+    """(readings, runs, agents, 2, 2): the GLA parameters the runs started from."""
     need_counts: np.ndarray
     """(readings, runs, deltas, 2): observing agent-steps per distance without / with need."""
     episodes: np.ndarray
@@ -82,6 +89,7 @@ class ReadingsResult:
         return gw.GridworldResult(config=self.config.reading(self.config.readings[k]),
                                   learners=np.array([gw.LEARNERS.index("two_observe")]), log=self.log[k:k + 1],
                                   table_shapes=np.zeros((1, 3), np.int64), gla_parameters=self.gla_parameters[k],
+                                  gla_initial=self.gla_initial[k],
                                   need_counts=self.need_counts[k], episodes=self.episodes)
 
 
@@ -92,9 +100,11 @@ def run(config: ReadingsConfig = ReadingsConfig(), seed: int = 0, workers=None, 
     readings = [config.reading(name) for name in config.readings]
     work = [gw.trainings(reading, seed) for reading in readings]
     runs.run_many([batch for trainings in work for batch, _ in trainings], workers=workers, progress=progress)
-    parts = [gw.result_of(reading, [outputs for _, outputs in trainings]) for reading, trainings in zip(readings, work)]
+    parts = [gw.result_of(reading, [outputs for _, outputs in trainings], seed)
+             for reading, trainings in zip(readings, work)]
     return ReadingsResult(config=config, log=np.concatenate([p.log for p in parts]),
                           gla_parameters=np.stack([p.gla_parameters for p in parts]),
+                          gla_initial=np.stack([p.gla_initial for p in parts]),
                           need_counts=np.stack([p.need_counts for p in parts]), episodes=parts[0].episodes)
 
 
@@ -109,40 +119,47 @@ def with_baselines(result: ReadingsResult, k: int, baselines: gw.GridworldResult
 
 
 def summary(result: ReadingsResult, config: ReadingsConfig, baselines: gw.GridworldResult | None = None) -> list[dict]:
-    """Per reading: final steps, reward, collisions and coordinations, the mean learned
-    P(coordinate | delta) at DELTAS and, given the ``baselines``, the Section 5.3 claim rows."""
+    """Per reading: final steps, reward, collisions and coordinations, the share of final GLAs that
+    coordinate (P(coordinate) > 1/2) at each of DELTAS, the shares of GLAs stuck on a saturated
+    wrong choice at the start and at the end (gw.stuck_share) and, given the ``baselines``, the
+    Section 5.3 claim rows."""
     rows = []
     for k, name in enumerate(config.readings):
         alone = result.gridworld_result(k)
+        reading = config.reading(name)
         m = gw.measure(alone)
-        p = _coordination(alone, config.reading(name))
+        learns = reading.rule_distance is None
         row = {"reading": name, "steps": m["steps_two_observe"], "reward": m["reward_two_observe"],
                "collisions": m["collisions_two_observe"], "coordinations": m["coordinations_two_observe"],
-               "p_coordinate": p}
+               "coordinating": coordinating_share(alone, reading),
+               "stuck_at_start": gw.stuck_share(alone.gla_initial, reading) if learns else math.nan,
+               "stuck_at_end": gw.stuck_share(alone.gla_parameters, reading) if learns else math.nan}
         if baselines is not None:
             row["claims"] = gw.claim_rows(with_baselines(result, k, baselines))
         rows.append(row)
     return rows
 
 
-def _coordination(result: gw.GridworldResult, config: gw.GridworldConfig) -> np.ndarray:
-    """P(coordinate | delta) at DELTAS: the final GLAs' mean, or the fixed rule's 0/1."""
-    if config.rule_distance is not None:
-        return (DELTAS < config.rule_distance).astype(float)
-    return gw.coordination_probability(result, config, DELTAS).mean(axis=(0, 1))
+def coordinating_share(result: gw.GridworldResult, config: gw.GridworldConfig) -> np.ndarray:
+    """At each of DELTAS, the share of 2observe's final GLAs that coordinate (probability above
+    1/2; the fixed rule's 0 or 1): how many GLAs learned to coordinate there, not an average
+    probability, which would read a mix of GLAs at 0 and at 1 as one soft GLA."""
+    return (gw.coordination_probability(result, config, DELTAS) > 0.5).mean(axis=(0, 1))
 
 
 def table(rows: list[dict]) -> str:
-    """The readings side by side: final values, learned P(coordinate | delta) and claim count."""
+    """The readings side by side: final values, the share of GLAs coordinating at each distance,
+    the shares of stuck GLAs at the start and the end, and the claim count."""
     head = (f"{'reading':36s} {'steps':>6s} {'reward':>6s} {'collis.':>7s} {'coord.':>6s}  "
-            f"P(coordinate | delta = {', '.join(str(d) for d in DELTAS)})")
+            f"coordinating at delta = {', '.join(str(d) for d in DELTAS)}   stuck start/end")
     if "claims" in rows[0]:
         head += "   claims reproduced"
     lines = [head]
     for row in rows:
-        p = " ".join(f"{v:4.2f}" for v in row["p_coordinate"])
+        shares = " ".join(f"{v:4.2f}" for v in row["coordinating"])
+        stuck = "   -   " if math.isnan(row["stuck_at_start"]) else f"{row['stuck_at_start']:.2f}/{row['stuck_at_end']:.2f}"
         line = (f"{row['reading']:36s} {row['steps']:6.2f} {row['reward']:6.1f} {row['collisions']:7.3f} "
-                f"{row['coordinations']:6.2f}  {p}")
+                f"{row['coordinations']:6.2f}  {shares:48s} {stuck:>9s}")
         if "claims" in row:
             line += f"   {sum(r['holds'] for r in row['claims'])} of {len(row['claims'])}"
         lines.append(line)
@@ -166,16 +183,23 @@ def _mark(row: dict) -> str:
     return "R" if row["holds"] else "-"
 
 
+def _colour(row: dict) -> str:
+    """A reading's colour in both panels: its place in READINGS among the ten of matplotlib's
+    cycle; the reference rule, the last reading, in black."""
+    k = list(READINGS).index(row["reading"])
+    return "black" if k == len(READINGS) - 1 else f"C{k % 10}"
+
+
 def plot_coordination(ax, rows: list[dict]):
-    """The learned P(coordinate | delta) under each reading (mean of the final GLAs), against the
+    """The share of final GLAs that coordinate at each distance under each reading, against the
     rule "coordinate when the agents could collide this step" (delta <= 2)."""
     for k, row in enumerate(rows):
-        ax.plot(DELTAS, row["p_coordinate"], "o-", label=f"{k + 1}: {row['reading']}",
+        ax.plot(DELTAS, row["coordinating"], "o-", label=f"{k + 1}: {row['reading']}", color=_colour(row),
                 linewidth=2.5 if k == 0 else 1.2)
     ax.step(DELTAS, (DELTAS <= 2).astype(float), where="mid", color="black", linestyle="--",
             label="could collide (delta <= 2)")
     ax.set_xlabel("delta (Manhattan distance between the agents)")
-    ax.set_ylabel("P(coordinate), learned")
+    ax.set_ylabel("share of GLAs that coordinate (P > 1/2)")
     ax.set_ylim(-0.03, 1.03)
     legend_below(ax, ncols=2)
 
@@ -184,7 +208,7 @@ def plot_collisions(ax, rows: list[dict]):
     """Final collisions per episode under each reading (log axis), against the chapter's "zero
     collisions" (at most one per 20 episodes, the claim's threshold)."""
     y = np.arange(len(rows))[::-1]
-    ax.barh(y, [row["collisions"] for row in rows], color=[f"C{k}" for k in range(len(rows))])
+    ax.barh(y, [row["collisions"] for row in rows], color=[_colour(row) for row in rows])
     ax.set_yticks(y, [f"{k + 1}: {row['reading']}" for k, row in enumerate(rows)], fontsize="small")
     ax.axvline(0.05, color="black", linestyle="--", linewidth=1, label="zero collisions (claim: <= 0.05)")
     ax.set_xscale("log")

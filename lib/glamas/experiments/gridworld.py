@@ -15,7 +15,8 @@ from matplotlib.ticker import NullFormatter
 
 from glamas import checks, figures, gla, results, runs
 from glamas import claims as chapter
-from glamas.curves import convergence_episode, convergence_ratio, final
+from glamas.curves import (DEFINITIONS, convergence_episode, convergence_episodes, convergence_grid,
+                           convergence_ratio, earlier_share, final, grid_verdict, level_episode)
 from glamas.gridworld import GridMap, dp, load_map, rules
 from glamas.learners import episode as ep
 from glamas.learners import registry, spec, two_observe
@@ -91,6 +92,9 @@ class GridworldResult:
     """int (n_learners, 3): (tables, states, actions) of each learner's final Q tables."""
     gla_parameters: np.ndarray
     """(runs, agents, 2 actions, 2 inputs): 2observe's final GLA parameters (zeros if not run)."""
+    gla_initial: np.ndarray
+    """(runs, agents, 2 actions, 2 inputs): the GLA parameters 2observe's runs started from
+    (zeros if not run)."""
     need_counts: np.ndarray
     """(runs, deltas, 2): 2observe's observing agent-steps per distance delta without / with need
     (``gla_need``; zeros if not run)."""
@@ -129,7 +133,7 @@ def run(config: GridworldConfig = GridworldConfig(), seed: int = 0, workers=None
     """
     work = trainings(config, seed)
     runs.run_many([batch for batch, _ in work], workers=workers, progress=progress)
-    return result_of(config, [outputs for _, outputs in work])
+    return result_of(config, [outputs for _, outputs in work], seed)
 
 
 def trainings(config: GridworldConfig, seed: int = 0) -> list:
@@ -139,16 +143,22 @@ def trainings(config: GridworldConfig, seed: int = 0) -> list:
                        registry.master_seed(seed, LEARNERS, name)) for name in config.learners]
 
 
-def result_of(config: GridworldConfig, outputs: list) -> GridworldResult:
-    """The result of ``config`` from its learners' filled outputs (:func:`trainings`, in order)."""
+def result_of(config: GridworldConfig, outputs: list, seed: int = 0) -> GridworldResult:
+    """The result of ``config`` and ``seed`` from its learners' filled outputs (:func:`trainings`,
+    in order)."""
     gridmap = config.gridmap()
     first_level = {key: np.stack([zeros] * config.runs) for key, zeros in two_observe.outputs(config, gridmap).items()}
     for learned in outputs:
         first_level.update({key: learned[key] for key in first_level.keys() & learned.keys()})
+    initial = np.zeros_like(first_level["u"])
+    if "two_observe" in config.learners:
+        initial = two_observe.initial_parameters(config, gridmap, registry.master_seed(seed, LEARNERS, "two_observe"),
+                                                 config.runs)
     codes = np.array([LEARNERS.index(name) for name in config.learners], dtype=np.int64)
     return GridworldResult(config=config, learners=codes, log=np.stack([learned["log"] for learned in outputs]),
                            table_shapes=np.array([learned["q"].shape[1:] for learned in outputs], dtype=np.int64),
-                           gla_parameters=first_level["u"], need_counts=first_level["need_counts"],
+                           gla_parameters=first_level["u"], gla_initial=initial,
+                           need_counts=first_level["need_counts"],
                            episodes=config.edges()[1:])
 
 
@@ -157,17 +167,17 @@ def load(config: GridworldConfig = GridworldConfig(), seed: int = 0, results_dir
     return STUDY.load(results_dir, config, seed)
 
 
-def _decided_ratio(m: dict, key: str, ratio: tuple[float, float, float]) -> None:
-    """Store ``ratio``'s point value under ``key`` when its interval excludes 1, else NaN with the
-    reason (the claim is then undecidable: the runs' spread cannot order the two learners)."""
-    point, low, high = ratio
-    m[f"{key}_point"], m[f"{key}_low"], m[f"{key}_high"] = point, low, high
-    if low <= 1.0 <= high:
-        m[key] = math.nan
-        m[f"{key}:why_undecidable"] = (f"ratio {point:.2f}, but its 95 % interval over runs "
-                                       f"[{low:.2f}, {high:.2f}] contains 1")
-    else:
-        m[key] = point
+ZERO_COLLISIONS = 0.05
+"""The learning curves' "zero collisions": at most one collision per 20 episodes. Exploration
+keeps a learner that has found a collision-free path colliding now and then."""
+ZERO_COLLISION_LEVELS = (0.02, 0.05, 0.1)
+"""The levels of "zero collisions" the notebook shows the fast-to-zero claims at."""
+FAST = 0.1
+"""'Relatively fast' (Sec. 5.3): within the first tenth of the run, the counterpart of the last
+tenth that the final values average."""
+SATURATED = 1e-3
+"""A GLA is saturated at a distance when its less likely choice has probability below this:
+eq. 13's gradient, proportional to that probability, has all but vanished there."""
 
 
 def measure(result: GridworldResult) -> dict:
@@ -179,13 +189,15 @@ def measure(result: GridworldResult) -> dict:
         m[f"reward_{name}"] = final(result.reward(name), x)
         m[f"collisions_{name}"] = final(result.curves(name, "collisions"), x)
         m[f"coordinations_{name}"] = final(result.curves(name, "coordinations"), x)
-        m[f"convergence_{name}"] = convergence_episode(result.steps(name), x)
+        m[f"convergence_{name}"] = float(np.median(convergence_episodes(result.steps(name), x)))
+        m[f"zero_collisions_after_{name}"] = zero_collisions_after(result, name)
         m[f"capped_episodes_{name}"] = float(result.curves(name, "capped").mean(axis=0) @ result.widths())
+    if "two_observe" in result.names():
+        m.update(first_level_shares(result))
     if {"two_observe", "independent", "mmdp"} <= set(result.names()):
         for base in ("independent", "mmdp"):
             m[f"steps_two_observe_minus_{base}"] = m["steps_two_observe"] - m[f"steps_{base}"]
-            _decided_ratio(m, f"convergence_two_observe_over_{base}",
-                           convergence_ratio(result.steps("two_observe"), result.steps(base), x))
+            m.update(convergence_comparison(result, "two_observe", base))
         m["reward_two_observe_over_mmdp"] = m["reward_two_observe"] / m["reward_mmdp"]
         m["reward_two_observe_minus_independent"] = m["reward_two_observe"] - m["reward_independent"]
         m["collisions_independent_off_3"] = abs(m["collisions_independent"] - 3.0)
@@ -193,8 +205,104 @@ def measure(result: GridworldResult) -> dict:
     return m
 
 
+def convergence_comparison(result: GridworldResult, name: str, base: str) -> dict:
+    """"``name`` converges faster than ``base``" under every definition of curves.DEFINITIONS, each
+    at every tolerance and block width of curves.convergence_grid. ``convergence_<name>_over_<base>``
+    decides the claims: the per-run ratio at the default tolerance and blocks, NaN (undecidable)
+    unless every tolerance and block width gives the same verdict, so that none of them can move
+    it; with ``_point``, ``_low``, ``_high`` and ``_verdict`` (the grid's). The run-mean and
+    shared-level definitions are kept beside it (suffixes ``_run_mean``, ``_shared_level``), and
+    ``..._earlier_share`` is the share of run pairs in which ``name``'s run converges first."""
+    key, x = f"convergence_{name}_over_{base}", result.episodes
+    curves, baseline = result.steps(name), result.steps(base)
+    m = {}
+    for definition in DEFINITIONS:
+        label = key if definition == "per_run" else f"{key}_{definition}"
+        point, low, high = convergence_ratio(curves, baseline, x, definition)
+        grid = convergence_grid(curves, baseline, x, definition)
+        verdict = grid_verdict(grid)
+        m.update({f"{label}_point": point, f"{label}_low": low, f"{label}_high": high, f"{label}_verdict": verdict})
+        m[label] = point if verdict != "undecidable" else math.nan
+        if verdict == "undecidable":
+            counts = {v: sum(_side(row) == v for row in grid) for v in ("faster", "undecidable", "slower")}
+            m[f"{label}{chapter.WHY_UNDECIDABLE}"] = (
+                f"ratio {point:.2f} [{low:.2f}, {high:.2f}], but over tolerances of 3 to 15 % and blocks 1 to 4 "
+                f"times as wide the 95 % intervals say faster {counts['faster']}, undecidable "
+                f"{counts['undecidable']} and slower {counts['slower']} times")
+    m[f"{key}_earlier_share"] = earlier_share(curves, baseline, x)
+    return m
+
+
+def _side(row: tuple) -> str:
+    """One row of curves.convergence_grid read as a verdict."""
+    *_, low, high = row
+    return "faster" if high < 1.0 else ("slower" if low > 1.0 else "undecidable")
+
+
+def zero_collisions_after(result: GridworldResult, name: str, level: float = ZERO_COLLISIONS) -> float:
+    """The share of the run after which learner ``name``'s mean collisions per episode stay at or
+    below ``level`` (1: they end above it, the learner never settles at zero collisions)."""
+    return level_episode(result.curves(name, "collisions"), result.episodes, level) / result.episodes[-1]
+
+
+def in_range_distances(gridmap: GridMap) -> tuple[np.ndarray, np.ndarray]:
+    """The distances at which two agents could collide in one step from some pair of cells (in
+    range of interference), and those at which they never can (out of range), on ``gridmap``."""
+    share = in_range_share(gridmap)
+    deltas = np.arange(share.size)
+    seen = ~np.isnan(share)
+    return deltas[seen & (share > 0)], deltas[seen & (share == 0) & (deltas > 0)]
+
+
+def chapter_settings(result: GridworldResult) -> GridworldConfig:
+    """The chapter learners' settings that made ``result`` (a related-work result keeps them as its
+    configuration's ``gridworld``)."""
+    return getattr(result.config, "gridworld", result.config)
+
+
+def first_level_shares(result: GridworldResult) -> dict:
+    """What 2observe's GLAs learned, GLA by GLA (Sec. 5.1: the first level decides whether the
+    agents are within each other's range of interference): the share of final GLAs that coordinate
+    (P(coordinate) > 1/2) at every in-range distance, that act alone at every out-of-range one,
+    and the share of GLAs saturated on the wrong choice somewhere (:func:`stuck_share`) at the
+    start of the runs and at their end."""
+    config = chapter_settings(result)
+    near, far = in_range_distances(config.gridmap())
+    p_near = coordination_probabilities(result.gla_parameters, config, near)
+    p_far = coordination_probabilities(result.gla_parameters, config, far)
+    return {"coordinates_in_range_share_two_observe": float((p_near > 0.5).all(axis=-1).mean()),
+            "alone_out_of_range_share_two_observe": float((p_far < 0.5).all(axis=-1).mean()),
+            "stuck_at_start_share_two_observe": stuck_share(result.gla_initial, config),
+            "stuck_at_end_share_two_observe": stuck_share(result.gla_parameters, config)}
+
+
+def stuck_share(u: np.ndarray, config: GridworldConfig) -> float:
+    """The share of the GLAs ``u`` (runs, agents, 2, 2) that :func:`stuck_glas` finds stuck."""
+    return float(stuck_glas(u, config).mean())
+
+
+def stuck_glas(u: np.ndarray, config: GridworldConfig) -> np.ndarray:
+    """bool (runs, agents): the GLAs ``u`` (runs, agents, 2, 2) saturated (SATURATED) on the wrong
+    choice at some distance of the map: acting alone where the agents could collide, or
+    coordinating where they cannot. From there eq. 13 can hardly bring them back."""
+    near, far = in_range_distances(config.gridmap())
+    wrong_near = coordination_probabilities(u, config, near) < SATURATED
+    wrong_far = coordination_probabilities(u, config, far) > 1.0 - SATURATED
+    return wrong_near.any(axis=-1) | wrong_far.any(axis=-1)
+
+
+def stuck_by_start(result: GridworldResult) -> dict:
+    """How 2observe's GLAs that end stuck (:func:`stuck_glas`) started: counts of all GLAs, of those
+    saturated on a wrong choice at the start, of those stuck at the end, and of those both."""
+    config = chapter_settings(result)
+    start, end = stuck_glas(result.gla_initial, config), stuck_glas(result.gla_parameters, config)
+    return {"GLAs": int(start.size), "saturated at the start": int(start.sum()),
+            "stuck at the end": int(end.sum()), "stuck at the end, saturated at the start": int((start & end).sum())}
+
+
 def summary_table(result: GridworldResult) -> str:
-    """Final values (last 10 % of the episodes, mean over runs) and convergence episode per learner,
+    """Final values (last 10 % of the episodes, mean over runs) and convergence episode (median
+    over runs of each run's own, curves.convergence_episodes) per learner,
     rounded to what 20 runs resolve."""
     m = measure(result)
     lines = [f"{'learner':24s} {'steps':>6s} {'reward':>7s} {'collisions':>10s} {'coordinations':>13s} "
@@ -213,7 +321,7 @@ def with_learner(result: GridworldResult, other: GridworldResult, name: str) -> 
     log = result.log.copy()
     log[k] = other.log[j]
     learned = registry.get(name).outputs(other.config, other.config.gridmap())
-    first_level = {"gla_parameters": "u", "need_counts": "need_counts"}
+    first_level = {"gla_parameters": "u", "gla_initial": "u", "need_counts": "need_counts"}
     return replace(result, log=log, **{field: getattr(other, field) for field, key in first_level.items() if key in learned})
 
 
@@ -254,8 +362,16 @@ def state_action_spaces(result: GridworldResult) -> list[dict]:
 
 def coordination_probability(result: GridworldResult, config: GridworldConfig, deltas) -> np.ndarray:
     """P(coordinate | delta) of 2observe's final GLAs (eq. 15), shape (runs, agents, len(deltas))."""
+    return coordination_probabilities(result.gla_parameters, config, deltas)
+
+
+def coordination_probabilities(u: np.ndarray, config: GridworldConfig, deltas) -> np.ndarray:
+    """P(coordinate | delta) (eq. 15) of the GLA parameters ``u`` (runs, agents, 2, 2), shape
+    (runs, agents, len(deltas)); under the fixed rule (``rule_distance``), its 0 or 1."""
+    if config.rule_distance is not None:
+        rule = (np.asarray(deltas) < config.rule_distance).astype(float)
+        return np.broadcast_to(rule, u.shape[:2] + rule.shape).copy()
     p = config.gla_params()
-    u = result.gla_parameters
     contexts = [np.array([delta * config.delta_scale(), 1.0]) for delta in deltas]
     probs = np.empty(2)
     out = np.empty(u.shape[:2] + (len(deltas),))
@@ -290,16 +406,41 @@ def in_range_share(gridmap: GridMap) -> np.ndarray:
 
 
 def convergence_report(result: GridworldResult) -> str:
-    """2observe's convergence ratios against each baseline, with their 95 % intervals and verdicts."""
-    m = measure(result)
-    lines = [f"{'':28s} {'episodes':>9s}"]
-    for name in result.names():
-        lines.append(f"{registry.label(name):28s} {m[f'convergence_{name}']:9.0f}")
+    """"2observe converges faster" against each baseline under every definition of
+    curves.DEFINITIONS at every block width and tolerance of curves.convergence_grid: the ratio of the convergence episodes, its 95 % interval over runs and its
+    verdict; per definition, the verdict that none of them moves (per_run decides the claims)."""
+    lines = [f"{'against':24s} {'definition':13s} {'blocks':>6s} {'tolerance':>9s} {'ratio':>7s} "
+             f"{'95 % interval':>16s}  verdict"]
     for base in ("independent", "mmdp"):
-        key = f"convergence_two_observe_over_{base}"
-        decided = "undecidable" if np.isnan(m[key]) else ("faster" if m[key] < 1 else "slower")
-        lines.append(f"2observe / {registry.label(base)}: ratio {m[f'{key}_point']:.3f}, 95 % interval over runs "
-                     f"[{m[f'{key}_low']:.3f}, {m[f'{key}_high']:.3f}]: {decided}")
+        for definition in DEFINITIONS:
+            grid = convergence_grid(result.steps("two_observe"), result.steps(base), result.episodes, definition)
+            for factor, tolerance, point, low, high in grid:
+                lines.append(f"{registry.label(base):24s} {definition:13s} {f'x{factor}':>6s} {tolerance:9.0%} "
+                             f"{point:7.3f} [{low:6.3f}, {high:6.3f}]  {_side((low, high))}")
+            lines.append(f"{registry.label(base):24s} {definition:13s} {'all':>6s} {'all':>9s} {'':7s} {'':16s}  "
+                         f"{grid_verdict(grid)}")
+    return "\n".join(lines)
+
+
+def convergence_spread(result: GridworldResult) -> str:
+    """Per learner: the episode after which its run-mean steps curve stays within 5 % of its final
+    value, beside the quartiles over runs of each run's own convergence episode."""
+    x = result.episodes
+    lines = [f"{'learner':24s} {'mean curve settles':>18s} {'runs settle: 25 %':>18s} {'median':>7s} {'75 %':>7s}"]
+    for name in result.names():
+        quartiles = np.percentile(convergence_episodes(result.steps(name), x), [25, 50, 75])
+        lines.append(f"{registry.label(name):24s} {convergence_episode(result.steps(name), x):18.0f} "
+                     + " ".join(f"{q:{w}.0f}" for q, w in zip(quartiles, (18, 7, 7))))
+    return "\n".join(lines)
+
+
+def zero_collisions_table(result: GridworldResult) -> str:
+    """Per learner, the share of the run after which its mean collisions per episode stay at or
+    below each level of ZERO_COLLISION_LEVELS (1.000: they end above it)."""
+    lines = [f"{'learner':24s} " + " ".join(f"{'<= ' + format(level, 'g'):>8s}" for level in ZERO_COLLISION_LEVELS)]
+    for name in result.names():
+        lines.append(f"{registry.label(name):24s} "
+                     + " ".join(f"{zero_collisions_after(result, name, level):8.3f}" for level in ZERO_COLLISION_LEVELS))
     return "\n".join(lines)
 
 
@@ -405,23 +546,21 @@ CHAPTER_COORDINATIONS = 4.0
 
 
 def plot_coordinations(ax, result):
-    """Fig. 12b: steps per episode on which both 2observe agents chose to coordinate, against the
-    chapter's "about four"."""
+    """Fig. 12b: steps per episode on which both 2observe agents chose to coordinate: every run
+    (faint), the median over runs and its interquartile range, against the chapter's "about four".
+    The median, not the mean: a few runs whose GLAs coordinate far from need would pull a mean up."""
+    x, per_run = result.episodes, result.curves("two_observe", "coordinations")
+    style = learner_style("two_observe")
+    for curve in per_run:
+        ax.plot(x, curve, alpha=0.2, linewidth=0.6, **style)
+    low, median, high = np.percentile(per_run, [25, 50, 75], axis=0)
+    ax.fill_between(x, low, high, alpha=0.3, linewidth=0, label="2observe, interquartile range over runs", **style)
+    ax.plot(x, median, linewidth=2.2, label="2observe, median over runs (faint: each run)", **style)
     ax.axhline(CHAPTER_COORDINATIONS, color="black", linestyle=":", linewidth=1.2,
                label='the chapter: "about four" per episode')
-    _plot_learners(ax, result, lambda name: result.curves(name, "coordinations"),
-                   "coordinations per episode", learners=["two_observe"])
-
-
-def plot_variants(ax, results: dict, metric: str, learner: str = "two_observe"):
-    """One learner's curve of ``metric`` ('steps', 'reward', 'collisions' or 'coordinations')
-    for several configurations: ``results`` maps a label to a result."""
-    for label, result in results.items():
-        values = result.curves(learner, metric)
-        plot_mean_band(ax, result.episodes, values, label)
     ax.set_xscale("log")
     ax.set_xlabel("episode")
-    ax.set_ylabel(f"{metric} per episode")
+    ax.set_ylabel("coordinations per episode")
     legend_below(ax)
 
 

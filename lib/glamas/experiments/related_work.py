@@ -99,7 +99,7 @@ def run(config: RelatedWorkConfig = RelatedWorkConfig(), seed: int = 0, workers=
                           registry.master_seed(seed, RELATED_LEARNERS, name, registry.get(name).family))
                for name in config.learners]
     runs.run_many([batch for batch, _ in chapter + related], workers=workers, progress=progress)
-    chapter_result = gw.result_of(base, [outputs for _, outputs in chapter])
+    chapter_result = gw.result_of(base, [outputs for _, outputs in chapter], seed)
     shapes = np.array([outputs["q"].shape[1:] for _, outputs in related], dtype=np.int64).reshape(-1, 3)
     learned = np.array([registry.get(name).joint_learned(outputs, settings, gridmap)
                         for name, (_, outputs) in zip(config.learners, related)]).reshape(-1, base.runs)
@@ -112,7 +112,8 @@ def run(config: RelatedWorkConfig = RelatedWorkConfig(), seed: int = 0, workers=
     return RelatedWorkResult(
         config=config, learners=np.array([learner_codes().index(name) for name in names], dtype=np.int64),
         log=np.concatenate([chapter_result.log, log]), table_shapes=shapes,
-        gla_parameters=chapter_result.gla_parameters, need_counts=chapter_result.need_counts,
+        gla_parameters=chapter_result.gla_parameters, gla_initial=chapter_result.gla_initial,
+        need_counts=chapter_result.need_counts,
         episodes=chapter_result.episodes, **storage(names, shapes, learned, settings, gridmap), cq_marked=marked)
 
 
@@ -167,7 +168,7 @@ def measure(result: RelatedWorkResult, config: RelatedWorkConfig) -> dict:
         if "mmdp" in names:
             m[f"reward_{name}_over_mmdp"] = m[f"reward_{name}"] / m["reward_mmdp"]
             m[f"q_entries_{name}_over_mmdp"] = m[f"q_entries_{name}"] / m["q_entries_mmdp"]
-            m[f"convergence_{name}_over_mmdp"] = m[f"convergence_{name}"] / m["convergence_mmdp"]
+            m.update(gw.convergence_comparison(result, name, "mmdp"))
         if "independent" in names:
             m[f"reward_{name}_minus_independent"] = m[f"reward_{name}"] - m["reward_independent"]
     return m

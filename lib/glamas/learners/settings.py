@@ -48,8 +48,11 @@ class LearningSettings:
     u.x draw a sharp boundary at any distance the map has."""
     gla_bounding: str = "clip"
     """h of eq. 14: 'clip' or 'printed' (see glamas.gla)."""
-    gla_init_range: float = 1.0
-    """GLA parameters start uniform in [-gla_init_range, gla_init_range] ("initialised randomly")."""
+    gla_init_range: float = 0.1
+    """GLA parameters start uniform in [-gla_init_range, gla_init_range] ("initialised randomly",
+    range not stated). 0.1 keeps every start learnable: with delta up to 8 cells and T = 0.5 no
+    logit exceeds 1.8, as Sec. 4's GLAs start on inputs in [-1, 1]; a range of 1 saturates some
+    GLAs at delta >= 3 from the first step, where eq. 13's gradient has vanished."""
     gla_delta_scale: str = "cells"
     """The GLA context [delta, 1]: delta in 'cells', or 'unit' (divided by the map's largest
     distance, into [0, 1] like Sec. 4's inputs)."""

@@ -126,6 +126,16 @@ def init_glas(u, init_range, state):
                 u[i, j, k] = init_range * (2.0 * rng.uniform(state) - 1.0)
 
 
+def initial_parameters(settings, gridmap: GridMap, master_seed: int, n_runs: int) -> np.ndarray:
+    """(runs, agents, 2 actions, 2 inputs): the GLA parameters each run starts from. They are the
+    first draws of the run's stream (:func:`glamas.rng.chunk_states`), which :func:`init_glas`
+    makes at the start of the kernel, so they are drawn here again rather than carried out."""
+    u = np.zeros((n_runs, gridmap.n_agents, 2, N_GLA_INPUTS))
+    for r, state in enumerate(rng.chunk_states(master_seed, 0, n_runs)):
+        init_glas(u[r], float(settings.gla_init_range), state)
+    return u
+
+
 @njit(cache=True, inline="always")
 def yield_at_random(preferred, actions, pair, state):
     """Section 5.2's coordination of the agents ``pair``: one of them (picked at random) keeps
