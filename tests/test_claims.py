@@ -5,6 +5,8 @@ wrong measurements come from wrong results of the right shape, through the measu
 import json
 import math
 
+from dataclasses import replace
+
 import numpy as np
 import pytest
 
@@ -112,6 +114,7 @@ FIG5_WRONG = {
     "region_2_plays_RR": _plays_everywhere(single_gla.lineworld.LEFT),
     "region_3_moves_apart": _plays_everywhere(single_gla.lineworld.RIGHT),
     "agent_a_best_response": _agent_at_random(0),
+    "agent_b_best_response": _agent_at_random(1),
     "agent_a_learns_its_line": _agent_at_random(0),
     "agent_b_as_good_as_a_line": _agent_at_random(1),
 }
@@ -124,12 +127,49 @@ def test_fig5_claims_fail_on_wrong_lines(claim_id):
 
 
 def test_fig5_lines_like_the_learned_ones_pass_all_but_the_diagonal():
-    # region 3 is left out: these lines give exactly half of it, and the coarse grid decides the side
+    # B's line gives up one half of region 3, as B's best single lines do: all of the ceiling
     rows = single_gla.claim_rows(_fig5_result(_chapter_lines()))
-    verdicts = {row["claim"].id: row["verdict"] for row in rows if row["claim"].id != "region_3_moves_apart"}
+    verdicts = {row["claim"].id: row["verdict"] for row in rows}
     assert verdicts == {"region_1_plays_LL": "reproduced", "region_2_plays_RR": "reproduced",
-                        "agent_a_best_response": "reproduced", "agent_a_learns_its_line": "NOT reproduced",
+                        "region_3_moves_apart": "reproduced", "agent_a_best_response": "reproduced",
+                        "agent_b_best_response": "reproduced", "agent_a_learns_its_line": "NOT reproduced",
                         "agent_b_as_good_as_a_line": "reproduced"}
+
+
+def _lines_in_region_3(a_offset, b_offset):
+    """Lines parallel to the diagonal: A plays L above x2 = x1 + a_offset, B above x2 = x1 + b_offset."""
+    params = np.zeros((FIG5.runs, 2, 2, 3))
+    params[:, 0, single_gla.lineworld.LEFT] = [-1.0, 1.0, -a_offset]
+    params[:, 1, single_gla.lineworld.LEFT] = [-1.0, 1.0, -b_offset]
+    return params
+
+
+def test_region_3_claim_fails_when_the_move_apart_cell_is_too_narrow():
+    # the cell between the lines holds (R, L) only where -0.2 < x2 - x1 < 0: well under half the ceiling
+    rows = single_gla.claim_rows(_fig5_result(_lines_in_region_3(0.0, -0.2)))
+    assert {row["claim"].id: row["verdict"] for row in rows}["region_3_moves_apart"] == "NOT reproduced"
+
+
+@pytest.mark.parametrize("eval_grid", [40, 80, 160])
+@pytest.mark.parametrize("b_offset, verdict", [(-0.45, "reproduced"), (-0.15, "NOT reproduced")])
+def test_region_3_share_of_ceiling_does_not_move_with_the_grid(eval_grid, b_offset, verdict):
+    config = replace(FIG5, eval_grid=eval_grid)
+    result = single_gla.SingleGLAResult(config, np.arange(1, 3), np.zeros((FIG5.runs, 2)),
+                                        _lines_in_region_3(0.1, b_offset))
+    measured = single_gla.measure(result)
+    # the cell (R, L) spans -b_offset of the half band's width 0.5, weighted by the band's length
+    expected = {-0.45: 0.91, -0.15: 0.33}[b_offset]
+    assert measured["region_3_share_of_ceiling"] == pytest.approx(expected, abs=0.04)
+    assert {row["claim"].id: row["verdict"] for row in single_gla.claim_rows(result)}["region_3_moves_apart"] == verdict
+
+
+@pytest.mark.parametrize("grid, angles", [(60, 90), (100, 180), (140, 360)])
+def test_best_response_gap_does_not_move_with_the_search(grid, angles):
+    # B on one of its best lines given A's diagonal: no gap; B on the diagonal too: a large one
+    best = single_gla.best_response_gap(_lines_in_region_3(0.0, -0.5), FIG5, 1, grid, angles)
+    np.testing.assert_allclose(best, 0.0, atol=0.01)
+    worse = single_gla.best_response_gap(_lines_in_region_3(0.0, 0.0), FIG5, 1, grid, angles)
+    assert (worse > 0.1).all()
 
 
 def _encodings(curves: dict):

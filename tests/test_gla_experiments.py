@@ -69,6 +69,16 @@ def test_best_single_line_for_agent_b_matches_the_analytic_value():
     assert single_gla.best_line_reward("absolute", 0, grid=200) == pytest.approx(0.5, abs=0.01)
 
 
+@pytest.mark.parametrize("region3_reward, expected", [("move_apart", (1.0, 1.0, 0.5)),
+                                                      ("fixed_joint_action", (1.0, 1.0, 1.0))])
+def test_best_lines_region_shares_are_the_ceiling_of_each_reading(region3_reward, expected):
+    # under 'move_apart' B's best line gives up one half of region 3; under (L, R) both maps are lines
+    config = replace(SMALL_1, eval_grid=200, region3_reward=region3_reward)
+    np.testing.assert_allclose(single_gla.best_lines_region_shares(config), expected, atol=0.01)
+    assert single_gla.best_line_reward("joint", 1, region3_reward=region3_reward) == pytest.approx(
+        {"move_apart": 0.78125, "fixed_joint_action": 1.0}[region3_reward], abs=0.01)
+
+
 @pytest.mark.parametrize("offset", single_gla.B_BEST_LINE_OFFSETS)
 def test_fig5b_draws_agent_b_best_lines(offset):
     # the reference lines Fig. 5b draws for B score what the exhaustive search finds best
@@ -91,6 +101,7 @@ def test_encoding_comparison_metrics():
     ({"runs": 2.5}, "runs must be a whole number >= 1, got 2.5"),
     ({"record_points": 5000}, r"record_points \(5000\) cannot exceed iterations \(3000\)"),
     ({"context": "polar"}, "context must be one of"),
+    ({"region3_reward": "towards"}, "region3_reward must be one of"),
     ({"learning_rate": -0.1}, "GLA learning_rate must be a finite number > 0"),
     ({"bounding": "soft"}, "GLA bounding must be one of"),
     ({"init_scale": 2.0}, r"init_scale must be a number in \[0, L=1.0\]"),
