@@ -223,15 +223,53 @@ def test_fig7_claims_fail_when_the_agents_play_one_action_everywhere(left_bias):
     assert {row["verdict"] for row in rows} == {"NOT reproduced"}
 
 
+def _sweep(stuck_first, stuck_rerun, threshold=0.5):
+    """A sweep (rewards 0.5 and 1) whose runs end stuck (P(L) in region I 0.05) or learned (0.9)
+    as given: ``stuck_first`` (rewards, runs) on the first stream, ``stuck_rerun`` (runs,) rerun."""
+    left = lambda stuck: np.where(np.asarray(stuck)[..., None], 0.05, 0.9).repeat(2, axis=-1)
+    config = replace(FIG7, stuck_threshold=threshold)
+    return and_network.SweepResult(config, np.array([0.5, 1.0]), np.asarray(stuck_first), left(stuck_first),
+                                   left(stuck_rerun))
+
+
+def _sweep_verdicts(result) -> dict:
+    return {row["claim"].id: row["verdict"] for row in and_network.sweep_claim_rows(result)}
+
+
 def test_fig7_sweep_claim_fails_without_a_rise():
     stuck = np.zeros((2, 10), dtype=bool)
     stuck[:, :3] = True
-    flat = and_network.SweepResult(FIG7, np.array([0.5, 1.0]), stuck, np.zeros((2, 10, 2)))
-    assert and_network.sweep_claim_rows(flat)[0]["verdict"] == "NOT reproduced"
+    assert _sweep_verdicts(_sweep(stuck, stuck[1]))["higher_region_II_reward_traps_runs"] == "NOT reproduced"
+
+
+STUCK_FIRST = np.array([[False] * 10, [True] * 3 + [False] * 7])
+
+
+@pytest.mark.parametrize("threshold", [0.3, 0.5, 0.7])
+def test_init_claim_fails_when_the_stream_decides(threshold):
+    # the rerun sticks other runs as often as the first stream: the initialisation explains nothing
+    rerun = np.roll(STUCK_FIRST[1], 5)
+    verdicts = _sweep_verdicts(_sweep(STUCK_FIRST, rerun, threshold))
+    assert verdicts["outcome_depends_on_initialisation"] == "NOT reproduced"
+    assert _sweep_verdicts(_sweep(STUCK_FIRST, STUCK_FIRST[1], threshold))["outcome_depends_on_initialisation"] \
+        == "reproduced"
+
+
+def test_init_share_of_outcome_measures_agreement_beyond_other_initialisations():
+    first, rerun = STUCK_FIRST[1], np.roll(STUCK_FIRST[1], 5)
+    # same: 4 of 10 runs agree; other: of the 90 pairs r != s, 54 agree
+    measured = and_network.init_dependence(first, rerun)
+    assert measured["init_agreement_same"] == pytest.approx(0.4)
+    assert measured["init_agreement_other"] == pytest.approx(0.6)
+    assert measured["init_share_of_outcome"] == pytest.approx(-0.5)
+    assert measured["init_share_of_outcome_low"] <= -0.5 <= measured["init_share_of_outcome_high"]
+    alike = and_network.init_dependence(np.zeros(10, bool), np.zeros(10, bool))
+    assert np.isnan(alike["init_share_of_outcome"]) and "ends alike" in alike["init_share_of_outcome:why_undecidable"]
 
 
 def test_every_section4_claim_has_a_wrong_result():
     covered = set(FIG5_WRONG) | {"absolute_clearly_worst", "deictic_beats_joint_final",
                                  "deictic_beats_joint_whole_run", "approximates_region_I",
-                                 "plays_L_inside_and_R_outside", "higher_region_II_reward_traps_runs"}
+                                 "plays_L_inside_and_R_outside", "higher_region_II_reward_traps_runs",
+                                 "outcome_depends_on_initialisation"}
     assert {claim.id for name in SECTION4 for claim in claims.load(name)} == covered
