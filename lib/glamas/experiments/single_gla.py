@@ -308,7 +308,9 @@ def best_lines_region_shares(config: SingleGLAConfig, angles: int = 720) -> np.n
     the evaluation grid): what Fig. 5b would show for the best lines the context allows under
     this reward, the ceiling of the learned lines' shares. A's best line is perfect under either
     reading of region 3, so the pair is also the team's best; under 'move_apart' B's two best
-    lines (x2 = x1 +- 0.5) tie and, by symmetry, give the same shares."""
+    lines (x2 = x1 +- 0.5) tie and, by symmetry, give the same shares. The best lines maximise
+    the whole square's share, so in one region a learned pair can exceed them (by giving up
+    another, or by the grid's rounding at the borders): a share of the ceiling can pass 1."""
     encoding, region3 = lineworld.encoding_code(config.context), lineworld.region3_code(config.region3_reward)
     x1, x2 = lineworld.state_grid(config.eval_grid)
     plays = np.stack([best_line_plays(encoding, region3, agent, x1, x2, angles) for agent in range(2)])
