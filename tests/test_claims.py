@@ -5,6 +5,8 @@ wrong measurements come from wrong results of the right shape, through the measu
 import json
 import math
 
+from dataclasses import replace
+
 import numpy as np
 import pytest
 
@@ -112,6 +114,7 @@ FIG5_WRONG = {
     "region_2_plays_RR": _plays_everywhere(single_gla.lineworld.LEFT),
     "region_3_moves_apart": _plays_everywhere(single_gla.lineworld.RIGHT),
     "agent_a_best_response": _agent_at_random(0),
+    "agent_b_best_response": _agent_at_random(1),
     "agent_a_learns_its_line": _agent_at_random(0),
     "agent_b_as_good_as_a_line": _agent_at_random(1),
 }
@@ -124,12 +127,49 @@ def test_fig5_claims_fail_on_wrong_lines(claim_id):
 
 
 def test_fig5_lines_like_the_learned_ones_pass_all_but_the_diagonal():
-    # region 3 is left out: these lines give exactly half of it, and the coarse grid decides the side
+    # B's line gives up one half of region 3, as B's best single lines do: all of the ceiling
     rows = single_gla.claim_rows(_fig5_result(_chapter_lines()))
-    verdicts = {row["claim"].id: row["verdict"] for row in rows if row["claim"].id != "region_3_moves_apart"}
+    verdicts = {row["claim"].id: row["verdict"] for row in rows}
     assert verdicts == {"region_1_plays_LL": "reproduced", "region_2_plays_RR": "reproduced",
-                        "agent_a_best_response": "reproduced", "agent_a_learns_its_line": "NOT reproduced",
+                        "region_3_moves_apart": "reproduced", "agent_a_best_response": "reproduced",
+                        "agent_b_best_response": "reproduced", "agent_a_learns_its_line": "NOT reproduced",
                         "agent_b_as_good_as_a_line": "reproduced"}
+
+
+def _lines_in_region_3(a_offset, b_offset):
+    """Lines parallel to the diagonal: A plays L above x2 = x1 + a_offset, B above x2 = x1 + b_offset."""
+    params = np.zeros((FIG5.runs, 2, 2, 3))
+    params[:, 0, single_gla.lineworld.LEFT] = [-1.0, 1.0, -a_offset]
+    params[:, 1, single_gla.lineworld.LEFT] = [-1.0, 1.0, -b_offset]
+    return params
+
+
+def test_region_3_claim_fails_when_the_move_apart_cell_is_too_narrow():
+    # the cell between the lines holds (R, L) only where -0.2 < x2 - x1 < 0: well under half the ceiling
+    rows = single_gla.claim_rows(_fig5_result(_lines_in_region_3(0.0, -0.2)))
+    assert {row["claim"].id: row["verdict"] for row in rows}["region_3_moves_apart"] == "NOT reproduced"
+
+
+@pytest.mark.parametrize("eval_grid", [40, 80, 160])
+@pytest.mark.parametrize("b_offset, verdict", [(-0.45, "reproduced"), (-0.15, "NOT reproduced")])
+def test_region_3_share_of_ceiling_does_not_move_with_the_grid(eval_grid, b_offset, verdict):
+    config = replace(FIG5, eval_grid=eval_grid)
+    result = single_gla.SingleGLAResult(config, np.arange(1, 3), np.zeros((FIG5.runs, 2)),
+                                        _lines_in_region_3(0.1, b_offset))
+    measured = single_gla.measure(result)
+    # the cell (R, L) spans -b_offset of the half band's width 0.5, weighted by the band's length
+    expected = {-0.45: 0.91, -0.15: 0.33}[b_offset]
+    assert measured["region_3_share_of_ceiling"] == pytest.approx(expected, abs=0.04)
+    assert {row["claim"].id: row["verdict"] for row in single_gla.claim_rows(result)}["region_3_moves_apart"] == verdict
+
+
+@pytest.mark.parametrize("grid, angles", [(60, 90), (100, 180), (140, 360)])
+def test_best_response_gap_does_not_move_with_the_search(grid, angles):
+    # B on one of its best lines given A's diagonal: no gap; B on the diagonal too: a large one
+    best = single_gla.best_response_gap(_lines_in_region_3(0.0, -0.5), FIG5, 1, grid, angles)
+    np.testing.assert_allclose(best, 0.0, atol=0.01)
+    worse = single_gla.best_response_gap(_lines_in_region_3(0.0, 0.0), FIG5, 1, grid, angles)
+    assert (worse > 0.1).all()
 
 
 def _encodings(curves: dict):
@@ -183,15 +223,53 @@ def test_fig7_claims_fail_when_the_agents_play_one_action_everywhere(left_bias):
     assert {row["verdict"] for row in rows} == {"NOT reproduced"}
 
 
+def _sweep(stuck_first, stuck_rerun, threshold=0.5):
+    """A sweep (rewards 0.5 and 1) whose runs end stuck (P(L) in region I 0.05) or learned (0.9)
+    as given: ``stuck_first`` (rewards, runs) on the first stream, ``stuck_rerun`` (runs,) rerun."""
+    left = lambda stuck: np.where(np.asarray(stuck)[..., None], 0.05, 0.9).repeat(2, axis=-1)
+    config = replace(FIG7, stuck_threshold=threshold)
+    return and_network.SweepResult(config, np.array([0.5, 1.0]), np.asarray(stuck_first), left(stuck_first),
+                                   left(stuck_rerun))
+
+
+def _sweep_verdicts(result) -> dict:
+    return {row["claim"].id: row["verdict"] for row in and_network.sweep_claim_rows(result)}
+
+
 def test_fig7_sweep_claim_fails_without_a_rise():
     stuck = np.zeros((2, 10), dtype=bool)
     stuck[:, :3] = True
-    flat = and_network.SweepResult(FIG7, np.array([0.5, 1.0]), stuck, np.zeros((2, 10, 2)))
-    assert and_network.sweep_claim_rows(flat)[0]["verdict"] == "NOT reproduced"
+    assert _sweep_verdicts(_sweep(stuck, stuck[1]))["higher_region_II_reward_traps_runs"] == "NOT reproduced"
+
+
+STUCK_FIRST = np.array([[False] * 10, [True] * 3 + [False] * 7])
+
+
+@pytest.mark.parametrize("threshold", [0.3, 0.5, 0.7])
+def test_init_claim_fails_when_the_stream_decides(threshold):
+    # the rerun sticks other runs as often as the first stream: the initialisation explains nothing
+    rerun = np.roll(STUCK_FIRST[1], 5)
+    verdicts = _sweep_verdicts(_sweep(STUCK_FIRST, rerun, threshold))
+    assert verdicts["outcome_depends_on_initialisation"] == "NOT reproduced"
+    assert _sweep_verdicts(_sweep(STUCK_FIRST, STUCK_FIRST[1], threshold))["outcome_depends_on_initialisation"] \
+        == "reproduced"
+
+
+def test_init_share_of_outcome_measures_agreement_beyond_other_initialisations():
+    first, rerun = STUCK_FIRST[1], np.roll(STUCK_FIRST[1], 5)
+    # same: 4 of 10 runs agree; other: of the 90 pairs r != s, 54 agree
+    measured = and_network.init_dependence(first, rerun)
+    assert measured["init_agreement_same"] == pytest.approx(0.4)
+    assert measured["init_agreement_other"] == pytest.approx(0.6)
+    assert measured["init_share_of_outcome"] == pytest.approx(-0.5)
+    assert measured["init_share_of_outcome_low"] <= -0.5 <= measured["init_share_of_outcome_high"]
+    alike = and_network.init_dependence(np.zeros(10, bool), np.zeros(10, bool))
+    assert np.isnan(alike["init_share_of_outcome"]) and "ends alike" in alike["init_share_of_outcome:why_undecidable"]
 
 
 def test_every_section4_claim_has_a_wrong_result():
     covered = set(FIG5_WRONG) | {"absolute_clearly_worst", "deictic_beats_joint_final",
                                  "deictic_beats_joint_whole_run", "approximates_region_I",
-                                 "plays_L_inside_and_R_outside", "higher_region_II_reward_traps_runs"}
+                                 "plays_L_inside_and_R_outside", "higher_region_II_reward_traps_runs",
+                                 "outcome_depends_on_initialisation"}
     assert {claim.id for name in SECTION4 for claim in claims.load(name)} == covered

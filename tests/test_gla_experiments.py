@@ -69,6 +69,16 @@ def test_best_single_line_for_agent_b_matches_the_analytic_value():
     assert single_gla.best_line_reward("absolute", 0, grid=200) == pytest.approx(0.5, abs=0.01)
 
 
+@pytest.mark.parametrize("region3_reward, expected", [("move_apart", (1.0, 1.0, 0.5)),
+                                                      ("fixed_joint_action", (1.0, 1.0, 1.0))])
+def test_best_lines_region_shares_are_the_ceiling_of_each_reading(region3_reward, expected):
+    # under 'move_apart' B's best line gives up one half of region 3; under (L, R) both maps are lines
+    config = replace(SMALL_1, eval_grid=200, region3_reward=region3_reward)
+    np.testing.assert_allclose(single_gla.best_lines_region_shares(config), expected, atol=0.01)
+    assert single_gla.best_line_reward("joint", 1, region3_reward=region3_reward) == pytest.approx(
+        {"move_apart": 0.78125, "fixed_joint_action": 1.0}[region3_reward], abs=0.01)
+
+
 @pytest.mark.parametrize("offset", single_gla.B_BEST_LINE_OFFSETS)
 def test_fig5b_draws_agent_b_best_lines(offset):
     # the reference lines Fig. 5b draws for B score what the exhaustive search finds best
@@ -91,6 +101,7 @@ def test_encoding_comparison_metrics():
     ({"runs": 2.5}, "runs must be a whole number >= 1, got 2.5"),
     ({"record_points": 5000}, r"record_points \(5000\) cannot exceed iterations \(3000\)"),
     ({"context": "polar"}, "context must be one of"),
+    ({"region3_reward": "towards"}, "region3_reward must be one of"),
     ({"learning_rate": -0.1}, "GLA learning_rate must be a finite number > 0"),
     ({"bounding": "soft"}, "GLA bounding must be one of"),
     ({"init_scale": 2.0}, r"init_scale must be a number in \[0, L=1.0\]"),
@@ -136,8 +147,21 @@ def test_and_network_same_seed_same_results_for_one_and_two_workers():
 def test_sweep_and_its_metrics():
     result = and_network.sweep(replace(SMALL_2, runs=3), (0.5, 1.0), seed=0)
     assert result.stuck.shape == (2, 3) and result.prob_left_I.shape == (2, 3, 2)
+    assert result.rerun_prob_left_I.shape == (3, 2)
     measured = and_network.measure_sweep(result)
     assert measured["stuck_fraction_rise"] == measured["stuck_fraction_1"] - measured["stuck_fraction_0.5"]
+    rerun = and_network.run(replace(SMALL_2, runs=3, reward_outside=1.0, stream=and_network.RERUN_STREAM), seed=0)
+    np.testing.assert_array_equal(result.rerun_prob_left_I, and_network.final_left_by_region(rerun)[0])
+
+
+def test_another_stream_keeps_the_initial_parameters_and_changes_the_rest():
+    # with a vanishing learning rate the final parameters are the initial ones
+    still = replace(SMALL_2, iterations=30, record_points=2, learning_rate=1e-12)
+    first, other = (and_network.run(replace(still, stream=k), seed=2) for k in (0, 1))
+    np.testing.assert_allclose(first.params, other.params, atol=1e-9)
+    assert not np.array_equal(first.prob_left[:, 0], other.prob_left[:, 0])  # other probe points
+    moving = [and_network.run(replace(SMALL_2, stream=k), seed=2).params for k in (1, 2)]
+    assert not np.array_equal(moving[0], moving[1])
     with pytest.raises(ValueError, match="at least two values"):
         and_network.sweep(SMALL_2, (0.5,))
 
@@ -154,6 +178,7 @@ def test_and_network_metrics_cover_the_claims():
     ({"parabola_curvature": -1.0}, "parabola_curvature must be >= 0 so that region I is convex"),
     ({"parabola_offset": 1.0}, "parabola_offset must be < 1 so that region I meets the square"),
     ({"probe_points": 0}, "probe_points must be a whole number >= 1"),
+    ({"stream": -1}, "stream must be a whole number >= 0"),
     ({"temperature": 0.0}, "GLA temperature must be a finite number > 0"),
 ])
 def test_and_network_config_errors_name_the_problem(change, message):

@@ -22,18 +22,27 @@ def test_regions_of_experiment_1(x1, x2, expected):
     assert lw.region(x1, x2) == expected
 
 
-@pytest.mark.parametrize("x1, x2, best_a, best_b", [
-    (-0.9, 0.9, L, L),  # region 1: both Left
-    (0.9, -0.9, R, R),  # region 2: both Right
-    (0.1, 0.3, L, R),   # region 3, A left of B: move apart
-    (0.3, 0.1, R, L),   # region 3, A right of B: move apart
+@pytest.mark.parametrize("x1, x2, region3, best_a, best_b", [
+    (-0.9, 0.9, lw.MOVE_APART, L, L),  # region 1: both Left
+    (0.9, -0.9, lw.MOVE_APART, R, R),  # region 2: both Right
+    (0.1, 0.3, lw.MOVE_APART, L, R),   # region 3, A left of B: move apart
+    (0.3, 0.1, lw.MOVE_APART, R, L),   # region 3, A right of B: move apart
+    (-0.9, 0.9, lw.FIXED_JOINT_ACTION, L, L),  # regions 1 and 2 do not depend on the reading
+    (0.9, -0.9, lw.FIXED_JOINT_ACTION, R, R),
+    (0.1, 0.3, lw.FIXED_JOINT_ACTION, L, R),  # region 3: (L, R) on either side
+    (0.3, 0.1, lw.FIXED_JOINT_ACTION, L, R),
 ])
-def test_rewarded_joint_action_pays_one_and_the_others_zero(x1, x2, best_a, best_b):
+def test_rewarded_joint_action_pays_one_and_the_others_zero(x1, x2, region3, best_a, best_b):
     for a in (L, R):
         for b in (L, R):
             expected = 1.0 if (a, b) == (best_a, best_b) else 0.0
-            assert lw.regions_reward(x1, x2, a, b) == expected
-    assert (lw.best_action(x1, x2, A), lw.best_action(x1, x2, B)) == (best_a, best_b)
+            assert lw.regions_reward(x1, x2, a, b, region3) == expected
+    assert (lw.best_action(x1, x2, A, region3), lw.best_action(x1, x2, B, region3)) == (best_a, best_b)
+
+
+def test_unknown_region3_reading_is_named():
+    with pytest.raises(ValueError, match="region3_reward must be one of"):
+        lw.region3_code("towards")
 
 
 def test_parabola_region_and_its_rewards():

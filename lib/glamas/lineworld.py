@@ -26,6 +26,11 @@ CONTEXT_LENGTH = {JOINT: 3, ABSOLUTE: 2, DEICTIC: 2}
 # Experiment 1 (Fig. 5a): the half-width of region 3, the band where the agents are close.
 CLOSE_DISTANCE = 0.5
 
+# Readings of region 3's reward (Sec. 4.2: +1 when both agents move apart from each other).
+MOVE_APART = 0  # the left agent L, the right one R: the rewarded joint action flips at x1 = x2
+FIXED_JOINT_ACTION = 1  # (L, R) on all of region 3: apart only where A is left of B
+REGION3_REWARDS = {"move_apart": MOVE_APART, "fixed_joint_action": FIXED_JOINT_ACTION}
+
 
 @njit(cache=True)
 def restart(state):
@@ -45,26 +50,28 @@ def region(x1, x2):
 
 
 @njit(cache=True)
-def best_action(x1, x2, agent):
+def best_action(x1, x2, agent, region3):
     """The agent's part of experiment 1's only rewarded joint action at (x1, x2).
 
-    Region 1: (L, L); region 2: (R, R); region 3: move apart, the left agent L, the right one R.
+    Region 1: (L, L); region 2: (R, R); region 3 read as ``region3``: MOVE_APART, the left agent
+    L and the right one R; FIXED_JOINT_ACTION, (L, R) wherever the agents are.
     """
     r = region(x1, x2)
     if r == 1:
         return LEFT
     if r == 2:
         return RIGHT
-    a_is_left = x1 < x2
+    a_is_left = x1 < x2 or region3 == FIXED_JOINT_ACTION
     if agent == AGENT_A:
         return LEFT if a_is_left else RIGHT
     return RIGHT if a_is_left else LEFT
 
 
 @njit(cache=True)
-def regions_reward(x1, x2, action_a, action_b):
-    """Experiment 1's feedback: 1 for the region's rewarded joint action, 0 otherwise."""
-    if action_a == best_action(x1, x2, AGENT_A) and action_b == best_action(x1, x2, AGENT_B):
+def regions_reward(x1, x2, action_a, action_b, region3):
+    """Experiment 1's feedback: 1 for the region's rewarded joint action (region 3 read as
+    ``region3``, :func:`best_action`), 0 otherwise."""
+    if action_a == best_action(x1, x2, AGENT_A, region3) and action_b == best_action(x1, x2, AGENT_B, region3):
         return 1.0
     return 0.0
 
@@ -103,6 +110,13 @@ def context(encoding, agent, x1, x2, out):
     else:
         out[0] = x1 - x2 if agent == AGENT_A else x2 - x1
         out[1] = 1.0
+
+
+def region3_code(name: str) -> int:
+    """The compiled code of a reading of region 3's reward, with a clear error for unknown names."""
+    if name not in REGION3_REWARDS:
+        raise ValueError(f"region3_reward must be one of {sorted(REGION3_REWARDS)}, got {name!r}")
+    return REGION3_REWARDS[name]
 
 
 def encoding_code(name: str) -> int:

@@ -90,3 +90,16 @@ def _first_above(probs, r):
         if r < acc:
             return i
     return probs.shape[0] - 1
+
+
+@njit(cache=True)
+def reseed(state, stream):
+    """Replace ``state`` in place by a new one drawn from it and the number ``stream`` with
+    splitmix64, the seeding xoshiro's authors recommend: from one state, another stream number
+    gives an unrelated stream (a run that keeps its initial draws and continues on another)."""
+    x = next_u64(state) ^ (_U64(stream) * _U64(0x9E3779B97F4A7C15))
+    for i in range(4):
+        x += _U64(0x9E3779B97F4A7C15)
+        z = (x ^ (x >> _U64(30))) * _U64(0xBF58476D1CE4E5B9)
+        z = (z ^ (z >> _U64(27))) * _U64(0x94D049BB133111EB)
+        state[i] = z ^ (z >> _U64(31))

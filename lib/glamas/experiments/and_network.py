@@ -55,6 +55,11 @@ class ANDNetworkConfig:
     """Initial unit parameters are uniform in [-init_scale, init_scale] (chapter silent; it says
     the outcome depends on the initialisation, so runs start from different random points;
     0 would start every unit at P(1) = 1/2, each agent at P(L) = 1/4)."""
+    stream: int = 0
+    """Which random stream a run follows once its initial parameters are drawn: 0 continues the
+    generator that drew them; k > 0 reseeds it with k (glamas.rng.reseed), so run r keeps run
+    r's initial parameters and meets other positions, probes and actions (the rerun that tests
+    whether the initialisation decides the outcome)."""
     record_points: int = 100
     """Points of the Fig. 7b curve (the chapter's plot has 100)."""
     probe_points: int = 100
@@ -69,7 +74,7 @@ class ANDNetworkConfig:
     def __post_init__(self):
         checks.field_types(self)
         checks.whole_numbers(self, {"iterations": 1, "runs": 1, "record_points": 1, "probe_points": 1,
-                                    "eval_grid": 1})
+                                    "eval_grid": 1, "stream": 0})
         if self.record_points > self.iterations:
             raise ValueError(f"record_points ({self.record_points}) cannot exceed iterations "
                              f"({self.iterations}); lower record_points or raise iterations")
@@ -233,39 +238,91 @@ class SweepResult:
     """(values, runs) True where the run ended stuck in 'R everywhere'."""
     prob_left_I: np.ndarray
     """(values, runs, 2 agents) final mean P(L) in region I on the evaluation grid."""
+    rerun_prob_left_I: np.ndarray
+    """(runs, 2 agents) the same for the highest reward's runs rerun from their own initial
+    parameters on another stream (RERUN_STREAM)."""
 
 
 DEFAULT_SWEEP = (0.5, 0.625, 0.75, 0.875, 1.0)
 """Region II rewards of the stuck sweep: from the chapter's 0.5 up to the largest feedback, 1."""
+RERUN_STREAM = 1
+"""The stream (ANDNetworkConfig.stream) of the rerun at the highest region II reward."""
+BOOTSTRAP_DRAWS = 10_000
+"""Resamples of the runs for the 95 % interval of the initialisation's share of the outcome."""
 
 
 def sweep(config: ANDNetworkConfig, rewards_outside=DEFAULT_SWEEP, seed: int = 0,
           workers=None, progress: str | None = None) -> SweepResult:
     """Run experiment 2 for each region II reward (same seed for each, so the runs share their
-    initialisation and positions until their actions differ) and record which runs got stuck."""
+    initialisation and positions until their actions differ) and record which runs got stuck;
+    then rerun the highest reward's runs from the same initial parameters on stream RERUN_STREAM."""
     values = np.array(rewards_outside, dtype=np.float64)
     if values.ndim != 1 or values.size < 2:
         raise ValueError(f"rewards_outside needs at least two values, got {rewards_outside!r}")
     configs = [replace(config, reward_outside=float(value)) for value in values]
+    configs.append(replace(configs[-1], stream=RERUN_STREAM))
     memory.check(config, copies=len(configs))  # every reward's arrays are held at once
     batches = [batch(c, seed) for c in configs]
     run_many(batches, workers=workers, progress=progress)  # every reward's runs on one pool
-    stuck_runs, left_I = [], []
-    for c, work in zip(configs, batches):
-        in_I, _ = final_left_by_region(result_of(c, work))
-        left_I.append(in_I)
-        stuck_runs.append((in_I < config.stuck_threshold).all(axis=1))
-    return SweepResult(config, values, np.array(stuck_runs), np.array(left_I))
+    left_I = np.array([final_left_by_region(result_of(c, work))[0] for c, work in zip(configs, batches)])
+    stuck = (left_I[:-1] < config.stuck_threshold).all(axis=2)
+    return SweepResult(config, values, stuck, left_I[:-1], left_I[-1])
 
 
 def measure_sweep(result: SweepResult) -> dict:
-    """Stuck fraction at each reward, at the chapter's 0.5, at the highest value, and the rise."""
+    """Stuck fraction at each reward, at the chapter's 0.5, at the highest value, and the rise;
+    at the highest reward, how far the initialisation decides the outcome (:func:`init_dependence`)."""
     fractions = result.stuck.mean(axis=1)
     measured = {f"stuck_fraction_{value:g}": f for value, f in zip(result.reward_outside, fractions)}
     measured["stuck_fraction_lowest"] = fractions[0]
     measured["stuck_fraction_highest"] = fractions[-1]
     measured["stuck_fraction_rise"] = fractions[-1] - fractions[0]
+    threshold = result.config.stuck_threshold
+    first = (result.prob_left_I[-1] < threshold).all(axis=1)
+    measured["stuck_fraction_rerun"] = (result.rerun_prob_left_I < threshold).all(axis=1).mean()
+    return measured | init_dependence(first, (result.rerun_prob_left_I < threshold).all(axis=1))
+
+
+def init_dependence(first: np.ndarray, rerun: np.ndarray, draws: int = BOOTSTRAP_DRAWS) -> dict:
+    """How far the initialisation decides whether a run gets stuck, from the outcomes (runs,) of
+    the same initial parameters on two streams: the agreement of run r's two outcomes (same
+    initialisation), the agreement of run r's first with run s's rerun for every s != r (another
+    initialisation), and the initialisation's share of the outcome, (same - other) / (1 - other):
+    the fraction of the disagreement between unrelated initialisations that keeping the
+    initialisation removes (close to Cohen's kappa of the two streams; 0: the stream alone
+    decides, 1: the initialisation does), with its 95 % bootstrap interval over runs (in a
+    resample, copies of one run count as other initialisations, which can only lower the share).
+    NaN when every run ends alike (no disagreement to remove)."""
+    pairs = np.stack([first, rerun]).astype(np.float64)
+    boot = np.random.default_rng(0).integers(0, first.shape[0], (draws, first.shape[0]))
+    same, other = _agreements(pairs[None])
+    shares = _init_share(*_agreements(pairs[:, boot].transpose(1, 0, 2)))
+    low, high = np.nanpercentile(shares, [2.5, 97.5]) if np.isfinite(shares).any() else (np.nan, np.nan)
+    measured = {"init_agreement_same": same[0], "init_agreement_other": other[0],
+                "init_share_of_outcome": _init_share(same, other)[0],
+                "init_share_of_outcome_low": low, "init_share_of_outcome_high": high}
+    if np.isnan(measured["init_share_of_outcome"]):
+        measured["init_share_of_outcome" + claims.WHY_UNDECIDABLE] = (
+            "every run ends alike on both streams: no disagreement for the initialisation to explain")
     return measured
+
+
+def _agreements(pairs: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Per sample of ``pairs`` (samples, 2 streams, runs) of 0/1 outcomes: the share of runs whose
+    two outcomes agree, and the share of ordered pairs of positions r != s where the first
+    stream's outcome of r agrees with the second's of s."""
+    a, b = pairs[:, 0], pairs[:, 1]
+    n = a.shape[1]
+    same = (a == b).sum(axis=1)
+    ones_a, ones_b = a.sum(axis=1), b.sum(axis=1)
+    every_pair = ones_a * ones_b + (n - ones_a) * (n - ones_b)  # agreeing (r, s) over all r, s
+    return same / n, (every_pair - same) / (n * (n - 1))
+
+
+def _init_share(same: np.ndarray, other: np.ndarray) -> np.ndarray:
+    """(same - other) / (1 - other), NaN where other is 1."""
+    with np.errstate(invalid="ignore", divide="ignore"):
+        return np.where(other < 1, (same - other) / (1 - other), np.nan)
 
 
 def sweep_claim_rows(result: SweepResult) -> list[dict]:
@@ -283,8 +340,9 @@ def scaled(runs: int, iterations: int) -> ANDNetworkConfig:
 FIG7 = figures.Experiment("fig7", run, ANDNetworkConfig.runs, ANDNetworkConfig.iterations, scaled, ANDNetworkResult)
 """Fig. 7a and 7b's experiment for the figure scripts (one run for both)."""
 FIG7_SWEEP = figures.Experiment("fig7_sweep", sweep, ANDNetworkConfig.runs, ANDNetworkConfig.iterations, scaled,
-                                SweepResult, copies=len(DEFAULT_SWEEP))
-"""The stuck sweep for its figure script: experiment 2 at each region II reward of DEFAULT_SWEEP."""
+                                SweepResult, copies=len(DEFAULT_SWEEP) + 1)
+"""The stuck sweep for its figure script: experiment 2 at each region II reward of DEFAULT_SWEEP,
+and the highest reward's rerun on another stream."""
 
 
 # ---- plots (each draws on a given Axes) ----

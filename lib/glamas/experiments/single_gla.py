@@ -50,6 +50,11 @@ class SingleGLAConfig:
     context: str = "joint"
     """Context encoding (Fig. 6): 'joint' [x1, x2, 1], 'absolute' [|xA - xB|, 1] or
     'deictic' [x_self - x_other, 1]."""
+    region3_reward: str = "move_apart"
+    """Region 3's rewarded joint action (Sec. 4.2: +1 when both agents move apart):
+    'move_apart', the left agent L and the right one R (the text; B's map is then not linearly
+    separable), or 'fixed_joint_action', (L, R) everywhere in region 3 (both maps separable, but
+    the agents then move towards each other where A is right of B: not the text)."""
     init_scale: float = 0.0
     """Initial GLA parameters are uniform in [-init_scale, init_scale] (chapter silent; 0 = all
     zeros, both actions equally likely everywhere)."""
@@ -67,6 +72,7 @@ class SingleGLAConfig:
         if not isinstance(self.init_scale, (int, float)) or not 0 <= self.init_scale <= self.L:
             raise ValueError(f"init_scale must be a number in [0, L={self.L}], got {self.init_scale!r}")
         lineworld.encoding_code(self.context)
+        lineworld.region3_code(self.region3_reward)
         self.gla_params()  # validates learning_rate, temperature, K, L and bounding
 
     def gla_params(self) -> gla.GLAParams:
@@ -103,23 +109,23 @@ def run(config: SingleGLAConfig, seed: int = 0, workers=None,
 
 
 @njit(cache=True)
-def correct_probabilities(u, encoding, agent, x1, x2, temperature, L, mode, out):
+def correct_probabilities(u, encoding, region3, agent, x1, x2, temperature, L, mode, out):
     """out[i]: probability (eq. 15) that the agent plays its part of the rewarded joint action
-    at (x1[i], x2[i])."""
+    at (x1[i], x2[i]) (region 3 read as ``region3``)."""
     context = np.empty(u.shape[1])
     probs = np.empty(2)
     for i in range(x1.shape[0]):
         lineworld.context(encoding, agent, x1[i], x2[i], context)
         gla.boltzmann(u, context, temperature, L, mode, probs)
-        out[i] = probs[lineworld.best_action(x1[i], x2[i], agent)]
+        out[i] = probs[lineworld.best_action(x1[i], x2[i], agent, region3)]
 
 
 @njit(cache=True)
-def best_actions(x1, x2, agent):
-    """The agent's part of the rewarded joint action at every point."""
+def best_actions(x1, x2, agent, region3=lineworld.MOVE_APART):
+    """The agent's part of the rewarded joint action at every point (region 3 read as ``region3``)."""
     out = np.empty(x1.shape[0], dtype=np.int64)
     for i in range(x1.shape[0]):
-        out[i] = lineworld.best_action(x1[i], x2[i], agent)
+        out[i] = lineworld.best_action(x1[i], x2[i], agent, region3)
     return out
 
 
@@ -157,10 +163,11 @@ def _correct_on_grid(params: np.ndarray, config: SingleGLAConfig) -> np.ndarray:
     """(2 agents, grid points) each agent's probability of playing its part of the rewarded
     joint action, for parameters (2 agents, 2 actions, context length)."""
     encoding, mode = lineworld.encoding_code(config.context), config.gla_params().bounding_code
+    region3 = lineworld.region3_code(config.region3_reward)
     x1, x2 = lineworld.state_grid(config.eval_grid)
     correct = np.empty((2, x1.shape[0]))
     for agent in range(2):
-        correct_probabilities(params[agent], encoding, agent, x1, x2, config.temperature,
+        correct_probabilities(params[agent], encoding, region3, agent, x1, x2, config.temperature,
                               config.L, mode, correct[agent])
     return correct
 
@@ -188,43 +195,75 @@ def _correct_runs(params: np.ndarray, config: SingleGLAConfig) -> np.ndarray:
     return np.stack([_correct_on_grid(u, config) for u in params])
 
 
-def best_line_reward(encoding_name: str, agent: int, grid: int = 200, angles: int = 720) -> float:
+def best_line_reward(encoding_name: str, agent: int, grid: int = 200, angles: int = 720,
+                     region3_reward: str = "move_apart") -> float:
     """The best expected reward a single line (a fixed threshold on a linear function of the
     context, i.e. a deterministic 2-action GLA policy) gives the agent, the other agent playing
     its part of the rewarded joint action (exhaustive search, :func:`best_line_shares`)."""
-    encoding = lineworld.encoding_code(encoding_name)
+    encoding, region3 = lineworld.encoding_code(encoding_name), lineworld.region3_code(region3_reward)
     x1, x2 = lineworld.state_grid(grid)
-    return float(best_line_shares(encoding, agent, x1, x2, np.ones((1, x1.shape[0])), angles)[0])
+    return float(best_line_shares(encoding, region3, agent, x1, x2, np.ones((1, x1.shape[0])), angles)[0])
 
 
-def best_line_shares(encoding: int, agent: int, x1: np.ndarray, x2: np.ndarray,
+def best_line_shares(encoding: int, region3: int, agent: int, x1: np.ndarray, x2: np.ndarray,
                      counts: np.ndarray, angles: int = 720) -> np.ndarray:
     """(rows of ``counts``,) the largest share of the points (x1, x2) a single line of the agent
-    plays its part of the rewarded joint action at, counting point i with weight counts[row, i]
-    (1 everywhere: the agent's best line; 1 where the other agent plays its part: the agent's best
-    line given the other's policy, its best response among lines).
+    plays its part of the rewarded joint action at (region 3 read as ``region3``), counting point
+    i with weight counts[row, i] (1 everywhere: the agent's best line; 1 where the other agent
+    plays its part: the agent's best line given the other's policy, its best response among lines).
 
     Exhaustive search: for each direction w of the non-bias inputs (``angles`` directions over the
     circle when there are two, +-1 when there is one), every threshold between consecutive
     distinct projections w.x is tried, with L on the side of larger projections.
     """
-    features = contexts(encoding, agent, x1, x2)[:, :-1]  # drop the bias input
-    wants_left = best_actions(x1, x2, agent) == lineworld.LEFT
+    features, directions, wants_left = _line_search(encoding, region3, agent, x1, x2, angles)
+    counts = np.asarray(counts, dtype=np.float64)
+    return _best_threshold(features, directions, wants_left, counts)[0] / x1.shape[0]
+
+
+def best_line_plays(encoding: int, region3: int, agent: int, x1: np.ndarray, x2: np.ndarray,
+                    angles: int = 720) -> np.ndarray:
+    """(points,) True where the agent's best single line (:func:`best_line_shares` with weight 1
+    everywhere; of tied lines the first found) plays its part of the rewarded joint action."""
+    features, directions, wants_left = _line_search(encoding, region3, agent, x1, x2, angles)
+    _, direction, threshold = _best_threshold(features, directions, wants_left, np.ones((1, x1.shape[0])))
+    if direction[0] < 0:  # no threshold beats playing L everywhere
+        return wants_left.copy()
+    return (_projection(features, directions[direction[0]]) > threshold[0]) == wants_left
+
+
+def _line_search(encoding, region3, agent, x1, x2, angles):
+    """The inputs of :func:`_best_threshold`: the agent's contexts without the bias input, the
+    directions to try, and where the agent's part of the rewarded joint action is L."""
+    features = np.ascontiguousarray(contexts(encoding, agent, x1, x2)[:, :-1])
+    wants_left = best_actions(x1, x2, agent, region3) == lineworld.LEFT
     if features.shape[1] == 1:
         directions = np.array([[1.0], [-1.0]])
     else:
         theta = np.arange(angles) * (2 * np.pi / angles)
         directions = np.column_stack([np.cos(theta), np.sin(theta)])
-    counts = np.asarray(counts, dtype=np.float64)
-    return _best_threshold(np.ascontiguousarray(features), directions, wants_left, counts) / x1.shape[0]
+    return features, directions, wants_left
+
+
+@njit(cache=True)
+def _projection(features, direction):
+    """features @ direction by hand: numba's matmul needs scipy, and the search and
+    :func:`best_line_plays` must round alike."""
+    projection = np.zeros(features.shape[0])
+    for k in range(features.shape[1]):
+        projection += features[:, k] * direction[k]
+    return projection
 
 
 @njit(cache=True)
 def _best_threshold(features, directions, wants_left, counts):
     """Per row of ``counts``: the largest weighted count of points a rule 'L iff w.x is above the
     threshold' gets right, over every direction w and every threshold between two distinct
-    projections (or beyond all of them)."""
+    projections (or beyond all of them); with the first best direction's index (-1: L everywhere)
+    and its threshold."""
     best = np.zeros(counts.shape[0])
+    best_direction = np.full(counts.shape[0], -1, dtype=np.int64)
+    best_threshold = np.full(counts.shape[0], -np.inf)
     left_total = np.zeros(counts.shape[0])
     for r in range(counts.shape[0]):
         for j in range(counts.shape[1]):
@@ -232,9 +271,7 @@ def _best_threshold(features, directions, wants_left, counts):
                 left_total[r] += counts[r, j]
         best[r] = left_total[r]
     for d in range(directions.shape[0]):
-        projection = np.zeros(features.shape[0])
-        for k in range(features.shape[1]):  # features @ w by hand: numba's matmul needs scipy
-            projection += features[:, k] * directions[d, k]
+        projection = _projection(features, directions[d])
         order = np.argsort(projection, kind="mergesort")
         for r in range(counts.shape[0]):
             right_below, left_above = 0.0, left_total[r]
@@ -244,9 +281,11 @@ def _best_threshold(features, directions, wants_left, counts):
                     left_above -= counts[r, j]
                 else:
                     right_below += counts[r, j]
-                if i + 1 == order.shape[0] or projection[order[i + 1]] != projection[j]:
-                    best[r] = max(best[r], right_below + left_above)
-    return best
+                if (i + 1 == order.shape[0] or projection[order[i + 1]] != projection[j]) \
+                        and right_below + left_above > best[r]:
+                    best[r] = right_below + left_above
+                    best_direction[r], best_threshold[r] = d, projection[j]
+    return best, best_direction, best_threshold
 
 
 REGIONS = (1, 2, 3)
@@ -257,42 +296,66 @@ def region_shares(correct: np.ndarray, x1: np.ndarray, x2: np.ndarray) -> np.nda
     """(runs, 3) per region of Fig. 5a, the share of its points where the most probable joint
     action is the region's rewarded one, from ``correct`` (runs, 2 agents, points): each agent's
     probability of playing its part. The agents act independently, so the most probable joint
-    action is the pair of each agent's most probable action (a tie counts as not playing it)."""
+    action is the pair of each agent's most probable action (a tie counts as not playing it):
+    the label Fig. 5b gives the cell of the learned lines the point lies in."""
     both = (correct > 0.5).all(axis=1)
     labels = regions(x1, x2)
     return np.column_stack([both[:, labels == k].mean(axis=1) for k in REGIONS])
 
 
-def best_response_gap(params: np.ndarray, config: SingleGLAConfig, grid: int = 100,
+def best_lines_region_shares(config: SingleGLAConfig, angles: int = 720) -> np.ndarray:
+    """(3,) :func:`region_shares` of each agent's best single line (:func:`best_line_plays`, on
+    the evaluation grid): what Fig. 5b would show for the best lines the context allows under
+    this reward, the ceiling of the learned lines' shares. A's best line is perfect under either
+    reading of region 3, so the pair is also the team's best; under 'move_apart' B's two best
+    lines (x2 = x1 +- 0.5) tie and, by symmetry, give the same shares. The best lines maximise
+    the whole square's share, so in one region a learned pair can exceed them (by giving up
+    another, or by the grid's rounding at the borders): a share of the ceiling can pass 1."""
+    encoding, region3 = lineworld.encoding_code(config.context), lineworld.region3_code(config.region3_reward)
+    x1, x2 = lineworld.state_grid(config.eval_grid)
+    plays = np.stack([best_line_plays(encoding, region3, agent, x1, x2, angles) for agent in range(2)])
+    return region_shares(plays[None].astype(np.float64), x1, x2)[0]
+
+
+def best_response_gap(params: np.ndarray, config: SingleGLAConfig, agent: int, grid: int = 100,
                       angles: int = 180) -> np.ndarray:
-    """(runs,) how much agent A's learned line loses against the best line A could draw given
-    B's learned line (params: runs, 2 agents, 2 actions, inputs): the share of the points of a
-    grid x grid grid where both lines play their parts, for A's best line (exhaustive search,
-    :func:`best_line_shares`) minus for A's learned line. The search is over every run, so it
-    uses a coarser grid and fewer directions than :func:`best_line_reward`."""
+    """(runs,) how much the agent's learned line loses against the best line it could draw given
+    the other agent's learned line (params: runs, 2 agents, 2 actions, inputs): the share of the
+    points of a grid x grid grid where both lines play their parts, for the agent's best line
+    (exhaustive search, :func:`best_line_shares`) minus for its learned line. The search is over
+    every run, so it uses a coarser grid and fewer directions than :func:`best_line_reward`."""
     correct = _correct_runs(params, replace(config, eval_grid=grid)) > 0.5
     x1, x2 = lineworld.state_grid(grid)
-    best = best_line_shares(lineworld.encoding_code(config.context), lineworld.AGENT_A, x1, x2,
-                            correct[:, 1].astype(np.float64), angles)
+    best = best_line_shares(lineworld.encoding_code(config.context), lineworld.region3_code(config.region3_reward),
+                            agent, x1, x2, correct[:, 1 - agent].astype(np.float64), angles)
     return best - (correct[:, 0] & correct[:, 1]).mean(axis=1)
 
 
 def measure(result: SingleGLAResult) -> dict:
     """Fig. 5's metrics: per region the share where the most probable joint action is the
-    region's rewarded one; A's gap to its best line given B's; each agent's expected reward
-    (policy and learned line) against the best a single line can reach with this context; the
-    team's expected and final average reward."""
+    region's rewarded one, the same for the best single lines (the ceiling) and the share of the
+    ceiling reached; each agent's gap to its best line given the other's; each agent's expected
+    reward (policy and learned line) against the best a single line can reach with this context;
+    the team's expected and final average reward."""
     config = result.config
     correct = _correct_runs(result.params, config)
     ev = _evaluation(correct)
     x1, x2 = lineworld.state_grid(config.eval_grid)
-    shares = region_shares(correct, x1, x2).mean(axis=0)
-    line_best = [best_line_reward(config.context, agent, config.eval_grid) for agent in range(2)]
-    return {
-        "region_1_share_LL": shares[0],
-        "region_2_share_RR": shares[1],
-        "region_3_share_apart": shares[2],
-        "agent_a_best_response_gap": best_response_gap(result.params, config).mean(),
+    per_run = region_shares(correct, x1, x2)
+    ceiling = best_lines_region_shares(config)
+    of_ceiling = per_run / ceiling
+    line_best = [best_line_reward(config.context, agent, config.eval_grid, region3_reward=config.region3_reward)
+                 for agent in range(2)]
+    measured = {}
+    for k, region in enumerate(REGIONS):
+        measured[f"region_{region}_share"] = per_run[:, k].mean()
+        measured[f"region_{region}_ceiling"] = ceiling[k]
+        measured[f"region_{region}_share_of_ceiling"] = of_ceiling[:, k].mean()
+        measured[f"region_{region}_share_of_ceiling_lowest_run"] = of_ceiling[:, k].min()
+    gaps = [best_response_gap(result.params, config, agent).mean() for agent in range(2)]
+    return measured | {
+        "agent_a_best_response_gap": gaps[0],
+        "agent_b_best_response_gap": gaps[1],
         "agent_a_reward": ev.agent_reward[:, 0].mean(),
         "agent_b_reward": ev.agent_reward[:, 1].mean(),
         "agent_a_line_reward": ev.line_reward[:, 0].mean(),
@@ -410,8 +473,9 @@ def encoding_claim_rows(results: dict) -> list[dict]:
 
 # ---- plots (each draws on a given Axes) ----
 
-def plot_regions(ax):
-    """Fig. 5a: the three regions of experiment 1 and their rewarded joint actions (A, B)."""
+def plot_regions(ax, region3_reward: str = "move_apart"):
+    """Fig. 5a: the three regions of experiment 1 and their rewarded joint actions (A, B), region 3
+    read as ``region3_reward``."""
     x = np.linspace(-1.0, 1.0, 401)
     upper = np.clip(x + lineworld.CLOSE_DISTANCE, -1.0, 1.0)
     lower = np.clip(x - lineworld.CLOSE_DISTANCE, -1.0, 1.0)
@@ -420,7 +484,8 @@ def plot_regions(ax):
     ax.fill_between(x, lower, upper, color="tab:green", alpha=0.35, linewidth=0)
     ax.text(-0.55, 0.7, "1: (L, L)", ha="center", va="center")
     ax.text(0.55, -0.7, "2: (R, R)", ha="center", va="center")
-    ax.text(0.0, 0.0, "3: move apart", ha="center", va="center", rotation=45)
+    label = {"move_apart": "3: move apart", "fixed_joint_action": "3: (L, R)"}[region3_reward]
+    ax.text(0.0, 0.0, label, ha="center", va="center", rotation=45)
     _square(ax)
 
 
@@ -436,7 +501,7 @@ def plot_learned_lines(ax, result: SingleGLAResult, run_index: int, grid: int = 
     hu = _bounded(u, result.config)
     prefers_left = [(xs @ (hu[agent, 0] - hu[agent, 1])) > 0 for agent in range(2)]
     t = np.linspace(-1.0, 1.0, 401)
-    _draw_reference_lines(ax, t)
+    _draw_reference_lines(ax, t, result.config.region3_reward)
     for agent, (name, colour) in enumerate((("A", "tab:red"), ("B", "tab:purple"))):
         w = hu[agent, 0] - hu[agent, 1]
         _draw_line(ax, w, t, colour, f"agent {name}")
@@ -457,14 +522,23 @@ threshold at either band edge gets all but one band of width 0.5 right (share 25
 exhaustive search of :func:`best_line_reward` finds no better line)."""
 
 
-def _draw_reference_lines(ax, t):
-    """Where the ideal lines lie: A's rewarded actions are split by x1 = x2 exactly; B's best
-    single lines (:data:`B_BEST_LINE_OFFSETS`)."""
-    ax.plot(t, t, color="black", linestyle="--", linewidth=1, label="x1 = x2: agent A's ideal line")
-    for k, c in enumerate(B_BEST_LINE_OFFSETS):
-        inside = np.abs(t + c) <= 1
-        ax.plot(t[inside], t[inside] + c, color="0.4", linestyle=":", linewidth=1.3,
-                label="x2 = x1 ± 0.5: agent B's best single lines (tied)" if k == 0 else None)
+REFERENCE_LINES = {
+    "move_apart": (((0.0,), "x1 = x2: agent A's ideal line"),
+                   (B_BEST_LINE_OFFSETS, "x2 = x1 ± 0.5: agent B's best single lines (tied)")),
+    "fixed_joint_action": (((-0.5,), "x2 = x1 - 0.5: agent A's ideal line"),
+                           ((0.5,), "x2 = x1 + 0.5: agent B's ideal line")),
+}
+"""Per reading of region 3, each agent's best single lines x2 = x1 + c (offsets c) and their
+label: under 'fixed_joint_action' A plays L where x2 - x1 > -0.5 and B where x2 - x1 > 0.5."""
+
+
+def _draw_reference_lines(ax, t, region3_reward: str):
+    """Where each agent's best single lines lie (:data:`REFERENCE_LINES`)."""
+    for (offsets, label), colour, style in zip(REFERENCE_LINES[region3_reward], ("black", "0.4"), ("--", ":")):
+        for k, c in enumerate(offsets):
+            inside = np.abs(t + c) <= 1
+            ax.plot(t[inside], t[inside] + c, color=colour, linestyle=style, linewidth=1.3,
+                    label=label if k == 0 else None)
 
 
 def learned_line(result: SingleGLAResult, run_index: int, agent: int) -> tuple[float, float]:

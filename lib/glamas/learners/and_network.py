@@ -56,10 +56,12 @@ class Task(NamedTuple):
 
 
 @njit(cache=True, nogil=True)
-def learn(iterations, automaton, init_scale, task, network, probes, params, prob_left, state):
+def learn(iterations, automaton, init_scale, stream, task, network, probes, params, prob_left, state):
     """One run of experiment 2: both AND-network agents act (eq. 12, 15) and learn (eq. 13).
 
-    ``automaton`` is the :class:`glamas.gla.Settings` every unit shares, ``task`` the
+    ``automaton`` is the :class:`glamas.gla.Settings` every unit shares; ``stream`` > 0 reseeds
+    the run's generator after the initial parameters are drawn (:func:`glamas.rng.reseed`), so
+    the run keeps them and meets other probes, positions and actions; ``task`` is the
     :class:`Task`, ``network`` the agents' :class:`glamas.gla.NetworkArrays`. ``probes`` (n, 2)
     is filled with uniform points of region I, ``params`` with the initial and then the learned
     unit parameters, ``prob_left`` with Fig. 7b's curve.
@@ -69,6 +71,8 @@ def learn(iterations, automaton, init_scale, task, network, probes, params, prob
             for a in range(params.shape[2]):
                 for i in range(params.shape[3]):
                     params[agent, k, a, i] = init_scale * (2.0 * rng.uniform(state) - 1.0)
+    if stream > 0:
+        rng.reseed(state, stream)
     for i in range(probes.shape[0]):  # rejection sampling: uniform in region I
         x1, x2 = lineworld.restart(state)
         while not lineworld.inside_parabola(x1, x2, task.curvature, task.offset):
@@ -116,4 +120,4 @@ def kernel_inputs(config) -> tuple:
     c = config
     task = Task(float(c.parabola_curvature), float(c.parabola_offset), float(c.reward_inside),
                 float(c.reward_outside), float(c.reward_other))
-    return c.iterations, c.gla_params().settings(), float(c.init_scale), task, NETWORK.arrays()
+    return c.iterations, c.gla_params().settings(), float(c.init_scale), int(c.stream), task, NETWORK.arrays()

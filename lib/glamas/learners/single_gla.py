@@ -10,10 +10,11 @@ from glamas import gla, lineworld, rng
 
 
 @njit(cache=True, nogil=True)
-def learn(encoding, iterations, automaton, init_scale, params, reward, state):
+def learn(encoding, region3, iterations, automaton, init_scale, params, reward, state):
     """One run of experiment 1: the loop of Section 4.2 with eq. 12-15 for both agents.
 
-    ``automaton`` is the :class:`glamas.gla.Settings` both GLAs share; ``params`` (2, 2, n) is
+    ``region3`` is the reading of region 3's reward (lineworld.REGION3_REWARDS), ``automaton``
+    the :class:`glamas.gla.Settings` both GLAs share; ``params`` (2, 2, n) is
     filled with the initial and then the learned parameters, ``reward`` with the average feedback
     of each of its len(reward) windows.
     """
@@ -22,11 +23,12 @@ def learn(encoding, iterations, automaton, init_scale, params, reward, state):
         for action in range(2):
             for k in range(n_inputs):
                 params[agent, action, k] = init_scale * (2.0 * rng.uniform(state) - 1.0)
-    iterate(encoding, iterations, automaton, params, reward, state, np.empty((2, n_inputs)), np.empty((2, 2)))
+    iterate(encoding, region3, iterations, automaton, params, reward, state, np.empty((2, n_inputs)),
+            np.empty((2, 2)))
 
 
 @njit(cache=True, nogil=True, _nrt=False)
-def iterate(encoding, iterations, automaton, params, reward, state, contexts, probs):
+def iterate(encoding, region3, iterations, automaton, params, reward, state, contexts, probs):
     """The learning loop of :func:`learn`, compiled without reference counting as the gridworld
     learners' episode loops are (glamas.learners.episode.LOOP); ``contexts`` and ``probs`` hold
     each agent's context and action probabilities."""
@@ -42,7 +44,7 @@ def iterate(encoding, iterations, automaton, params, reward, state, contexts, pr
         lineworld.context(encoding, lineworld.AGENT_B, x1, x2, context_b)
         action_a = gla.act(u_a, context_a, temperature, L, mode, probs_a, state)
         action_b = gla.act(u_b, context_b, temperature, L, mode, probs_b, state)
-        beta = lineworld.regions_reward(x1, x2, action_a, action_b)
+        beta = lineworld.regions_reward(x1, x2, action_a, action_b, region3)
         gla.update(u_a, context_a, action_a, beta, learning_rate, temperature, K, L, mode, probs_a)
         gla.update(u_b, context_b, action_b, beta, learning_rate, temperature, K, L, mode, probs_b)
         window_sum += beta
@@ -56,5 +58,5 @@ def iterate(encoding, iterations, automaton, params, reward, state, contexts, pr
 def kernel_inputs(config) -> tuple:
     """The arguments of :func:`learn` before its outputs and state, for ``config``
     (:class:`glamas.experiments.single_gla.SingleGLAConfig`)."""
-    encoding = lineworld.encoding_code(config.context)
-    return encoding, config.iterations, config.gla_params().settings(), float(config.init_scale)
+    encoding, region3 = lineworld.encoding_code(config.context), lineworld.region3_code(config.region3_reward)
+    return encoding, region3, config.iterations, config.gla_params().settings(), float(config.init_scale)
