@@ -135,14 +135,17 @@ def convergence_grid(curves: np.ndarray, baseline: np.ndarray, episodes: np.ndar
     return rows
 
 
+def interval_verdict(low: float, high: float) -> str:
+    """What a 95 % interval of a ratio of convergence episodes says: 'faster' (below 1),
+    'slower' (above 1) or 'undecidable' (it contains 1)."""
+    return "faster" if high < 1.0 else ("slower" if low > 1.0 else "undecidable")
+
+
 def grid_verdict(rows: list[tuple]) -> str:
-    """'faster' when every interval of :func:`convergence_grid`'s rows lies below 1, 'slower' when
-    every one lies above, 'undecidable' otherwise: a verdict no tolerance or block width moves."""
-    if all(high < 1.0 for *_, high in rows):
-        return "faster"
-    if all(low > 1.0 for *_, low, _ in rows):
-        return "slower"
-    return "undecidable"
+    """The verdict every row of :func:`convergence_grid` gives, or 'undecidable' when they differ:
+    a verdict no tolerance or block width moves."""
+    verdicts = {interval_verdict(low, high) for *_, low, high in rows}
+    return verdicts.pop() if len(verdicts) == 1 else "undecidable"
 
 
 def earlier_share(curves: np.ndarray, baseline: np.ndarray, episodes: np.ndarray,

@@ -16,7 +16,8 @@ from matplotlib.ticker import NullFormatter
 from glamas import checks, figures, gla, results, runs
 from glamas import claims as chapter
 from glamas.curves import (DEFINITIONS, convergence_episode, convergence_episodes, convergence_grid,
-                           convergence_ratio, earlier_share, final, grid_verdict, level_episode)
+                           convergence_ratio, earlier_share, final, grid_verdict, interval_verdict,
+                           level_episode)
 from glamas.gridworld import GridMap, dp, load_map, rules
 from glamas.learners import episode as ep
 from glamas.learners import registry, spec, two_observe
@@ -172,9 +173,6 @@ ZERO_COLLISIONS = 0.05
 keeps a learner that has found a collision-free path colliding now and then."""
 ZERO_COLLISION_LEVELS = (0.02, 0.05, 0.1)
 """The levels of "zero collisions" the notebook shows the fast-to-zero claims at."""
-FAST = 0.1
-"""'Relatively fast' (Sec. 5.3): within the first tenth of the run, the counterpart of the last
-tenth that the final values average."""
 SATURATED = 1e-3
 """A GLA is saturated at a distance when its less likely choice has probability below this:
 eq. 13's gradient, proportional to that probability, has all but vanished there."""
@@ -224,19 +222,13 @@ def convergence_comparison(result: GridworldResult, name: str, base: str) -> dic
         m.update({f"{label}_point": point, f"{label}_low": low, f"{label}_high": high, f"{label}_verdict": verdict})
         m[label] = point if verdict != "undecidable" else math.nan
         if verdict == "undecidable":
-            counts = {v: sum(_side(row) == v for row in grid) for v in ("faster", "undecidable", "slower")}
+            counts = {v: sum(interval_verdict(low, high) == v for *_, low, high in grid) for v in ("faster", "undecidable", "slower")}
             m[f"{label}{chapter.WHY_UNDECIDABLE}"] = (
                 f"ratio {point:.2f} [{low:.2f}, {high:.2f}], but over tolerances of 3 to 15 % and blocks 1 to 4 "
                 f"times as wide the 95 % intervals say faster {counts['faster']}, undecidable "
                 f"{counts['undecidable']} and slower {counts['slower']} times")
     m[f"{key}_earlier_share"] = earlier_share(curves, baseline, x)
     return m
-
-
-def _side(row: tuple) -> str:
-    """One row of curves.convergence_grid read as a verdict."""
-    *_, low, high = row
-    return "faster" if high < 1.0 else ("slower" if low > 1.0 else "undecidable")
 
 
 def zero_collisions_after(result: GridworldResult, name: str, level: float = ZERO_COLLISIONS) -> float:
@@ -407,8 +399,9 @@ def in_range_share(gridmap: GridMap) -> np.ndarray:
 
 def convergence_report(result: GridworldResult) -> str:
     """"2observe converges faster" against each baseline under every definition of
-    curves.DEFINITIONS at every block width and tolerance of curves.convergence_grid: the ratio of the convergence episodes, its 95 % interval over runs and its
-    verdict; per definition, the verdict that none of them moves (per_run decides the claims)."""
+    curves.DEFINITIONS at every block width and tolerance of curves.convergence_grid: the ratio of
+    the convergence episodes, its 95 % interval over runs and its verdict; per definition, the
+    verdict that none of them moves (per_run decides the claims)."""
     lines = [f"{'against':24s} {'definition':13s} {'blocks':>6s} {'tolerance':>9s} {'ratio':>7s} "
              f"{'95 % interval':>16s}  verdict"]
     for base in ("independent", "mmdp"):
@@ -416,7 +409,7 @@ def convergence_report(result: GridworldResult) -> str:
             grid = convergence_grid(result.steps("two_observe"), result.steps(base), result.episodes, definition)
             for factor, tolerance, point, low, high in grid:
                 lines.append(f"{registry.label(base):24s} {definition:13s} {f'x{factor}':>6s} {tolerance:9.0%} "
-                             f"{point:7.3f} [{low:6.3f}, {high:6.3f}]  {_side((low, high))}")
+                             f"{point:7.3f} [{low:6.3f}, {high:6.3f}]  {interval_verdict(low, high)}")
             lines.append(f"{registry.label(base):24s} {definition:13s} {'all':>6s} {'all':>9s} {'':7s} {'':16s}  "
                          f"{grid_verdict(grid)}")
     return "\n".join(lines)
