@@ -558,7 +558,8 @@ def scaled(runs: int, iterations: int, **settings) -> SingleGLAConfig:
                            **settings)
 
 
-FIG5 = figures.Experiment("fig5", run, SingleGLAConfig.runs, SingleGLAConfig.iterations, scaled, SingleGLAResult)
+FIG5 = figures.Experiment("fig5", run, SingleGLAConfig.runs, SingleGLAConfig.iterations, scaled, SingleGLAResult,
+                          to_arrays=SingleGLAResult.arrays)
 """Fig. 5's experiment for the figure scripts: experiment 1 with the joint context."""
 def scaled_encodings(runs: int, iterations: int, **settings) -> EncodingConfig:
     """Fig. 6 (with ``settings`` of :class:`EncodingConfig` changed) at ``runs`` and ``iterations``."""
