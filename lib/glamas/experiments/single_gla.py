@@ -4,6 +4,8 @@ Both agents see a context built from the joint position (Fig. 6 compares three e
 with eq. 15, get experiment 1's common 0/1 feedback and learn with eq. 13; then both restart at
 new random positions. A run records the average feedback per window of iterations and the final
 GLA parameters; :func:`evaluate` turns those into exact expected rewards over the state square.
+Fig. 6's runs also record the parameters at checkpoints, and its claims read the expected reward
+there (:func:`expected_curves`), never the plot's windows.
 """
 
 from dataclasses import dataclass, field, replace
