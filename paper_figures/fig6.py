@@ -1,11 +1,17 @@
-"""Fig. 6: average reward of single GLAs with the joint, absolute-distance and deictic contexts."""
+"""Fig. 6: average reward of single GLAs with the joint, absolute-distance and deictic contexts.
+
+Left, as the chapter draws it: the average feedback per window of iterations. Right: the expected
+reward of the GLA parameters at log-spaced checkpoints, exact on the evaluation grid, which shows
+the start of learning that the left panel compresses into its first windows.
+"""
 
 from glamas.experiments import single_gla
 
 
 def main(argv=None):
-    with single_gla.FIG6.figure("fig6", __doc__, argv) as (ax, results, _):
-        single_gla.plot_reward_curves(ax, results)
+    with single_gla.FIG6.figure("fig6", __doc__, argv, size=(11.0, 4.0), ncols=2) as (axes, results, _):
+        single_gla.plot_reward_curves(axes[0], results)
+        single_gla.plot_expected_curves(axes[1], results)
 
 
 if __name__ == "__main__":

@@ -71,19 +71,25 @@ def test_a_dask_cluster_gives_the_one_thread_results_bit_for_bit(reference, dask
     _assert_identical(gridworld.run(GRID, seed=2, workers=backend), reference["grid"])
 
 
+def no_checkpoints(n_runs):
+    """The single-GLA kernel's checkpoint output for runs that record none."""
+    return np.zeros((n_runs, 0, 2, 2, 3))
+
+
 def test_job_size_does_not_change_results(reference):
     params = np.zeros_like(reference["single"].params)
     reward = np.zeros_like(reference["single"].reward)
-    runs.run_batches(single_gla_learner.learn, single_gla_learner.kernel_inputs(SINGLE), (params, reward), 11,
-                     workers=runs.Processes(2), chunk=3)
+    runs.run_batches(single_gla_learner.learn, single_gla_learner.kernel_inputs(SINGLE), (params, reward, no_checkpoints(7)),
+                     11, workers=runs.Processes(2), chunk=3)
     assert np.array_equal(reward, reference["single"].reward)
     assert np.array_equal(params, reference["single"].params)
 
 
 def test_a_job_runs_any_slice_of_the_sweep_on_its_own(reference):
     inputs = single_gla_learner.kernel_inputs(SINGLE)
-    initial = (np.zeros((2,) + reference["single"].params.shape[1:]), np.zeros((2, SINGLE.record_points)))
-    start, (params, reward) = runs.run_chunk("glamas.learners.single_gla:learn", inputs, 11, 4, 6, initial)
+    initial = (np.zeros((2,) + reference["single"].params.shape[1:]), np.zeros((2, SINGLE.record_points)),
+               no_checkpoints(2))
+    start, (params, reward, _) = runs.run_chunk("glamas.learners.single_gla:learn", inputs, 11, 4, 6, initial)
     assert start == 4
     assert np.array_equal(reward, reference["single"].reward[4:6])
     assert np.array_equal(params, reference["single"].params[4:6])
@@ -206,11 +212,12 @@ def test_a_scratch_output_is_filled_by_the_runs_and_not_kept(reference, workers)
     """A Scratch output changes nothing of the kept outputs, and nothing of it comes back."""
     reward = np.zeros_like(reference["single"].reward)
     params = runs.Scratch(reference["single"].params.shape, np.dtype(float), 0.0)
-    runs.run_batches(single_gla_learner.learn, single_gla_learner.kernel_inputs(SINGLE), (params, reward), 11,
-                     workers=workers, chunk=3)
+    runs.run_batches(single_gla_learner.learn, single_gla_learner.kernel_inputs(SINGLE), (params, reward, no_checkpoints(7)),
+                     11, workers=workers, chunk=3)
     assert np.array_equal(reward, reference["single"].reward)
-    _, (dropped, kept) = runs.run_chunk("glamas.learners.single_gla:learn", single_gla_learner.kernel_inputs(SINGLE),
-                                        11, 4, 6, (params.runs(4, 6), np.zeros((2, SINGLE.record_points))))
+    _, (dropped, kept, _) = runs.run_chunk("glamas.learners.single_gla:learn", single_gla_learner.kernel_inputs(SINGLE),
+                                           11, 4, 6, (params.runs(4, 6), np.zeros((2, SINGLE.record_points)),
+                                                      no_checkpoints(2)))
     assert dropped is None and np.array_equal(kept, reference["single"].reward[4:6])
 
 

@@ -45,7 +45,8 @@ def estimate(config) -> int:
     """Bytes of the arrays a run of ``config`` allocates (0 for a config without an estimate)."""
     from glamas.experiments import and_network, gridworld, gridworld_optimum, related_work, scaling, single_gla
 
-    estimators = {single_gla.SingleGLAConfig: _single_gla, and_network.ANDNetworkConfig: _and_network,
+    estimators = {single_gla.SingleGLAConfig: _single_gla, single_gla.EncodingConfig: _encodings,
+                  and_network.ANDNetworkConfig: _and_network,
                   gridworld.GridworldConfig: _gridworld, related_work.RelatedWorkConfig: _related_work,
                   scaling.ScalingConfig: _scaling, gridworld_optimum.GridworldOptimumConfig: _gridworld_optimum}
     estimator = estimators.get(type(config))
@@ -55,6 +56,12 @@ def estimate(config) -> int:
 def _single_gla(config) -> int:
     per_run = config.record_points + 2 * 2 * 3  # reward curve, (agents, actions, longest context)
     return config.runs * per_run * BYTES_PER_VALUE * WORKING_COPIES
+
+
+def _encodings(config) -> int:
+    """One encoding of Fig. 6: experiment 1's arrays and the parameters at its checkpoints."""
+    per_run = (config.checkpoints + 1) * 2 * 2 * 3  # the start and the checkpoints, parameters as above
+    return _single_gla(config.experiment) + config.experiment.runs * per_run * BYTES_PER_VALUE * WORKING_COPIES
 
 
 def _and_network(config) -> int:

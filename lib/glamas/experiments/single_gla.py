@@ -4,29 +4,28 @@ Both agents see a context built from the joint position (Fig. 6 compares three e
 with eq. 15, get experiment 1's common 0/1 feedback and learn with eq. 13; then both restart at
 new random positions. A run records the average feedback per window of iterations and the final
 GLA parameters; :func:`evaluate` turns those into exact expected rewards over the state square.
+Fig. 6's runs also record the parameters at checkpoints, and its claims read the expected reward
+there (:func:`expected_curves`), never the plot's windows.
 """
 
-from dataclasses import dataclass, replace
-from functools import partial
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 from numba import njit
 
 from glamas import checks, claims, figures, gla, lineworld, memory
-from glamas.curves import FINAL_FRACTION, final_per_run
+from glamas.curves import BOOTSTRAP_DRAWS, final_per_run
 from glamas.learners import single_gla as learner
 from glamas.plotting import legend_below, plot_mean_band
 from glamas.runs import run_batches
 
 ENCODING_NAMES = ("joint", "absolute", "deictic")
 
-FIG6_L = 1.0
-"""L of eq. 14 for Fig. 6. The chapter does not restate Fig. 6's parameters; we keep Fig. 5's
-box (its caption: L = 1), which also matches the joint inputs' range [-1, 1]."""
-FIG6_ALTERNATIVE_L = 2.0
-"""The box notebook 02 shows beside FIG6_L: L = 2 matches the range [-2, 2] of the deictic input
-x_self - x_other as L = 1 matches the joint inputs'. The final ordering of the deictic and joint
-contexts depends on this choice."""
+BOX_READINGS = ("fig5", "two", "input_range")
+"""Readings of Fig. 6's box L (eq. 14), which the chapter does not restate (:class:`EncodingConfig`)."""
+INPUT_RANGE = {"joint": 1.0, "absolute": 2.0, "deictic": 2.0}
+"""The largest |input| of each context's non-bias inputs: positions lie in [-1, 1], so
+|xA - xB| lies in [0, 2] and x_self - x_other in [-2, 2]."""
 
 
 @dataclass(frozen=True)
@@ -91,21 +90,34 @@ class SingleGLAResult:
     """(runs, record_points) average feedback in each window."""
     params: np.ndarray
     """(runs, 2 agents, 2 actions, context length) final GLA parameters u (actions L, R)."""
+    checkpoint: np.ndarray = field(default_factory=lambda: learner.NO_CHECKPOINTS)
+    """(checkpoints,) the iterations after which the parameters were recorded (Fig. 5: none)."""
+    checkpoint_params: np.ndarray = field(default_factory=lambda: np.zeros((0, 0, 2, 2, 0)))
+    """(runs, checkpoints, 2 agents, 2 actions, context length) the parameters at the checkpoints."""
 
     def arrays(self) -> dict:
-        return {"iteration": self.iteration, "reward": self.reward, "params": self.params}
+        """The arrays a result file stores; the checkpoints only when there are any."""
+        arrays = {"iteration": self.iteration, "reward": self.reward, "params": self.params}
+        if self.checkpoint.size:
+            arrays.update(checkpoint=self.checkpoint, checkpoint_params=self.checkpoint_params)
+        return arrays
 
 
-def run(config: SingleGLAConfig, seed: int = 0, workers=None,
-        progress: str | None = None) -> SingleGLAResult:
-    """All runs of experiment 1 for ``config``; identical for any number of workers."""
+def run(config: SingleGLAConfig, seed: int = 0, workers=None, progress: str | None = None,
+        checkpoint_at: np.ndarray = learner.NO_CHECKPOINTS) -> SingleGLAResult:
+    """All runs of experiment 1 for ``config``; identical for any number of workers. The
+    parameters are also recorded after each of ``checkpoint_at`` iterations, which changes
+    nothing else."""
     memory.check(config)
     n_inputs = lineworld.CONTEXT_LENGTH[lineworld.encoding_code(config.context)]
     params = np.zeros((config.runs, 2, 2, n_inputs))
     reward = np.zeros((config.runs, config.record_points))
-    run_batches(learner.learn, learner.kernel_inputs(config), (params, reward), seed, workers=workers, progress=progress)
+    checkpoints = np.zeros((config.runs, len(checkpoint_at), 2, 2, n_inputs))
+    run_batches(learner.learn, learner.kernel_inputs(config, checkpoint_at), (params, reward, checkpoints), seed,
+                workers=workers, progress=progress)
     points = np.arange(1, config.record_points + 1)
-    return SingleGLAResult(config, points * config.iterations // config.record_points, reward, params)
+    return SingleGLAResult(config, points * config.iterations // config.record_points, reward, params,
+                           np.asarray(checkpoint_at, dtype=np.int64), checkpoints)
 
 
 @njit(cache=True)
@@ -375,63 +387,221 @@ def typical_run(result: SingleGLAResult) -> int:
     return int(np.argsort(team, kind="stable")[(team.shape[0] - 1) // 2])
 
 
-def compare_encodings(config: SingleGLAConfig, seed: int = 0, workers=None,
+def box_L(box: str, encoding: str, fig5_L: float) -> float:
+    """L of eq. 14 for one encoding under a reading of Fig. 6's box (:data:`BOX_READINGS`):
+    'fig5' Fig. 5's L for every encoding, 'two' L = 2 for every one, 'input_range' Fig. 5's L
+    times the encoding's input range (:data:`INPUT_RANGE`: joint 1, absolute and deictic 2), the
+    rule 2observe's box follows (a box that scales with the largest input)."""
+    if box not in BOX_READINGS:
+        raise ValueError(f"box must be one of {list(BOX_READINGS)}, got {box!r}")
+    return {"fig5": fig5_L, "two": 2.0, "input_range": fig5_L * INPUT_RANGE[encoding]}[box]
+
+
+@dataclass(frozen=True)
+class EncodingConfig:
+    """Fig. 6 (Section 4.2): experiment 1 once per context encoding. Fig. 6 restates no setting:
+    ``experiment`` holds Fig. 5's."""
+
+    experiment: SingleGLAConfig = SingleGLAConfig()
+    """Experiment 1's settings; each encoding's runs take its context and the L that ``box`` gives."""
+    box: str = "fig5"
+    """Fig. 6's box L (:func:`box_L`): 'fig5' (default), 'two' or 'input_range'. Fig. 6 is the same
+    experiment with other contexts and was run without tuning the Boltzmann exploration, which the
+    box caps (it bounds u.x / T); every encoding's best boundaries (x1 = x2, |x1 - x2| = 0.5) lie
+    where L = 1 already lets them be sharp, so the reason for 2observe's wider box does not arise."""
+    checkpoints: int = 48
+    """Checkpoints log-spaced from iteration 10 to the last (with the start), where the GLA
+    parameters are recorded and the expected reward of the learning curve is evaluated."""
+
+    def __post_init__(self):
+        checks.field_types(self)
+        checks.whole_numbers(self, {"checkpoints": 2})
+        for name in ENCODING_NAMES:
+            self.encoding(name)  # validates box, and init_scale against each encoding's L
+
+    def encoding(self, name: str) -> SingleGLAConfig:
+        """Experiment 1's configuration for the context ``name`` under this box reading."""
+        return replace(self.experiment, context=name, L=box_L(self.box, name, self.experiment.L))
+
+    def checkpoint_iterations(self) -> np.ndarray:
+        """The iterations after which the parameters are recorded: 0 and ``checkpoints`` log-spaced
+        ones from 10 (or the last iteration, if fewer) to the last (rounded, duplicates dropped)."""
+        last = self.experiment.iterations
+        spaced = np.rint(np.geomspace(min(10, last), last, self.checkpoints)).astype(np.int64)
+        return np.unique(np.concatenate([[0], spaced]))
+
+
+def compare_encodings(config: EncodingConfig, seed: int = 0, workers=None,
                       progress: str | None = None) -> dict:
     """Fig. 6: the same experiment with each context encoding (same seed, so run r of every
-    encoding sees the same positions until their actions differ)."""
-    return {name: run(replace(config, context=name), seed, workers,
-                      None if progress is None else f"{progress} ({name})")
+    encoding sees the same positions until their actions differ), the parameters recorded at the
+    checkpoints."""
+    return {name: run(config.encoding(name), seed, workers, None if progress is None else f"{progress} ({name})",
+                      config.checkpoint_iterations())
             for name in ENCODING_NAMES}
+
+
+@njit(cache=True)
+def team_rewards(params, contexts_a, contexts_b, part_a, part_b, weight, temperature, L, mode, out):
+    """out[m]: the expected feedback of both agents' Boltzmann policies (eq. 15 at h(u), two
+    actions: P(L) = 1 / (1 + exp(-(h(u_L) - h(u_R)).x / T))) with parameters params[m] (2 agents,
+    2 actions, inputs): the weighted mean over the points of P_A(part) P_B(part), from each
+    point's contexts, parts of the rewarded joint action and weight (:func:`grid_points`)."""
+    n_inputs = contexts_a.shape[1]
+    w = np.empty((2, n_inputs))
+    for m in range(params.shape[0]):
+        for agent in range(2):
+            for k in range(n_inputs):
+                w[agent, k] = (gla.bound(params[m, agent, lineworld.LEFT, k], L, mode)
+                               - gla.bound(params[m, agent, lineworld.RIGHT, k], L, mode)) / temperature
+        total = 0.0
+        for i in range(contexts_a.shape[0]):
+            z_a, z_b = 0.0, 0.0
+            for k in range(n_inputs):
+                z_a += w[0, k] * contexts_a[i, k]
+                z_b += w[1, k] * contexts_b[i, k]
+            p_a = 1.0 / (1.0 + np.exp(-z_a if part_a[i] == lineworld.LEFT else z_a))
+            p_b = 1.0 / (1.0 + np.exp(-z_b if part_b[i] == lineworld.LEFT else z_b))
+            total += weight[i] * p_a * p_b
+        out[m] = total / weight.sum()
+
+
+EDGE_NUDGE = 1e-9
+"""How far :func:`grid_points` moves a point to read the rewarded action on each side of it."""
+
+
+def grid_points(config: SingleGLAConfig) -> tuple:
+    """The evaluation grid as :func:`team_rewards` reads it: (contexts of A, contexts of B, A's
+    part, B's part, weight). Each point counts half with the rewarded joint action just left and
+    half with the one just right of it (x1 -+ EDGE_NUDGE): the same inside a region, and on a
+    region's edge (the grid puts points on x1 = x2 and |x1 - x2| = 0.5) an even split, as the edge
+    splits the point's cell. Counting such a point wholly on one side would bias each run's
+    expected reward by up to a cell's width times its policy's jump there, a run-to-run scatter
+    that halves with every doubling of the grid. Points with the same contexts and parts are
+    merged, their weights added (the distance contexts see about 2 eval_grid distinct points)."""
+    encoding = lineworld.encoding_code(config.context)
+    x1, x2 = lineworld.state_grid(config.eval_grid)
+    n = lineworld.CONTEXT_LENGTH[encoding]
+    seen = np.column_stack([contexts(encoding, lineworld.AGENT_A, x1, x2), contexts(encoding, lineworld.AGENT_B, x1, x2)])
+    rows = np.vstack([np.column_stack([seen, best_actions(x1 + side, x2, lineworld.AGENT_A),
+                                       best_actions(x1 + side, x2, lineworld.AGENT_B)])
+                      for side in (-EDGE_NUDGE, EDGE_NUDGE)])
+    _, first, counts = np.unique(np.round(rows, 12), axis=0, return_index=True, return_counts=True)
+    rows = rows[first]
+    return (np.ascontiguousarray(rows[:, :n]), np.ascontiguousarray(rows[:, n:2 * n]), rows[:, 2 * n].astype(np.int64),
+            rows[:, 2 * n + 1].astype(np.int64), counts / 2.0)
+
+
+def expected_curves(result: SingleGLAResult) -> np.ndarray:
+    """(runs, checkpoints) the team's expected feedback (:func:`team_rewards` on the evaluation
+    grid) at every checkpoint of every run: Fig. 6's learning curve without sampling noise."""
+    config = result.config
+    runs, points = result.checkpoint_params.shape[:2]
+    out = np.empty(runs * points)
+    team_rewards(result.checkpoint_params.reshape(runs * points, *result.checkpoint_params.shape[2:]),
+                 *grid_points(config), config.temperature, config.L, config.gla_params().bounding_code, out)
+    return out.reshape(runs, points)
+
+
+def curve_mean(curves: np.ndarray, iteration: np.ndarray) -> np.ndarray:
+    """(runs,) each curve's mean over the iterations from the first to the last checkpoint
+    (trapezoids between checkpoints): the height of the learning curve averaged over the run."""
+    widths = np.diff(iteration)
+    return (curves[:, 1:] + curves[:, :-1]) @ widths / (2.0 * widths.sum())
+
+
+REACH_TOLERANCE = 0.05
+"""Learning speed: the iteration at which the expected reward first reaches 95 % of its final value."""
+
+
+def reach_iteration(curves: np.ndarray, iteration: np.ndarray, tolerance: float = REACH_TOLERANCE) -> np.ndarray:
+    """(runs,) the iteration at which each curve (runs, checkpoints) first reaches (1 - tolerance)
+    times its last value, linear between the checkpoints that bracket it (0 if the first does)."""
+    target = (1.0 - tolerance) * curves[:, -1]
+    out = np.empty(curves.shape[0])
+    for r, (curve, level) in enumerate(zip(curves, target)):
+        c = int(np.argmax(curve >= level))
+        if c == 0:
+            out[r] = iteration[0]
+            continue
+        share = (level - curve[c - 1]) / (curve[c] - curve[c - 1])
+        out[r] = iteration[c - 1] + share * (iteration[c] - iteration[c - 1])
+    return out
 
 
 COMPARISONS = (("deictic", "joint"), ("joint", "absolute"), ("deictic", "absolute"))
 """Fig. 6's pairs of encodings (better, worse) in the chapter's ordering."""
 
 
-def measure_encodings(results: dict) -> dict:
-    """Fig. 6's metrics: each encoding's final average reward (last tenth of the iterations) and
-    mean reward over the whole run (learning speed); for each pair of encodings the paired
-    difference (run r of each shares its seed), the lower end of its 95 % interval, and its effect
-    size :func:`curve_effect`; for the absolute distance, the smaller of its two effects."""
-    final = {name: final_per_run(res.reward) for name, res in results.items()}
-    measured = {f"{name}_final_reward": values.mean() for name, values in final.items()}
-    whole = {name: res.reward.mean(axis=1) for name, res in results.items()}
-    measured.update({f"{name}_mean_reward": values.mean() for name, values in whole.items()})
+def measure_encodings(results: dict, tolerance: float = REACH_TOLERANCE) -> dict:
+    """Fig. 6's metrics, all from the expected reward at the checkpoints (:func:`expected_curves`),
+    none from the plot windows: per encoding the mean over runs of the learning curve's mean
+    (:func:`curve_mean`) and final value; per pair of encodings (run r of each shares its seed) the
+    paired difference of both with its 95 % interval and Cohen's d; the absolute distance's
+    smaller d against the others; deictic against joint, the iterations to reach 1 - ``tolerance``
+    of the final value (:func:`speed_comparison`)."""
+    curves = {name: expected_curves(res) for name, res in results.items()}
+    per_run = {name: {"mean": curve_mean(curve, results[name].checkpoint), "final": curve[:, -1]}
+               for name, curve in curves.items()}
+    measured = {f"{name}_expected_{key}": values.mean() for name, rows in per_run.items() for key, values in rows.items()}
     for better, worse in COMPARISONS:
-        for label, per_run, tail in (("", final, FINAL_FRACTION), ("_whole", whole, 1.0)):
-            mean, low = _paired_difference(per_run[better], per_run[worse])
-            key = f"{better}_minus_{worse}{label}"
-            measured[key], measured[f"{key}_low"] = mean, low
-            measured[f"{key}_effect"] = curve_effect(results[better].reward, results[worse].reward, tail)
-    for label in ("", "_whole"):
-        key = f"absolute_worst{label}_effect"
-        measured[key] = min(measured[f"joint_minus_absolute{label}_effect"],
-                            measured[f"deictic_minus_absolute{label}_effect"])
-    for key in [k for k in measured if k.endswith("_effect") and np.isnan(measured[k])]:
-        measured[key + claims.WHY_UNDECIDABLE] = ("no run-to-run spread to compare the difference with "
-                                                  "(fewer than two runs, or identical ones)")
+        for key in ("mean", "final"):
+            a, b = per_run[better][key], per_run[worse][key]
+            label = f"{better}_minus_{worse}_{key}"
+            measured[label], measured[f"{label}_low"], measured[f"{label}_high"] = paired_interval(a, b)
+            measured[f"{label}_effect"] = cohen_d(a, b)
+    for key in ("mean", "final"):
+        measured[f"absolute_worst_{key}_effect"] = min(measured[f"joint_minus_absolute_{key}_effect"],
+                                                       measured[f"deictic_minus_absolute_{key}_effect"])
+    iteration = results["deictic"].checkpoint
+    measured.update(speed_comparison(reach_iteration(curves["deictic"], iteration, tolerance),
+                                     reach_iteration(curves["joint"], iteration, tolerance)))
+    for key in [k for k in measured if np.isnan(measured[k])]:
+        measured[key + claims.WHY_UNDECIDABLE] = ("no run-to-run spread or no paired runs to judge by "
+                                                  "(fewer than two runs, identical ones, or a curve at its "
+                                                  "final value from the start)")
     return measured
 
 
-def curve_effect(better: np.ndarray, worse: np.ndarray, tail: float) -> float:
-    """How far apart two encodings' Fig. 6 curves (runs, points) are over their last ``tail``
-    of the points, in units of the run-to-run spread of a curve point: the mean difference of
-    the run-mean curves divided by the standard deviation over runs of one point's average
-    reward (root mean square over the points and both curves). This is Cohen's d of the plotted
-    quantity; NaN with one run."""
-    points = max(1, int(round(better.shape[1] * tail)))
-    a, b = better[:, -points:], worse[:, -points:]
-    if a.shape[0] < 2:
-        return float("nan")
-    spread = np.sqrt((a.var(axis=0, ddof=1).mean() + b.var(axis=0, ddof=1).mean()) / 2)
-    return float((a.mean() - b.mean()) / spread) if spread > 0 else float("nan")
-
-
-def _paired_difference(better: np.ndarray, worse: np.ndarray) -> tuple[float, float]:
-    """Mean of the per-run differences and the lower end of its 95 % confidence interval."""
+def paired_interval(better: np.ndarray, worse: np.ndarray) -> tuple[float, float, float]:
+    """The mean of the per-run differences and its 95 % confidence interval (normal; NaN ends
+    with one run)."""
     diff = better - worse
-    half = 1.96 * diff.std(ddof=1) / np.sqrt(diff.shape[0]) if diff.shape[0] > 1 else 0.0
-    return float(diff.mean()), float(diff.mean() - half)
+    half = 1.96 * diff.std(ddof=1) / np.sqrt(diff.shape[0]) if diff.shape[0] > 1 else np.nan
+    return float(diff.mean()), float(diff.mean() - half), float(diff.mean() + half)
+
+
+def cohen_d(better: np.ndarray, worse: np.ndarray) -> float:
+    """Cohen's d: the difference of the means over runs in units of the runs' pooled standard
+    deviation (NaN with one run or no spread)."""
+    if better.shape[0] < 2:
+        return float("nan")
+    spread = np.sqrt((better.var(ddof=1) + worse.var(ddof=1)) / 2)
+    return float((better.mean() - worse.mean()) / spread) if spread > 0 else float("nan")
+
+
+def speed_comparison(deictic: np.ndarray, joint: np.ndarray, seed: int = 0) -> dict:
+    """Deictic against joint from the paired iterations to reach the level (runs,): the share of
+    runs where the deictic context gets there first (ties count half), and the median of the
+    per-run ratios deictic / joint with its 95 % bootstrap interval (run pairs resampled)."""
+    with np.errstate(divide="ignore", invalid="ignore"):
+        ratio = np.where(joint > 0, deictic / np.where(joint > 0, joint, 1.0), np.nan)
+    share = float(np.mean((deictic < joint) + 0.5 * (deictic == joint)))
+    if ratio.shape[0] < 2 or np.isnan(ratio).any():
+        return {"deictic_earlier_share": share, "deictic_joint_reach_ratio": float(np.median(ratio)),
+                "deictic_joint_reach_ratio_low": float("nan"), "deictic_joint_reach_ratio_high": float("nan")}
+    draws = np.random.default_rng(seed).integers(0, ratio.shape[0], (BOOTSTRAP_DRAWS, ratio.shape[0]))
+    low, high = np.percentile(np.median(ratio[draws], axis=1), [2.5, 97.5])
+    return {"deictic_earlier_share": share, "deictic_joint_reach_ratio": float(np.median(ratio)),
+            "deictic_joint_reach_ratio_low": float(low), "deictic_joint_reach_ratio_high": float(high)}
+
+
+def paired_curve(results: dict, better: str, worse: str) -> tuple:
+    """(iterations, mean, low, high): the paired difference of two encodings' expected rewards at
+    every checkpoint, with its 95 % interval over runs."""
+    a, b = expected_curves(results[better]), expected_curves(results[worse])
+    rows = np.array([paired_interval(a[:, c], b[:, c]) for c in range(a.shape[1])])
+    return results[better].checkpoint, rows[:, 0], rows[:, 1], rows[:, 2]
 
 
 def encoding_arrays(results: dict) -> dict:
@@ -439,10 +609,10 @@ def encoding_arrays(results: dict) -> dict:
     return {f"{name}_{key}": value for name, res in results.items() for key, value in res.arrays().items()}
 
 
-def encodings_from_arrays(config: SingleGLAConfig, arrays: dict) -> dict:
-    """The inverse of :func:`encoding_arrays`: encoding name -> result (``config`` with its context)."""
-    return {name: SingleGLAResult(replace(config, context=name), arrays[f"{name}_iteration"],
-                                  arrays[f"{name}_reward"], arrays[f"{name}_params"])
+def encodings_from_arrays(config: EncodingConfig, arrays: dict) -> dict:
+    """The inverse of :func:`encoding_arrays`: encoding name -> result (``config``'s for the encoding)."""
+    return {name: SingleGLAResult(config.encoding(name), *(arrays[f"{name}_{key}"] for key in
+                                  ("iteration", "reward", "params", "checkpoint", "checkpoint_params")))
             for name in ENCODING_NAMES}
 
 
@@ -453,12 +623,18 @@ def scaled(runs: int, iterations: int, **settings) -> SingleGLAConfig:
                            **settings)
 
 
-FIG5 = figures.Experiment("fig5", run, SingleGLAConfig.runs, SingleGLAConfig.iterations, scaled, SingleGLAResult)
+FIG5 = figures.Experiment("fig5", run, SingleGLAConfig.runs, SingleGLAConfig.iterations, scaled, SingleGLAResult,
+                          to_arrays=SingleGLAResult.arrays)
 """Fig. 5's experiment for the figure scripts: experiment 1 with the joint context."""
+def scaled_encodings(runs: int, iterations: int, **settings) -> EncodingConfig:
+    """Fig. 6 (with ``settings`` of :class:`EncodingConfig` changed) at ``runs`` and ``iterations``."""
+    return EncodingConfig(scaled(runs, iterations), **settings)
+
+
 FIG6 = figures.Experiment("fig6", compare_encodings, SingleGLAConfig.runs, SingleGLAConfig.iterations,
-                          partial(scaled, L=FIG6_L), copies=len(ENCODING_NAMES), to_arrays=encoding_arrays,
+                          scaled_encodings, copies=len(ENCODING_NAMES), to_arrays=encoding_arrays,
                           from_arrays=encodings_from_arrays)
-"""Fig. 6's experiment for the figure scripts: experiment 1 with each context, in Fig. 6's box."""
+"""Fig. 6's experiment for the figure scripts: experiment 1 with each context, in Fig. 6's default box."""
 
 
 def claim_rows(result: SingleGLAResult) -> list[dict]:
@@ -559,6 +735,18 @@ def plot_reward_curves(ax, results: dict):
         plot_mean_band(ax, res.iteration, res.reward, label=name)
     ax.set_xlabel("iteration")
     ax.set_ylabel("average reward")
+    legend_below(ax, ncols=3)
+
+
+def plot_expected_curves(ax, results: dict):
+    """Fig. 6 without sampling noise: the expected reward at the checkpoints (:func:`expected_curves`)
+    per context encoding over log-scaled iterations, mean and 95 % band over runs."""
+    for name, res in results.items():
+        after_start = res.checkpoint > 0  # the start has no place on a log axis
+        plot_mean_band(ax, res.checkpoint[after_start], expected_curves(res)[:, after_start], label=name)
+    ax.set_xscale("log")
+    ax.set_xlabel("iteration")
+    ax.set_ylabel("expected reward")
     legend_below(ax, ncols=3)
 
 
