@@ -25,16 +25,17 @@ def learn(encoding, region3, iterations, automaton, init_scale, checkpoint_at, p
         for action in range(2):
             for k in range(n_inputs):
                 params[agent, action, k] = init_scale * (2.0 * rng.uniform(state) - 1.0)
-    iterate(encoding, region3, iterations, automaton, checkpoint_at, params, reward, checkpoints, state,
+    iterate((encoding, region3), iterations, automaton, checkpoint_at, params, reward, checkpoints, state,
             np.empty((2, n_inputs)), np.empty((2, 2)))
 
 
 @njit(cache=True, nogil=True, _nrt=False)
-def iterate(encoding, region3, iterations, automaton, checkpoint_at, params, reward, checkpoints, state, contexts,
-            probs):
+def iterate(task, iterations, automaton, checkpoint_at, params, reward, checkpoints, state, contexts, probs):
     """The learning loop of :func:`learn`, compiled without reference counting as the gridworld
-    learners' episode loops are (glamas.learners.episode.LOOP); ``contexts`` and ``probs`` hold
-    each agent's context and action probabilities."""
+    learners' episode loops are (glamas.learners.episode.LOOP); ``task`` is :func:`learn`'s
+    (encoding, region3), ``contexts`` and ``probs`` hold each agent's context and action
+    probabilities."""
+    encoding, region3 = task
     learning_rate, temperature, K, L, mode = automaton
     context_a, context_b, probs_a, probs_b = contexts[0], contexts[1], probs[0], probs[1]
     u_a, u_b = params[0], params[1]
