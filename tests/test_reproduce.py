@@ -108,3 +108,19 @@ def test_fresh_takes_the_place_of_out_and_results(tmp_path, capsys):
 def test_the_result_files_fresh_may_empty_are_the_experiments(tmp_path):
     assert {"fig5.npz", "fig6.npz", "fig7.npz", "gridworld.npz"} <= set(reproduce.result_patterns())
     assert {path.name for path in RESULTS.glob("*.npz")} <= set(reproduce.result_patterns())
+
+
+def test_fresh_refuses_a_file(tmp_path, capsys):
+    (tmp_path / "out").write_text("kept")
+    assert "exists and is not a directory; nothing was deleted" in _refused(["--fresh", str(tmp_path / "out")], capsys)
+    assert (tmp_path / "out").read_text() == "kept"
+
+
+def test_fresh_draws_into_the_emptied_directories(tmp_path, capsys, monkeypatch):
+    monkeypatch.setattr(reproduce, "CHAPTER", ("fig9",))  # a figure of no experiment: nothing to compute
+    old = tmp_path / "a b" / "results" / "fig5.npz"
+    old.parent.mkdir(parents=True)
+    old.write_text("an earlier run's")
+    assert reproduce.main(["--fresh", str(tmp_path / "a b")]) == 0
+    assert (tmp_path / "a b" / "figures" / "fig9.png").read_bytes() == (FIGURES / "fig9.png").read_bytes()
+    assert not any((tmp_path / "a b" / "results").iterdir())

@@ -65,7 +65,7 @@ def run(names, options: list) -> None:
 
 COMMITTED = (DATA, SCRIPTS)
 """The directories of the committed results and figures: ``--fresh`` never empties one of them,
-a directory inside one, or a directory holding one (the repository itself)."""
+a directory inside one, or a directory holding one (such as the repository itself)."""
 FIGURE_PATTERNS = ("*.png", "*.pdf")
 """The names of the files a figure script writes to its --out."""
 
@@ -89,8 +89,8 @@ def fresh_directories(text: str) -> tuple:
     DIR/results)``. Every check comes before the first deletion, so that a refusal (ValueError)
     deletes nothing; a file glamas did not write is never deleted, but refused."""
     if not text.strip():
-        raise ValueError("--fresh is empty (make's OUT or VERIFY set to nothing?); give the directory to "
-                         "recompute into, e.g. out/reproduce")
+        raise ValueError("--fresh is empty (make's OUT or VERIFY set to nothing?); nothing was deleted: "
+                         "give the directory to recompute into, e.g. out/reproduce")
     directory = Path(text)
     layout = fresh_layout()
     for place in (directory, *(directory / name for name in layout)):
@@ -116,13 +116,14 @@ def _refuse_committed(place: Path, text: str) -> None:
 
 
 def _written_by_glamas(directory: Path, layout: dict, text: str) -> list:
-    """The files of ``directory``'s subdirectories in ``layout`` (each a file glamas writes there or
-    a temporary file of one, :func:`glamas.atomic.write`; glamas locks a directory itself, so it
-    leaves no lock file); ValueError naming the first other entry of ``directory``."""
+    """The files of ``directory``'s subdirectories in ``layout``, each a file glamas writes there or
+    a temporary file of one (:func:`glamas.atomic.write`; :func:`glamas.atomic.locked` locks the
+    directory itself, so there is no lock file); ValueError naming the first other entry."""
     if not directory.exists():
         return []
     if not directory.is_dir():
-        raise ValueError(f"--fresh {text} exists and is not a directory; give a directory path")
+        raise ValueError(f"--fresh {text} exists and is not a directory; nothing was deleted: "
+                         "give a directory path")
     found = []
     for entry in sorted(directory.iterdir()):
         patterns = layout.get(entry.name) if entry.is_dir() else None
@@ -137,6 +138,7 @@ def _written_by_glamas(directory: Path, layout: dict, text: str) -> list:
 
 
 def _foreign(path: Path, text: str) -> ValueError:
+    """The refusal of --fresh ``text`` for holding ``path``, which glamas did not write."""
     return ValueError(f"--fresh {text} holds {path}, which glamas did not write; nothing was deleted: "
                       "move it away or give another directory")
 
