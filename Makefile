@@ -2,7 +2,7 @@
 # Each creates the virtual environment in .venv on first use.
 
 PYTHON ?= python3
-VENV := .venv
+override VENV := .venv
 PY := $(VENV)/bin/python
 READY := $(VENV)/.installed
 EXTRAS := $(VENV)/.extras-installed
@@ -43,7 +43,7 @@ notebooks-check: $(READY)
 
 ## notebooks: re-execute every notebook in place at paper scale (commit the outputs)
 notebooks: $(READY)
-	@for nb in $(NOTEBOOKS); do echo "== $$nb"; $(PY) -m jupyter nbconvert --to notebook --execute --inplace $$nb || exit 1; done
+	@for nb in $(NOTEBOOKS); do echo "== $$nb"; $(PY) -m jupyter nbconvert --to notebook --execute --inplace "$$nb" || exit 1; done
 
 ## lab: open the notebooks in JupyterLab (installs the optional extra "lab" first)
 lab: $(READY)
@@ -62,28 +62,29 @@ benchmark: $(READY) $(EXTRAS)
 	@for module in $(BENCHMARKS); do echo "== python -m $$module"; $(PY) -m $$module || exit 1; done
 
 ## reproduce: recompute every experiment of the chapter (Fig. 5-12) into $(OUT)/results and draw
-## its figures into $(OUT)/figures, e.g. `make reproduce OUT=out/reproduce`. The results directory
-## starts empty, so the first script of each experiment recomputes it (as --rerun would) and the
-## scripts drawing other figures of that experiment read what it just computed.
+## its figures into $(OUT)/figures, e.g. `make reproduce OUT=out/reproduce`. glamas.reproduce --fresh
+## empties both first, after checking that $(OUT) holds only what glamas wrote and is not the
+## repository's data/ or paper_figures/ (otherwise it refuses, deleting nothing), so the first
+## script of each experiment recomputes it (as --rerun would) and the scripts drawing other figures
+## of that experiment read what it just computed.
+# OUT and VERIFY reach the commands through the environment ("$$OUT"): any path, spaces and
+# quotes included, arrives as one argument.
 OUT ?= out/reproduce
+VERIFY ?= out/verify
+export OUT VERIFY
 
 reproduce: $(READY)
-	rm -rf $(OUT)/figures $(OUT)/results
-	mkdir -p $(OUT)/figures $(OUT)/results
-	$(PY) -m glamas.reproduce --out $(OUT)/figures --results $(OUT)/results
+	$(PY) -m glamas.reproduce --fresh "$$OUT"
 
-## verify: recompute every experiment (every script in paper_figures/) into $(VERIFY) and compare
-## every result array and figure with the committed ones, e.g. `make verify VERIFY=out/verify`.
-VERIFY ?= out/verify
-
+## verify: recompute every experiment (every script in paper_figures/) into $(VERIFY) as `make
+## reproduce` does, and compare every result array and figure with the committed ones, both ways
+## (a file on one side only is a difference), e.g. `make verify VERIFY=out/verify`.
 verify: $(READY)
-	rm -rf $(VERIFY)/figures $(VERIFY)/results
-	mkdir -p $(VERIFY)/figures $(VERIFY)/results
-	$(PY) -m glamas.reproduce --all --out $(VERIFY)/figures --results $(VERIFY)/results
-	$(PY) -m glamas.verify $(VERIFY)
+	$(PY) -m glamas.reproduce --all --fresh "$$VERIFY"
+	$(PY) -m glamas.verify "$$VERIFY"
 
 clean-env:
-	rm -rf $(VENV)
+	rm -rf "$(VENV)"
 
 ## clean-cache: drop numba's compiled-kernel cache (glamas also drops it itself when its sources change)
 clean-cache:

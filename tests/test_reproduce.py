@@ -1,9 +1,11 @@
 """The driver of `make figures`, `make reproduce` and `make verify` (glamas.reproduce): its
-script lists, a figure drawn in-process equal to the committed one, and a user error's exit."""
+script lists, a figure drawn in-process equal to the committed one, a user error's exit, and
+--fresh, which empties only what glamas wrote and refuses, deleting nothing, anything else."""
 
 import pytest
 
-from glamas import reproduce
+from glamas import reproduce, runs
+from glamas.paths import DATA, REPO, RESULTS
 from glamas.verify import FIGURES
 
 
@@ -30,3 +32,96 @@ def test_a_user_error_stops_the_driver_with_one_line_and_status_2(tmp_path, caps
     assert len(err.splitlines()) == 1 and option in err
     assert "== paper_figures" not in captured.out  # refused before any script ran
     assert not_a_directory.read_text() == "kept"
+
+
+def _tree(directory):
+    """Every file under ``directory`` with its bytes: what a refusal must leave as it was."""
+    return {path: path.read_bytes() for path in sorted(directory.rglob("*")) if path.is_file()}
+
+
+def _refused(argv, capsys) -> str:
+    """The one line on stderr of ``reproduce.main(argv)``, checked to exit with status 2 before
+    any script ran."""
+    with pytest.raises(SystemExit) as stopped:
+        reproduce.main(argv)
+    assert stopped.value.code == 2
+    captured = capsys.readouterr()
+    assert "== paper_figures" not in captured.out
+    lines = captured.err.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("error: ")
+    return lines[0]
+
+
+@pytest.mark.parametrize("fresh, named", [("", "is empty"), ("  ", "is empty"), ("data", "is the repository's data/"),
+                                          ("data/results", "is inside the repository's data/"),
+                                          ("paper_figures", "is the repository's paper_figures/"),
+                                          ("paper_figures/output/new", "is inside the repository's paper_figures/"),
+                                          (".", "holds the repository's data/"), ("/", "holds the repository's data/")])
+def test_fresh_refuses_an_empty_path_and_the_committed_directories(capsys, monkeypatch, fresh, named):
+    monkeypatch.chdir(REPO)
+    committed = {**_tree(DATA), **_tree(reproduce.SCRIPTS)}
+    assert named in _refused(["--fresh", fresh], capsys)
+    assert {**_tree(DATA), **_tree(reproduce.SCRIPTS)} == committed
+
+
+def test_fresh_follows_a_symbolic_link_to_the_committed_results(tmp_path, capsys):
+    (tmp_path / "out").mkdir()
+    (tmp_path / "out" / "results").symlink_to(DATA / "results")
+    committed = _tree(DATA)
+    line = _refused(["--fresh", str(tmp_path / "out")], capsys)
+    assert f": {tmp_path / 'out' / 'results'} is inside the repository's data/" in line
+    assert _tree(DATA) == committed
+
+
+@pytest.mark.parametrize("foreign, named", [("notes.txt", "notes.txt"), ("figures/notes.txt", "figures/notes.txt"),
+                                            ("results/notes.npz", "results/notes.npz"),
+                                            ("results/fig5.csv", "results/fig5.csv"),
+                                            ("figures/old/fig5.png", "figures/old"), ("log/a.png", "log")])
+def test_fresh_refuses_a_directory_holding_what_glamas_did_not_write(tmp_path, capsys, foreign, named):
+    out = tmp_path / "a b"
+    for name in ("figures/fig5.png", "results/fig5.npz", foreign):
+        (out / name).parent.mkdir(parents=True, exist_ok=True)
+        (out / name).write_text(name)
+    before = _tree(tmp_path)
+    line = _refused(["--fresh", str(out)], capsys)
+    assert f"holds {out / named}, which glamas did not write; nothing was deleted" in line
+    assert _tree(tmp_path) == before
+
+
+def test_fresh_empties_what_glamas_wrote_and_keeps_the_directories(tmp_path):
+    out = tmp_path / "out"
+    written = ["figures/fig5.png", "figures/fig5.pdf", "figures/fig5.png.k2x9.tmp", "results/fig5.npz",
+               "results/scaling.npz", "results/fig5.npz.a1b2c3.tmp"]
+    for name in written:
+        (out / name).parent.mkdir(parents=True, exist_ok=True)
+        (out / name).write_text(name)
+    assert reproduce.fresh_directories(str(out)) == (out / "figures", out / "results")
+    assert sorted(path.relative_to(out).as_posix() for path in out.rglob("*")) == ["figures", "results"]
+
+
+def test_fresh_takes_the_place_of_out_and_results(tmp_path, capsys):
+    with pytest.raises(SystemExit) as stopped:
+        reproduce.main(["--fresh", str(tmp_path), "--out", str(tmp_path)])
+    assert stopped.value.code == 2 and "error: --fresh DIR chooses --out and --results" in capsys.readouterr().err
+
+
+def test_the_result_files_fresh_may_empty_are_the_experiments(tmp_path):
+    assert {"fig5.npz", "fig6.npz", "fig7.npz", "gridworld.npz"} <= set(reproduce.result_patterns())
+    assert {path.name for path in RESULTS.glob("*.npz")} <= set(reproduce.result_patterns())
+
+
+def test_fresh_refuses_a_file(tmp_path, capsys):
+    (tmp_path / "out").write_text("kept")
+    assert "exists and is not a directory; nothing was deleted" in _refused(["--fresh", str(tmp_path / "out")], capsys)
+    assert (tmp_path / "out").read_text() == "kept"
+
+
+def test_fresh_draws_into_the_emptied_directories(tmp_path, capsys, monkeypatch):
+    monkeypatch.setattr(reproduce, "CHAPTER", ("fig9",))  # a figure of no experiment: nothing to compute
+    monkeypatch.setattr(runs, "MEMO_BYTES", runs.MEMO_BYTES)  # main turns the reuse of runs on: undone after
+    old = tmp_path / "a b" / "results" / "fig5.npz"
+    old.parent.mkdir(parents=True)
+    old.write_text("an earlier run's")
+    assert reproduce.main(["--fresh", str(tmp_path / "a b")]) == 0
+    assert (tmp_path / "a b" / "figures" / "fig9.png").read_bytes() == (FIGURES / "fig9.png").read_bytes()
+    assert not any((tmp_path / "a b" / "results").iterdir())

@@ -1,39 +1,104 @@
-"""`python -m glamas.verify`: a recomputation equal to the committed files passes, any difference fails."""
+"""`python -m glamas.verify`: a recomputation equal to the committed files passes; a difference, a
+file on one side only or an unreadable file on either side fails with one line each; bad usage
+exits 2 with `error:` on stderr."""
 
 import shutil
 
 import numpy as np
+import pytest
 
 from glamas import verify
 from glamas.paths import RESULTS
 
 
-def _copy_of_the_committed(tmp_path):
-    shutil.copytree(RESULTS, tmp_path / "results")
-    shutil.copytree(verify.FIGURES, tmp_path / "figures")
-    return tmp_path
+@pytest.fixture
+def twins(tmp_path, monkeypatch):
+    """A small committed tree (one result file, one figure) and a recomputation equal to it:
+    ``(recomputed directory, committed results, committed figures)``."""
+    committed = tmp_path / "committed"
+    for side in (committed, tmp_path / "out"):
+        (side / "results").mkdir(parents=True)
+        (side / "figures").mkdir()
+        _save(side / "results" / "fig5.npz", curve=np.array([0.5, np.nan]))
+        (side / "figures" / "fig5.png").write_bytes(b"\x89PNG drawn")
+    monkeypatch.setattr(verify, "RESULTS", committed / "results")
+    monkeypatch.setattr(verify, "FIGURES", committed / "figures")
+    return tmp_path / "out", committed / "results", committed / "figures"
+
+
+def _save(path, provenance="{}", **arrays):
+    np.savez_compressed(path, __config__=np.array('{"type": "C"}'), __provenance__=np.array(provenance), **arrays)
+
+
+def _verified(directory, capsys):
+    """verify's exit status and the lines it printed."""
+    status = verify.main([str(directory)])
+    return status, capsys.readouterr().out.splitlines()
 
 
 def test_the_committed_files_verify_against_themselves(tmp_path):
-    assert verify.main([str(_copy_of_the_committed(tmp_path))]) == 0
+    shutil.copytree(RESULTS, tmp_path / "results")
+    shutil.copytree(verify.FIGURES, tmp_path / "figures")
+    assert verify.main([str(tmp_path)]) == 0
 
 
-def test_a_changed_array_a_changed_figure_and_a_missing_file_are_reported(tmp_path, capsys):
-    out = _copy_of_the_committed(tmp_path)
-    with np.load(out / "results" / "fig5.npz") as archive:
-        arrays = {key: archive[key] for key in archive.files}
-    key = next(k for k in arrays if not k.startswith("__") and arrays[k].dtype.kind == "f")
-    arrays[key] = arrays[key] + 1.0
-    np.savez(out / "results" / "fig5.npz", **arrays)
-    (out / "figures" / "fig9.png").write_bytes(b"not a figure")
-    (out / "results" / "fig6.npz").unlink()
-    assert verify.main([str(out)]) == 1
-    printed = capsys.readouterr().out
-    assert f"fig5.npz: {key} differs" in printed and "fig9.png: differs" in printed
-    assert "fig6.npz: not recomputed" in printed
+def test_equal_twins_pass_whatever_their_provenance_says(twins, capsys):
+    out, _, _ = twins
+    _save(out / "results" / "fig5.npz", provenance='{"glamas": "older"}', curve=np.array([0.5, np.nan]))
+    status, printed = _verified(out, capsys)
+    assert status == 0 and printed == [
+        "every committed result and figure is what the code computes, and nothing else was computed"]
 
 
-def test_a_missing_directory_is_one_usage_line(tmp_path, capsys):
-    assert verify.main([str(tmp_path / "nowhere")]) == 2
-    assert capsys.readouterr().out.strip().splitlines() == [
-        "usage: python -m glamas.verify DIR (the directory `make verify` recomputed into)"]
+@pytest.mark.parametrize("side", ["committed", "recomputed"])
+def test_a_file_on_one_side_only_is_a_difference(twins, capsys, side):
+    out, committed_results, committed_figures = twins
+    gone = committed_results / "fig5.npz" if side == "committed" else out / "figures" / "fig5.png"
+    gone.unlink()
+    status, printed = _verified(out, capsys)
+    expected = ("results/fig5.npz: recomputed but not committed" if side == "committed"
+                else "figures/fig5.png: committed")
+    assert status == 1 and len(printed) == 2 and printed[0].startswith(expected)
+    assert printed[-1] == "1 difference from the committed results and figures"
+
+
+@pytest.mark.parametrize("side", ["committed", "recomputed"])
+def test_a_truncated_result_file_on_either_side_is_named_unreadable(twins, capsys, side):
+    out, committed_results, _ = twins
+    damaged = committed_results / "fig5.npz" if side == "committed" else out / "results" / "fig5.npz"
+    damaged.write_bytes(damaged.read_bytes()[:60])
+    status, printed = _verified(out, capsys)
+    assert status == 1 and len(printed) == 2
+    assert printed[0].startswith(f"results/fig5.npz: the {side} file ") and "is unreadable (" in printed[0]
+
+
+def test_a_differing_array_is_named(twins, capsys):
+    out, _, _ = twins
+    _save(out / "results" / "fig5.npz", curve=np.array([0.5, 0.25]))
+    status, printed = _verified(out, capsys)
+    assert status == 1 and printed[0] == "results/fig5.npz: curve differs"
+
+
+def test_an_array_in_one_file_only_is_named(twins, capsys):
+    out, _, _ = twins
+    _save(out / "results" / "fig5.npz", curve=np.array([0.5, np.nan]), extra=np.zeros(2))
+    status, printed = _verified(out, capsys)
+    assert status == 1 and printed[0] == "results/fig5.npz: arrays ['extra'] are in only one of the files"
+
+
+def test_a_differing_figure_is_named(twins, capsys):
+    out, _, _ = twins
+    (out / "figures" / "fig5.png").write_bytes(b"\x89PNG drawn otherwise")
+    status, printed = _verified(out, capsys)
+    assert status == 1 and printed[0] == "figures/fig5.png: differs from the committed figure"
+
+
+@pytest.mark.parametrize("argv", [[], ["a", "b"], ["nowhere"]])
+def test_bad_usage_is_an_error_line_on_stderr_and_status_2(tmp_path, capsys, monkeypatch, argv):
+    monkeypatch.chdir(tmp_path)  # "nowhere" holds no results/ and figures/
+    with pytest.raises(SystemExit) as stopped:
+        verify.main(argv)
+    assert stopped.value.code == 2
+    captured = capsys.readouterr()
+    assert captured.out == "" and captured.err.startswith("usage: python -m glamas.verify")
+    assert len([line for line in captured.err.splitlines() if "error: " in line]) == 1

@@ -1,12 +1,14 @@
 """Run figure scripts of ``paper_figures/`` one after the other in one process: what ``make
 figures``, ``make reproduce`` and ``make verify`` do.
 
-``python -m glamas.reproduce [--all] [--out DIR] [--results DIR]`` calls the ``main`` of each
+``python -m glamas.reproduce [--all] [--out DIR] [--results DIR] [--fresh DIR]`` calls the ``main`` of each
 script of :data:`CHAPTER` (with ``--all``: every script, the studies beyond the chapter
 included), in order, handing each the given --out and --results. With a --results directory that
 holds no result, the first script of each experiment recomputes it and the scripts drawing other
 figures of that experiment read what it just saved; without --results every script draws from the
-committed results.
+committed results. ``--fresh DIR`` recomputes into ``DIR/figures`` and ``DIR/results``, emptied
+first (:func:`fresh_directories`): what ``make reproduce`` and ``make verify`` run, so that the
+Makefile deletes nothing itself.
 
 One process instead of one per script: Python, numba and matplotlib are imported once, the
 worker processes of the runs (:mod:`glamas.runs`) start once and keep the kernels they loaded
@@ -18,12 +20,15 @@ with one line before any script runs.
 """
 
 import argparse
+import fnmatch
+import importlib
 import importlib.util
+import pkgutil
 import sys
 from pathlib import Path
 
-from glamas import atomic, cli, runs
-from glamas.paths import REPO
+from glamas import atomic, cli, experiments, figures, runs
+from glamas.paths import DATA, REPO
 
 SCRIPTS = REPO / "paper_figures"
 CHAPTER = ("fig5", "fig6", "fig7a", "fig7b", "fig9", "fig9_optimum", "fig10", "fig11a", "fig11b", "fig12a",
@@ -58,14 +63,105 @@ def run(names, options: list) -> None:
         script_main(name)(list(options))
 
 
+COMMITTED = (DATA, SCRIPTS)
+"""The directories of the committed results and figures: ``--fresh`` never empties one of them,
+a directory inside one, or a directory holding one (such as the repository itself)."""
+FIGURE_PATTERNS = ("*.png", "*.pdf")
+"""The names of the files a figure script writes to its --out."""
+
+
+def fresh_layout() -> dict:
+    """What ``--fresh DIR`` may hold: per subdirectory, the names of the files glamas writes there."""
+    return {"figures": FIGURE_PATTERNS, "results": result_patterns()}
+
+
+def result_patterns() -> tuple:
+    """The result file names of every experiment of :mod:`glamas.experiments` (``name.npz``)."""
+    names = set()
+    for module in pkgutil.iter_modules(experiments.__path__):
+        found = vars(importlib.import_module(f"{experiments.__name__}.{module.name}")).values()
+        names |= {f"{item.name}.npz" for item in found if isinstance(item, figures.Experiment)}
+    return tuple(sorted(names))
+
+
+def fresh_directories(text: str) -> tuple:
+    """``--fresh DIR`` checked, then emptied of what glamas wrote there: ``(DIR/figures,
+    DIR/results)``. Every check comes before the first deletion, so that a refusal (ValueError)
+    deletes nothing; a file glamas did not write is never deleted, but refused."""
+    if not text.strip():
+        raise ValueError("--fresh is empty (make's OUT or VERIFY set to nothing?); nothing was deleted: "
+                         "give the directory to recompute into, e.g. out/reproduce")
+    directory = Path(text)
+    layout = fresh_layout()
+    for place in (directory, *(directory / name for name in layout)):
+        _refuse_committed(place, text)
+    doomed = _written_by_glamas(directory, layout, text)
+    for path in doomed:
+        path.unlink()
+    return directory / "figures", directory / "results"
+
+
+def _refuse_committed(place: Path, text: str) -> None:
+    """Raise ValueError if ``place`` (its symbolic links followed) is, lies inside or holds a
+    directory of :data:`COMMITTED`; ``text`` is the --fresh given."""
+    resolved = place.resolve()
+    for committed in (path.resolve() for path in COMMITTED):
+        relation = ("is" if resolved == committed else "is inside" if committed in resolved.parents
+                    else "holds" if resolved in committed.parents else None)
+        if relation:
+            subject = text if place == Path(text) else f"{text}: {place}"
+            raise ValueError(f"--fresh {subject} {relation} the repository's {committed.name}/ (committed files); "
+                             "nothing was deleted: give a directory outside data/ and paper_figures/, "
+                             "e.g. out/reproduce")
+
+
+def _written_by_glamas(directory: Path, layout: dict, text: str) -> list:
+    """The files of ``directory``'s subdirectories in ``layout``, each a file glamas writes there or
+    a temporary file of one (:func:`glamas.atomic.write`; :func:`glamas.atomic.locked` locks the
+    directory itself, so there is no lock file); ValueError naming the first other entry."""
+    if not directory.exists():
+        return []
+    if not directory.is_dir():
+        raise ValueError(f"--fresh {text} exists and is not a directory; nothing was deleted: "
+                         "give a directory path")
+    found = []
+    for entry in sorted(directory.iterdir()):
+        patterns = layout.get(entry.name) if entry.is_dir() else None
+        if patterns is None:
+            raise _foreign(entry, text)
+        for path in sorted(entry.iterdir()):
+            if not (path.is_file() and any(fnmatch.fnmatchcase(path.name, pattern)
+                                           for name in patterns for pattern in (name, f"{name}*.tmp"))):
+                raise _foreign(path, text)
+            found.append(path)
+    return found
+
+
+def _foreign(path: Path, text: str) -> ValueError:
+    """The refusal of --fresh ``text`` for holding ``path``, which glamas did not write."""
+    return ValueError(f"--fresh {text} holds {path}, which glamas did not write; nothing was deleted: "
+                      "move it away or give another directory")
+
+
 def main(argv=None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser = argparse.ArgumentParser(prog="python -m glamas.reproduce",
+                                     description=" ".join(__doc__.split("\n\n")[0].split()))
     parser.add_argument("--all", action="store_true",
                         help="every script of paper_figures/, the studies beyond the chapter included")
     parser.add_argument("--out", type=Path, help="directory for the figures (each script's --out)")
     parser.add_argument("--results", type=Path, help="directory for the result files (each script's --results)")
+    parser.add_argument("--fresh", metavar="DIR",
+                        help="recompute into DIR: the figures into DIR/figures and the results into DIR/results, "
+                             "both emptied first (instead of --out and --results). Refused with one line, "
+                             "deleting nothing, when DIR is empty, is, lies inside or holds the repository's "
+                             "data/ or paper_figures/, or holds anything but figures (*.png, *.pdf) in figures/, "
+                             "result files of glamas's experiments in results/, and their temporary files")
     args = parser.parse_args(argv)
+    if args.fresh is not None and (args.out or args.results):
+        parser.error("--fresh DIR chooses --out and --results: give either --fresh or --out/--results")
     with cli.user_errors_reported():  # checked once here, before any script runs
+        if args.fresh is not None:
+            args.out, args.results = fresh_directories(args.fresh)
         for flag, directory in (("--out", args.out), ("--results", args.results)):
             if directory is not None:
                 atomic.check_writable_directory(directory, flag)

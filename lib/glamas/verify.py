@@ -1,13 +1,21 @@
 """Compare a full recomputation (``make verify``) with the committed results and figures.
 
-``python -m glamas.verify DIR`` compares every result file in ``DIR/results`` with the one of the
-same name in ``data/results`` (the configuration and every array equal; the provenance record may
-differ, since committed files can predate it) and every figure in ``DIR/figures`` with the one in
-``paper_figures/output`` (byte for byte). It prints one line per difference and exits 1 if there
-is any, or if a committed file was not recomputed.
+``python -m glamas.verify DIR`` compares, in both directions, the result files in ``DIR/results``
+with those in ``data/results`` and the figures in ``DIR/figures`` with those in
+``paper_figures/output``: every committed file must have a recomputed twin of the same name and
+every recomputed file a committed one, so that a file missing on either side cannot pass. Twin
+result files must hold the same configuration and arrays (the provenance record may differ, since
+committed files can predate it), twin figures the same bytes; a file that cannot be read, on
+either side, is a difference too.
+
+It prints one line per difference, then a summary line, and exits 0 when everything is equal, 1
+on any difference, 2 on bad usage (the usage and one line ``error: ...`` on stderr).
 """
 
+import argparse
 import sys
+import zipfile
+import zlib
 from pathlib import Path
 
 import numpy as np
@@ -16,15 +24,88 @@ from glamas.paths import REPO, RESULTS
 
 FIGURES = REPO / "paper_figures" / "output"
 _PROVENANCE = "__provenance__"
+_UNREADABLE = (OSError, ValueError, KeyError, EOFError, zipfile.BadZipFile, zlib.error, NotImplementedError)
+"""What a missing, damaged, truncated or foreign archive raises while it is read."""
+_ADVICE = {"committed": "restore it with git checkout, or recompute it with the figure script that draws from it",
+           "recomputed": "recompute it (make verify)"}
+"""What fixes an unreadable file of each side."""
 
 
-def result_differences(fresh: Path, committed: Path) -> list[str]:
+class UnreadableFile(Exception):
+    """A file of one side could not be read; the message says which side, and why."""
+
+
+def differences(directory: Path) -> list[str]:
+    """Every difference between ``directory``'s recomputation and the committed files, both ways."""
+    return (_compare(Path(directory) / "results", RESULTS, result_differences)
+            + _compare(Path(directory) / "figures", FIGURES, figure_differences))
+
+
+def _compare(recomputed: Path, committed: Path, compare) -> list[str]:
+    """The differences between the files of two directories: a name in one only, or twins that
+    ``compare(recomputed_file, committed_file)`` finds different or cannot read."""
+    ours, theirs = _names(recomputed), _names(committed)
+    found = []
+    for name in sorted(ours | theirs):
+        label = f"{recomputed.name}/{name}"
+        if name not in ours:
+            found.append(f"{label}: committed ({_shown(committed)}) but not recomputed")
+        elif name not in theirs:
+            found.append(f"{label}: recomputed but not committed (no {_shown(committed / name)})")
+        else:
+            try:
+                found += [f"{label}: {text}" for text in compare(recomputed / name, committed / name)]
+            except UnreadableFile as error:
+                found.append(f"{label}: {error}")
+    return found
+
+
+def _names(directory: Path) -> set:
+    """The names of the entries of ``directory`` (none if it does not exist)."""
+    return {path.name for path in directory.iterdir()} if directory.is_dir() else set()
+
+
+def _shown(path: Path) -> str:
+    """``path`` relative to the repository when it is inside it (as a reader would type it)."""
+    return str(path.relative_to(REPO)) if path.is_relative_to(REPO) else str(path)
+
+
+def result_differences(recomputed: Path, committed: Path) -> list[str]:
     """What differs between two result files (empty: the same configuration and arrays)."""
-    with np.load(fresh, allow_pickle=False) as a, np.load(committed, allow_pickle=False) as b:
-        keys_a, keys_b = set(a.files) - {_PROVENANCE}, set(b.files) - {_PROVENANCE}
-        if keys_a != keys_b:
-            return [f"{committed.name}: arrays {sorted(keys_a ^ keys_b)} are in only one of the files"]
-        return [f"{committed.name}: {key} differs" for key in sorted(keys_a) if not _equal(a[key], b[key])]
+    a, b = _arrays(recomputed, "recomputed"), _arrays(committed, "committed")
+    if set(a) != set(b):
+        return [f"arrays {sorted(set(a) ^ set(b))} are in only one of the files"]
+    return [f"{key} differs" for key in sorted(a) if not _equal(a[key], b[key])]
+
+
+def figure_differences(recomputed: Path, committed: Path) -> list[str]:
+    """What differs between two figure files (empty: the same bytes)."""
+    same = _bytes(recomputed, "recomputed") == _bytes(committed, "committed")
+    return [] if same else ["differs from the committed figure"]
+
+
+def _arrays(path: Path, side: str) -> dict:
+    """Every array of result file ``path`` but its provenance record, read whole (a damaged
+    member fails here, not later); UnreadableFile naming ``side`` if it cannot be read."""
+    try:
+        with np.load(path, allow_pickle=False) as archive:
+            return {key: archive[key] for key in archive.files if key != _PROVENANCE}
+    except _UNREADABLE as error:
+        raise _unreadable(path, side, error) from None
+
+
+def _bytes(path: Path, side: str) -> bytes:
+    """The bytes of figure ``path``; UnreadableFile naming ``side`` if it cannot be read."""
+    try:
+        return path.read_bytes()
+    except OSError as error:
+        raise _unreadable(path, side, error) from None
+
+
+def _unreadable(path: Path, side: str, error: Exception) -> UnreadableFile:
+    reason = " ".join(str(error).split()) or type(error).__name__
+    return UnreadableFile(f"the {side} file {_shown(path)} is unreadable ({reason}); "
+                          f"{_ADVICE[side]}")
 
 
 def _equal(x: np.ndarray, y: np.ndarray) -> bool:
@@ -32,30 +113,21 @@ def _equal(x: np.ndarray, y: np.ndarray) -> bool:
     return np.array_equal(x, y, equal_nan=x.dtype.kind in "fc" and y.dtype.kind in "fc")
 
 
-def differences(directory: Path) -> list[str]:
-    """Every difference between ``directory``'s recomputation and the committed files."""
-    found = []
-    for committed in sorted(RESULTS.glob("*.npz")):
-        fresh = directory / "results" / committed.name
-        found += result_differences(fresh, committed) if fresh.exists() else [f"{committed.name}: not recomputed"]
-    for committed in sorted(FIGURES.iterdir()):
-        fresh = directory / "figures" / committed.name
-        if not fresh.exists():
-            found.append(f"{committed.name}: not redrawn")
-        elif fresh.read_bytes() != committed.read_bytes():
-            found.append(f"{committed.name}: differs")
-    return found
-
-
 def main(argv=None) -> int:
-    args = sys.argv[1:] if argv is None else argv
-    if len(args) != 1 or not Path(args[0]).is_dir():
-        print("usage: python -m glamas.verify DIR (the directory `make verify` recomputed into)")
-        return 2
-    found = differences(Path(args[0]))
+    parser = argparse.ArgumentParser(prog="python -m glamas.verify",
+                                     description=" ".join(__doc__.split("\n\n")[0].split()))
+    parser.add_argument("directory", metavar="DIR", type=Path,
+                        help="the directory `make verify` recomputed into (its results/ and figures/)")
+    args = parser.parse_args(argv)
+    missing = [f"{name}/" for name in ("results", "figures") if not (args.directory / name).is_dir()]
+    if missing:
+        parser.error(f"{args.directory} holds no {' and no '.join(missing)}: give the directory "
+                     "`make verify` recomputed into")
+    found = differences(args.directory)
     for line in found:
         print(line)
-    print(f"{len(found)} differences" if found else "every committed result and figure is what the code computes")
+    print(f"{len(found)} difference{'s' * (len(found) != 1)} from the committed results and figures" if found else
+          "every committed result and figure is what the code computes, and nothing else was computed")
     return 1 if found else 0
 
 
