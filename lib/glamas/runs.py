@@ -29,6 +29,7 @@ import importlib
 import itertools
 import os
 import time
+import warnings
 from concurrent.futures import FIRST_COMPLETED, ThreadPoolExecutor, as_completed, wait
 from dataclasses import dataclass
 
@@ -38,6 +39,11 @@ from tqdm import tqdm  # not tqdm.auto: it warns in notebooks without ipywidgets
 from glamas.rng import check_seed, chunk_states
 
 BACKENDS = ("threads", "processes", "dask")
+# loky's idle workers exit after a few seconds; a job handed out as one exits makes loky start
+# another and warn from its own thread. The job still runs and its result is the same, so the
+# warning is noise (it would land in a notebook's stderr at random).
+warnings.filterwarnings("ignore", message="A worker stopped while some jobs were given to the executor",
+                        category=UserWarning)
 DASK_INSTALL = "pip install -e '.[dask]' in the glamas repository (or: pip install -r requirements-extras.txt)"
 
 
