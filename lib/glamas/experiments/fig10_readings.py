@@ -121,7 +121,7 @@ def with_baselines(result: ReadingsResult, k: int, baselines: gw.GridworldResult
 def summary(result: ReadingsResult, config: ReadingsConfig, baselines: gw.GridworldResult | None = None) -> list[dict]:
     """Per reading: final steps, reward, collisions and coordinations, the share of final GLAs that
     coordinate (P(coordinate) > 1/2) at each of DELTAS, the shares of GLAs stuck on a saturated
-    wrong choice at the start and at the end (gw.stuck_share) and, given the ``baselines``, the
+    wrong choice at the start and at the end (as gw.measure finds them) and, given the ``baselines``, the
     Section 5.3 claim rows."""
     rows = []
     for k, name in enumerate(config.readings):
@@ -132,8 +132,8 @@ def summary(result: ReadingsResult, config: ReadingsConfig, baselines: gw.Gridwo
         row = {"reading": name, "steps": m["steps_two_observe"], "reward": m["reward_two_observe"],
                "collisions": m["collisions_two_observe"], "coordinations": m["coordinations_two_observe"],
                "coordinating": coordinating_share(alone, reading),
-               "stuck_at_start": gw.stuck_share(alone.gla_initial, reading) if learns else math.nan,
-               "stuck_at_end": gw.stuck_share(alone.gla_parameters, reading) if learns else math.nan}
+               "stuck_at_start": m["stuck_at_start_share_two_observe"] if learns else math.nan,
+               "stuck_at_end": m["stuck_at_end_share_two_observe"] if learns else math.nan}
         if baselines is not None:
             row["claims"] = gw.claim_rows(with_baselines(result, k, baselines))
         rows.append(row)
