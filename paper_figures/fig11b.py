@@ -1,10 +1,11 @@
 """Fig. 11b: reward per episode of the four gridworld learners (chapter Section 5.3)."""
 
+from glamas import figures
 from glamas.experiments import gridworld
 
 
 def main(argv=None):
-    with gridworld.STUDY.figure("fig11b", __doc__, argv) as (ax, result, config):
+    with figures.figure(gridworld.EXPERIMENT, "fig11b", __doc__, argv) as (ax, result, config):
         gridworld.plot_reward(ax, result, gridworld.optimum(config))
 
 

@@ -1,10 +1,11 @@
 """Fig. 12a: collisions per episode of the four gridworld learners (chapter Section 5.3)."""
 
+from glamas import figures
 from glamas.experiments import gridworld
 
 
 def main(argv=None):
-    with gridworld.STUDY.figure("fig12a", __doc__, argv) as (ax, result, config):
+    with figures.figure(gridworld.EXPERIMENT, "fig12a", __doc__, argv) as (ax, result, config):
         gridworld.plot_collisions(ax, result, gridworld.optimum(config))
 
 

@@ -5,11 +5,12 @@ reward of the GLA parameters at log-spaced checkpoints, exact on the evaluation 
 the start of learning that the left panel compresses into its first windows.
 """
 
+from glamas import figures
 from glamas.experiments import single_gla
 
 
 def main(argv=None):
-    with single_gla.FIG6.figure("fig6", __doc__, argv, size=(11.0, 4.0), ncols=2) as (axes, results, _):
+    with figures.figure(single_gla.FIG6, "fig6", __doc__, argv, size=(11.0, 4.0), ncols=2) as (axes, results, _):
         single_gla.plot_reward_curves(axes[0], results)
         single_gla.plot_expected_curves(axes[1], results)
 

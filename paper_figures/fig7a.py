@@ -1,11 +1,12 @@
 """Fig. 7a: the boundaries two typical runs of AND-network agents learn over the parabola."""
 
+from glamas import figures
 from glamas.experiments import and_network
 
 
 def main(argv=None):
-    with and_network.FIG7.figure("fig7a", __doc__, argv, size=(8.0, 4.0), ncols=2,
-                                 min_runs=2) as (axes, result, config):
+    with figures.figure(and_network.FIG7, "fig7a", __doc__, argv, size=(8.0, 4.0), ncols=2,
+                        min_runs=2) as (axes, result, config):
         middle = (config.runs - 2) // 2  # typical_runs' first rank by final P(L) in region I
         for rank, ax, run_index in zip((middle, middle + 1), axes, and_network.typical_runs(result, 2)):
             and_network.plot_boundaries(ax, result, run_index, title=_title(rank, config.runs))

@@ -1,10 +1,11 @@
 """Fig. 7b: probability of the optimal action L in region I for both AND-network agents."""
 
+from glamas import figures
 from glamas.experiments import and_network
 
 
 def main(argv=None):
-    with and_network.FIG7.figure("fig7b", __doc__, argv) as (ax, result, _):
+    with figures.figure(and_network.FIG7, "fig7b", __doc__, argv) as (ax, result, _):
         and_network.plot_prob_left(ax, result)
 
 

@@ -1,10 +1,11 @@
 """Related work on TunnelToGoal: collisions per episode (as Fig. 12a), sparse tabular MAQ and CQ-learning added."""
 
+from glamas import figures
 from glamas.experiments import gridworld, related_work
 
 
 def main(argv=None):
-    with related_work.STUDY.figure("related_collisions", __doc__, argv) as (ax, result, config):
+    with figures.figure(related_work.EXPERIMENT, "related_collisions", __doc__, argv) as (ax, result, config):
         related_work.plot_curve(ax, result, config, gridworld.plot_collisions)
 
 

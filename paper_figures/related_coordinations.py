@@ -1,11 +1,12 @@
 """Related work on TunnelToGoal: steps on which the agents observe each other, of 2observe, sparse
 tabular MAQ and CQ-learning (Fig. 12b-style comparison, beyond the chapter)."""
 
+from glamas import figures
 from glamas.experiments import related_work
 
 
 def main(argv=None):
-    with related_work.STUDY.figure("related_coordinations", __doc__, argv) as (ax, result, config):
+    with figures.figure(related_work.EXPERIMENT, "related_coordinations", __doc__, argv) as (ax, result, config):
         related_work.plot_coordinations(ax, result)
         related_work.note_cq_solo_phase(ax, result, config)
 

@@ -1,11 +1,13 @@
 """Related work on TunnelToGoal: Q entries per agent (measured) against the final reward of
 independent, MMDP, 2observe, sparse tabular MAQ and CQ-learning (beyond the chapter)."""
 
+from glamas import figures
 from glamas.experiments import related_work
 
 
 def main(argv=None):
-    with related_work.STUDY.figure("related_sizes", __doc__, argv, size=(8.0, 4.0)) as (ax, result, config):
+    with figures.figure(related_work.EXPERIMENT, "related_sizes", __doc__, argv,
+                        size=(8.0, 4.0)) as (ax, result, config):
         related_work.plot_size_and_reward(ax, result, config)
 
 

@@ -2,12 +2,13 @@
 number of agents, 2 to 6."""
 
 from glamas import plotting
+from glamas import figures
 from glamas.experiments import scaling
 
 
 def main(argv=None):
-    with scaling.STUDY.figure("scaling_performance", __doc__, argv, size=(12.0, 8.0), nrows=2,
-                              ncols=2) as (axes, result, _):
+    with figures.figure(scaling.EXPERIMENT, "scaling_performance", __doc__, argv, size=(12.0, 8.0), nrows=2,
+                        ncols=2) as (axes, result, _):
         for ax, metric in zip(axes.flat, ("steps", "reward", "collisions", "convergence")):
             scaling.plot_final(ax, result, metric, legend=False)
         plotting.legend_below_figure(axes.flat[0], ncols=4)

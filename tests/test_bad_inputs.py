@@ -27,7 +27,7 @@ import pytest
 
 import glamas
 from glamas import cli, figures, memory, plotting, provenance, results, runs, sources
-from glamas.experiments import and_network, gridworld, gridworld_optimum, scaling, single_gla
+from glamas.experiments import and_network, gridworld, gridworld_optimum, registry, scaling, single_gla
 from glamas.gridworld import MapError, load_map
 from glamas.paths import MAPS, REPO, RESULTS
 
@@ -71,7 +71,7 @@ def _other_result(directory, name: str) -> bytes:
 # --- outputs: nothing committed is replaced, nothing is written half ---------------------------
 
 def test_reduced_run_with_default_paths_leaves_the_committed_outputs_alone():
-    created = [cli.SCRATCH_OUT / "fig6.png", cli.SCRATCH_OUT / "fig6.pdf", cli.SCRATCH_RESULTS / "fig6.npz"]
+    created = [cli.SCRATCH_OUT / "fig6.png", cli.SCRATCH_OUT / "fig6.pdf", cli.SCRATCH_RESULTS / "state_encoding.npz"]
     existed = {path: path.exists() for path in created}
     committed = _hashes()
     try:
@@ -108,14 +108,14 @@ def test_results_that_is_a_file_is_refused(tmp_path):
 
 
 def test_result_of_another_configuration_is_refused_before_computing(tmp_path):
-    stored = _other_result(tmp_path, "fig7")
+    stored = _other_result(tmp_path, "and_network")
     done = _script("fig7b", "--runs", 2, "--iterations", 100, "--out", tmp_path, "--results", tmp_path, *FAST)
     _assert_user_error(done, "holds results of a different configuration")
-    assert (tmp_path / "fig7.npz").read_bytes() == stored and not (tmp_path / "fig7b.png").exists()
+    assert (tmp_path / "and_network.npz").read_bytes() == stored and not (tmp_path / "fig7b.png").exists()
 
 
 def test_damaged_result_file_is_refused_with_its_reason(tmp_path):
-    (tmp_path / "fig7.npz").write_bytes(b"PK\x03\x04 damaged")
+    (tmp_path / "and_network.npz").write_bytes(b"PK\x03\x04 damaged")
     done = _script("fig7b", "--runs", 2, "--iterations", 100, "--out", tmp_path, "--results", tmp_path, *FAST)
     _assert_user_error(done, "is not a readable glamas result file")
 
@@ -273,9 +273,8 @@ def test_the_joint_optimum_of_a_six_agent_map_is_refused_before_allocating():
 
 
 def test_the_paper_scale_defaults_fit_the_memory_estimate():
-    for config in (single_gla.SingleGLAConfig(), and_network.ANDNetworkConfig(), gridworld.GridworldConfig(),
-                   scaling.ScalingConfig(), gridworld_optimum.GridworldOptimumConfig()):
-        assert 0 < memory.estimate(config) < memory.available_bytes()
+    for experiment in registry.experiments():
+        assert 0 < experiment.paper_scale().memory_bytes() * experiment.copies < memory.available_bytes()
 
 
 # --- bad files -------------------------------------------------------------------------------

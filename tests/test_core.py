@@ -9,6 +9,7 @@ import pytest
 from numba import njit
 
 from glamas import cli, figures, plotting, provenance, results, rng, runs
+from glamas.experiments import registry
 
 
 @njit(cache=True, nogil=True)
@@ -63,6 +64,9 @@ def test_bad_worker_counts_are_rejected():
 class _Config:
     runs: int = 3
     rate: float = 0.5
+
+    def memory_bytes(self) -> int:
+        return 8 * self.runs
 
 
 def test_result_files_round_trip_and_refuse_other_configurations(tmp_path):
@@ -134,8 +138,8 @@ class _Result:
     curve: np.ndarray
 
 
-def _experiment(run) -> figures.Experiment:
-    return figures.Experiment("exp", run, 5, 100, lambda runs, iterations: _Config(runs=runs), _Result)
+def _experiment(run) -> registry.Experiment:
+    return registry.Experiment("exp", _Config, run, lambda runs, iterations: _Config(runs=runs), 5, 100, _Result)
 
 
 def test_load_or_run_reuses_a_result_of_the_same_configuration(tmp_path):
@@ -164,7 +168,7 @@ def test_a_figure_is_drawn_from_its_experiment_at_the_command_line_scale(tmp_pat
     seen = []
     experiment = _experiment(lambda config, seed, workers, progress: _Result(curve=np.full(3, float(config.runs))))
     argv = ["--runs", "2", "--out", str(tmp_path), "--results", str(tmp_path)]
-    with experiment.figure("f", "A figure.\n\nMore about it.", argv) as (ax, result, config):
+    with figures.figure(experiment, "f", "A figure.\n\nMore about it.", argv) as (ax, result, config):
         seen.append((config, result.curve.tolist()))
         ax.plot(result.curve)
     assert seen == [(_Config(runs=2), [2.0, 2.0, 2.0])]
@@ -175,7 +179,7 @@ def test_a_figure_is_drawn_from_its_experiment_at_the_command_line_scale(tmp_pat
 def test_a_figure_needs_the_runs_it_shows(tmp_path, capsys):
     experiment = _experiment(lambda config, seed, workers, progress: _Result(curve=np.zeros(3)))
     with pytest.raises(SystemExit):
-        with experiment.figure("f", "A figure.", ["--runs", "1", "--out", str(tmp_path)], min_runs=2):
+        with figures.figure(experiment, "f", "A figure.", ["--runs", "1", "--out", str(tmp_path)], min_runs=2):
             pass
     assert "--runs must be at least 2" in capsys.readouterr().err
 

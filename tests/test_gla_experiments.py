@@ -262,8 +262,8 @@ def test_single_gla_metrics_cover_the_claims():
 
 # ---- figure scripts ----
 
-FIGURES = [("fig5", "fig5"), ("fig6", "fig6"), ("fig7a", "fig7"), ("fig7b", "fig7"),
-           ("fig7_sweep", "fig7_sweep")]  # (script and figure name, result file name)
+FIGURES = [("fig5", "single_gla"), ("fig6", "state_encoding"), ("fig7a", "and_network"), ("fig7b", "and_network"),
+           ("fig7_sweep", "and_network_sweep")]  # (script and figure name, result file name)
 SMALL_ARGS = ["--runs", "2", "--iterations", "200", "--seed", "4", "--workers", "1"]
 
 
@@ -281,9 +281,9 @@ def test_figure_script_writes_byte_identical_files(tmp_path, name, result_name):
 def test_fig7a_and_fig7b_share_one_run(tmp_path):
     out = ["--out", str(tmp_path), "--results", str(tmp_path)]
     _load_script("fig7a").main(SMALL_ARGS + out)
-    stored = (tmp_path / "fig7.npz").read_bytes()
+    stored = (tmp_path / "and_network.npz").read_bytes()
     _load_script("fig7b").main(SMALL_ARGS + out)
-    assert (tmp_path / "fig7.npz").read_bytes() == stored
+    assert (tmp_path / "and_network.npz").read_bytes() == stored
     with pytest.raises(SystemExit, match="different configuration"):
         _load_script("fig7b").main(["--runs", "3"] + SMALL_ARGS[2:] + out)
 

@@ -71,7 +71,7 @@ def test_make_refuses_the_committed_directories_and_an_empty_path(clone, argumen
 
 @pytest.mark.parametrize("out", ["a b", "it's here"])
 def test_make_refuses_a_directory_holding_a_foreign_file_and_leaves_its_neighbours(clone, out):
-    for name in (f"{out}/notes.txt", f"{out}/results/fig5.npz", "a/kept.txt", "it/kept.txt"):
+    for name in (f"{out}/notes.txt", f"{out}/results/single_gla.npz", "a/kept.txt", "it/kept.txt"):
         (clone / name).parent.mkdir(parents=True, exist_ok=True)
         (clone / name).write_text(name)
     before = _tree(clone)

@@ -5,13 +5,16 @@ script lists, a figure drawn in-process equal to the committed one, a user error
 import pytest
 
 from glamas import reproduce, runs
+from glamas.experiments import registry
 from glamas.paths import DATA, REPO, RESULTS
 from glamas.verify import FIGURES
 
 
-def test_the_chapter_scripts_are_scripts_of_paper_figures():
-    assert set(reproduce.CHAPTER) < set(reproduce.every_script())
-    assert {"scaling_performance", "related_steps", "fig7_sweep"} <= set(reproduce.every_script())
+def test_every_script_of_paper_figures_is_a_figure_of_one_experiment():
+    named = [name for experiment in registry.experiments() for name in experiment.figures]
+    assert sorted(named) == sorted(path.stem for path in reproduce.SCRIPTS.glob("*.py"))
+    assert set(registry.figure_scripts()) < set(registry.figure_scripts(chapter_only=False)) == set(named)
+    assert {"scaling_performance", "related_steps", "fig7_sweep"}.isdisjoint(registry.figure_scripts())
 
 
 def test_a_script_run_by_the_driver_draws_the_committed_figure(tmp_path, capsys):
@@ -79,7 +82,7 @@ def test_fresh_follows_a_symbolic_link_to_the_committed_results(tmp_path, capsys
                                             ("figures/old/fig5.png", "figures/old"), ("log/a.png", "log")])
 def test_fresh_refuses_a_directory_holding_what_glamas_did_not_write(tmp_path, capsys, foreign, named):
     out = tmp_path / "a b"
-    for name in ("figures/fig5.png", "results/fig5.npz", foreign):
+    for name in ("figures/fig5.png", "results/single_gla.npz", foreign):
         (out / name).parent.mkdir(parents=True, exist_ok=True)
         (out / name).write_text(name)
     before = _tree(tmp_path)
@@ -90,8 +93,8 @@ def test_fresh_refuses_a_directory_holding_what_glamas_did_not_write(tmp_path, c
 
 def test_fresh_empties_what_glamas_wrote_and_keeps_the_directories(tmp_path):
     out = tmp_path / "out"
-    written = ["figures/fig5.png", "figures/fig5.pdf", "figures/fig5.png.k2x9.tmp", "results/fig5.npz",
-               "results/scaling.npz", "results/fig5.npz.a1b2c3.tmp"]
+    written = ["figures/fig5.png", "figures/fig5.pdf", "figures/fig5.png.k2x9.tmp", "results/single_gla.npz",
+               "results/scaling.npz", "results/single_gla.npz.a1b2c3.tmp"]
     for name in written:
         (out / name).parent.mkdir(parents=True, exist_ok=True)
         (out / name).write_text(name)
@@ -106,8 +109,7 @@ def test_fresh_takes_the_place_of_out_and_results(tmp_path, capsys):
 
 
 def test_the_result_files_fresh_may_empty_are_the_experiments(tmp_path):
-    assert {"fig5.npz", "fig6.npz", "fig7.npz", "gridworld.npz"} <= set(reproduce.result_patterns())
-    assert {path.name for path in RESULTS.glob("*.npz")} <= set(reproduce.result_patterns())
+    assert {path.name for path in RESULTS.glob("*.npz")} == set(registry.result_files())
 
 
 def test_fresh_refuses_a_file(tmp_path, capsys):
@@ -117,9 +119,9 @@ def test_fresh_refuses_a_file(tmp_path, capsys):
 
 
 def test_fresh_draws_into_the_emptied_directories(tmp_path, capsys, monkeypatch):
-    monkeypatch.setattr(reproduce, "CHAPTER", ("fig9",))  # a figure of no experiment: nothing to compute
+    monkeypatch.setattr(registry, "figure_scripts", lambda chapter_only: ("fig9",))  # nothing to compute
     monkeypatch.setattr(runs, "MEMO_BYTES", runs.MEMO_BYTES)  # main turns the reuse of runs on: undone after
-    old = tmp_path / "a b" / "results" / "fig5.npz"
+    old = tmp_path / "a b" / "results" / "single_gla.npz"
     old.parent.mkdir(parents=True)
     old.write_text("an earlier run's")
     assert reproduce.main(["--fresh", str(tmp_path / "a b")]) == 0

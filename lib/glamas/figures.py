@@ -4,10 +4,10 @@ experiment's result or run it, draw, save.
 A script names the experiment its figure is drawn from, the figure and its size, and draws::
 
     def main(argv=None):
-        with gridworld.STUDY.figure("fig11a", __doc__, argv) as (ax, result, config):
+        with figures.figure(gridworld.EXPERIMENT, "fig11a", __doc__, argv) as (ax, result, config):
             gridworld.plot_steps(ax, result, gridworld.optimum(config))
 
-:meth:`Experiment.figure` parses the command line of :func:`glamas.cli.figure_parser` at the
+:func:`figure` parses the command line of :func:`glamas.cli.figure_parser` at the
 experiment's paper-scale defaults, reads the result from --results when a file of this
 configuration is there or runs the experiment and saves its result there (:func:`load_or_run`;
 --rerun runs it anyway), hands the drawing its axes, and saves the figure (PNG and PDF) to --out.
@@ -16,80 +16,26 @@ settings). Either turns a user error into one line ``error: ...`` and exit statu
 """
 
 import contextlib
-import dataclasses
-from dataclasses import dataclass
-from pathlib import Path
-from typing import Callable
 
 import matplotlib
 import matplotlib.pyplot as plt
 
 from glamas import cli, plotting, results
+from glamas.experiments.registry import Experiment
 
 
-@dataclass(frozen=True)
-class Experiment:
-    """An experiment as the figure scripts run it and store its result."""
-
-    name: str
-    """Its result file in --results is ``name.npz``, shared by every figure drawn from it."""
-    run: Callable
-    """``run(config, seed=, workers=, progress=)``: the result of a configuration."""
-    runs: int
-    """The paper-scale --runs."""
-    iterations: int
-    """The paper-scale --iterations (learning iterations or episodes per run)."""
-    configure: Callable
-    """``configure(runs, iterations)``: the configuration at the command line's scale."""
-    result: type | None = None
-    """The dataclass of arrays :attr:`run` returns; a field named ``config`` is the configuration,
-    which the file keeps as its header, not as an array. None with :attr:`to_arrays` and
-    :attr:`from_arrays` for a result of another kind."""
-    copies: int = 1
-    """How many results of the configuration one run makes (for the memory check before it)."""
-    to_arrays: Callable | None = None
-    """``to_arrays(result) -> dict`` for a result that is not one dataclass of arrays."""
-    from_arrays: Callable | None = None
-    """``from_arrays(config, arrays) -> result``, the inverse of :attr:`to_arrays`."""
-
-    def arrays(self, result) -> dict:
-        """The arrays of ``result`` its file stores."""
-        if self.to_arrays is not None:
-            return self.to_arrays(result)
-        return {f.name: getattr(result, f.name) for f in dataclasses.fields(result) if f.name != "config"}
-
-    def result_of(self, config, arrays: dict):
-        """The result that a file of ``config`` holding ``arrays`` stores."""
-        if self.from_arrays is not None:
-            return self.from_arrays(config, arrays)
-        carries_config = "config" in {f.name for f in dataclasses.fields(self.result)}
-        return self.result(config=config, **arrays) if carries_config else self.result(**arrays)
-
-    def paper_scale(self):
-        """The configuration of the committed result (the paper-scale --runs and --iterations)."""
-        return self.configure(self.runs, self.iterations)
-
-    def file(self, directory) -> Path:
-        """Its result file in ``directory``."""
-        return Path(directory) / f"{self.name}.npz"
-
-    def load(self, directory, config, seed: int):
-        """The result of ``config`` and master ``seed`` in ``directory``, its configuration and
-        provenance checked (:func:`glamas.results.load`)."""
-        return self.result_of(config, results.load(self.file(directory), config, seed=seed))
-
-    @contextlib.contextmanager
-    def figure(self, name: str, description: str, argv=None, size: tuple = (6.0, 4.0), *,
-               nrows: int = 1, ncols: int = 1, min_runs: int = 1):
-        """Figure ``name`` drawn from this experiment: parses ``argv`` (:func:`parse`; ``description``
-        is the script's docstring), loads or runs the experiment (:func:`load_or_run`), yields
-        ``(axes, result, config)`` to draw on (the axes of :func:`glamas.plotting.new_figure` for
-        ``size`` in inches, ``nrows`` by ``ncols``), then saves the figure to --out."""
-        with cli.user_errors_reported():
-            args, config = parse(description, self, argv, min_runs)
-            result = load_or_run(args, self, config)
-            with _saved(name, args.out, size, nrows, ncols) as axes:
-                yield axes, result, config
+@contextlib.contextmanager
+def figure(experiment: Experiment, name: str, description: str, argv=None, size: tuple = (6.0, 4.0), *,
+           nrows: int = 1, ncols: int = 1, min_runs: int = 1):
+    """Figure ``name`` drawn from ``experiment``: parses ``argv`` (:func:`parse`; ``description``
+    is the script's docstring), loads or runs the experiment (:func:`load_or_run`), yields
+    ``(axes, result, config)`` to draw on (the axes of :func:`glamas.plotting.new_figure` for
+    ``size`` in inches, ``nrows`` by ``ncols``), then saves the figure to --out."""
+    with cli.user_errors_reported():
+        args, config = parse(description, experiment, argv, min_runs)
+        result = load_or_run(args, experiment, config)
+        with _saved(name, args.out, size, nrows, ncols) as axes:
+            yield axes, result, config
 
 
 def parse(description: str, experiment: Experiment, argv=None, min_runs: int = 1):

@@ -1,9 +1,9 @@
 """One ledger of every claim of every experiment, computed from the committed results.
 
 ``python -m glamas.ledger`` prints it as Markdown; ``--write`` puts it into README.md between the
-ledger markers; ``--check`` exits 1 when README.md's copy is stale. Each experiment's rows come
-from one entry of :data:`EXPERIMENTS`: a function of the results directory that reads the result
-file the figure scripts wrote (its configuration checked) and returns the experiment's claim rows.
+ledger markers; ``--check`` exits 1 when README.md's copy is stale. Each registered experiment
+with claims (:mod:`glamas.experiments.registry`) gives its rows from the result file the figure
+scripts wrote (its configuration checked).
 """
 
 import argparse
@@ -11,7 +11,8 @@ import math
 import sys
 from pathlib import Path
 
-from glamas.experiments import and_network, gridworld, gridworld_optimum, related_work, scaling, single_gla
+from glamas.experiments import registry
+from glamas.experiments.registry import Experiment
 from glamas.paths import REPO, RESULTS
 
 SEED = 0
@@ -20,57 +21,17 @@ README = REPO / "README.md"
 START, END = "<!-- ledger:start -->", "<!-- ledger:end -->"
 
 
-def _load(results_dir: Path, experiment):
-    """``(result, config)``: the result of ``experiment`` at paper scale and SEED in ``results_dir``,
-    its configuration checked."""
+def claim_rows(experiment: Experiment, results_dir: Path = RESULTS) -> list[dict]:
+    """The claim rows of ``experiment`` from its paper-scale result and SEED in ``results_dir``, its
+    configuration checked (computed instead, for an experiment whose result is not stored)."""
     config = experiment.paper_scale()
-    return experiment.load(results_dir, config, SEED), config
+    return experiment.claim_rows(experiment.load(results_dir, config, SEED), config)
 
 
-def _fig5(results_dir: Path) -> list[dict]:
-    return single_gla.claim_rows(_load(results_dir, single_gla.FIG5)[0])
+def with_claims() -> dict:
+    """Every registered experiment that has claims, by name (:mod:`glamas.experiments.registry`)."""
+    return {experiment.name: experiment for experiment in registry.experiments() if experiment.claim_rows}
 
-
-def _fig6(results_dir: Path) -> list[dict]:
-    return single_gla.encoding_claim_rows(_load(results_dir, single_gla.FIG6)[0])
-
-
-def _fig7(results_dir: Path) -> list[dict]:
-    return and_network.claim_rows(_load(results_dir, and_network.FIG7)[0])
-
-
-def _fig7_sweep(results_dir: Path) -> list[dict]:
-    return and_network.sweep_claim_rows(_load(results_dir, and_network.FIG7_SWEEP)[0])
-
-
-def _optimum(results_dir: Path) -> list[dict]:
-    """Dynamic programming on the map takes a second: computed, not stored."""
-    return gridworld_optimum.claim_rows(gridworld_optimum.run(gridworld_optimum.GridworldOptimumConfig()))
-
-
-def _gridworld(results_dir: Path) -> list[dict]:
-    return gridworld.claim_rows(_load(results_dir, gridworld.STUDY)[0])
-
-
-def _related_work(results_dir: Path) -> list[dict]:
-    return related_work.claim_rows(*_load(results_dir, related_work.STUDY))
-
-
-def _scaling(results_dir: Path) -> list[dict]:
-    return scaling.claim_rows(_load(results_dir, scaling.STUDY)[0])
-
-
-EXPERIMENTS = {
-    "single_gla": _fig5,
-    "state_encoding": _fig6,
-    "and_network": _fig7,
-    "and_network_sweep": _fig7_sweep,
-    "gridworld_optimum": _optimum,
-    "gridworld": _gridworld,
-    "related_work": _related_work,
-    "scaling": _scaling,
-}
-"""Experiment (a key of the claims in data/chapter/*.json) -> function(results dir) -> claim rows."""
 
 _HEADER = ("| experiment | claim | where | the chapter (paraphrased) | kind | metric, threshold | measured | verdict |\n"
            "|---|---|---|---|---|---|---|---|")
@@ -78,13 +39,14 @@ _HEADER = ("| experiment | claim | where | the chapter (paraphrased) | kind | me
 
 def markdown(*experiments: str, results_dir: Path = RESULTS) -> str:
     """The ledger as a Markdown table: the given experiments' part, or all of it."""
-    names = list(experiments or EXPERIMENTS)
-    unknown = [name for name in names if name not in EXPERIMENTS]
+    known = with_claims()
+    names = list(experiments or known)
+    unknown = [name for name in names if name not in known]
     if unknown:
-        raise KeyError(f"no ledger entry for {unknown}; known: {list(EXPERIMENTS)}")
+        raise KeyError(f"no experiment with claims named {unknown}; known: {list(known)}")
     lines = [_HEADER]
     for name in names:
-        lines.extend(_row(name, row) for row in EXPERIMENTS[name](results_dir))
+        lines.extend(_row(name, row) for row in claim_rows(known[name], results_dir))
     return "\n".join(lines)
 
 

@@ -2,8 +2,8 @@
 figures``, ``make reproduce`` and ``make verify`` do.
 
 ``python -m glamas.reproduce [--all] [--out DIR] [--results DIR] [--fresh DIR]`` calls the ``main`` of each
-script of :data:`CHAPTER` (with ``--all``: every script, the studies beyond the chapter
-included), in order, handing each the given --out and --results. With a --results directory that
+figure script of the chapter's experiments (with ``--all``: of every experiment, the studies beyond
+the chapter included; :func:`glamas.experiments.registry.figure_scripts`), in order, handing each the given --out and --results. With a --results directory that
 holds no result, the first script of each experiment recomputes it and the scripts drawing other
 figures of that experiment read what it just saved; without --results every script draws from the
 committed results. ``--fresh DIR`` recomputes into ``DIR/figures`` and ``DIR/results``, emptied
@@ -21,30 +21,20 @@ with one line before any script runs.
 
 import argparse
 import fnmatch
-import importlib
 import importlib.util
-import pkgutil
 import sys
 from pathlib import Path
 
-from glamas import atomic, cli, experiments, figures, runs
+from glamas import atomic, cli, runs
+from glamas.experiments import registry
 from glamas.paths import DATA, REPO
 
 SCRIPTS = REPO / "paper_figures"
-CHAPTER = ("fig5", "fig6", "fig7a", "fig7b", "fig9", "fig9_optimum", "fig10", "fig11a", "fig11b", "fig12a",
-           "fig12b")
-"""The scripts of the chapter's figures (Fig. 5-12), in the order they run: each experiment's
-first figure computes it."""
 
 
 REUSED_BYTES = 128 * 2 ** 20
 """Outputs of the runs that the scripts share, at most (glamas.runs.reuse_batches): Fig. 11's
 learners train as the Fig. 10 study's default reading and the related-work comparison's do."""
-
-
-def every_script() -> tuple:
-    """Every script of paper_figures/, in name order."""
-    return tuple(path.stem for path in sorted(SCRIPTS.glob("*.py")))
 
 
 def script_main(name: str):
@@ -72,16 +62,7 @@ FIGURE_PATTERNS = ("*.png", "*.pdf")
 
 def fresh_layout() -> dict:
     """What ``--fresh DIR`` may hold: per subdirectory, the names of the files glamas writes there."""
-    return {"figures": FIGURE_PATTERNS, "results": result_patterns()}
-
-
-def result_patterns() -> tuple:
-    """The result file names of every experiment of :mod:`glamas.experiments` (``name.npz``)."""
-    names = set()
-    for module in pkgutil.iter_modules(experiments.__path__):
-        found = vars(importlib.import_module(f"{experiments.__name__}.{module.name}")).values()
-        names |= {f"{item.name}.npz" for item in found if isinstance(item, figures.Experiment)}
-    return tuple(sorted(names))
+    return {"figures": FIGURE_PATTERNS, "results": registry.result_files()}
 
 
 def fresh_directories(text: str) -> tuple:
@@ -168,7 +149,7 @@ def main(argv=None) -> int:
     options = [item for flag, value in (("--out", args.out), ("--results", args.results)) if value is not None
                for item in (flag, str(value))]
     runs.reuse_batches(REUSED_BYTES)
-    run(every_script() if args.all else CHAPTER, options)  # a script's user error exits with status 2
+    run(registry.figure_scripts(chapter_only=not args.all), options)  # a script's user error exits with status 2
     return 0
 
 

@@ -12,7 +12,8 @@ from dataclasses import dataclass, replace
 import numpy as np
 from numba import njit
 
-from glamas import checks, claims, figures, gla, lineworld, memory
+from glamas import checks, claims, gla, lineworld, memory
+from glamas.experiments.registry import Experiment, register
 from glamas.learners import and_network as learner
 from glamas.learners.and_network import CONTEXT_LENGTH, NETWORK, left_probability
 from glamas.plotting import legend_below
@@ -97,6 +98,11 @@ class ANDNetworkConfig:
 
     def gla_params(self) -> gla.GLAParams:
         return gla.GLAParams(self.learning_rate, self.temperature, self.K, self.L, self.bounding)
+
+    def memory_bytes(self) -> int:
+        """Bytes of a run's arrays: the P(L) curve and probe points per agent, and the parameters
+        (agents, units, unit actions, inputs)."""
+        return memory.per_run(self.runs, 2 * self.record_points + 2 * self.probe_points + 2 * 2 * 2 * 3)
 
 
 @dataclass(frozen=True)
@@ -337,12 +343,16 @@ def scaled(runs: int, iterations: int) -> ANDNetworkConfig:
                             record_points=min(ANDNetworkConfig.record_points, iterations))
 
 
-FIG7 = figures.Experiment("fig7", run, ANDNetworkConfig.runs, ANDNetworkConfig.iterations, scaled, ANDNetworkResult)
-"""Fig. 7a and 7b's experiment for the figure scripts (one run for both)."""
-FIG7_SWEEP = figures.Experiment("fig7_sweep", sweep, ANDNetworkConfig.runs, ANDNetworkConfig.iterations, scaled,
-                                SweepResult, copies=len(DEFAULT_SWEEP) + 1)
-"""The stuck sweep for its figure script: experiment 2 at each region II reward of DEFAULT_SWEEP,
-and the highest reward's rerun on another stream."""
+FIG7 = register(Experiment("and_network", ANDNetworkConfig, run, scaled, ANDNetworkConfig.runs,
+                           ANDNetworkConfig.iterations, ANDNetworkResult,
+                           claim_rows=lambda result, config: claim_rows(result), figures=("fig7a", "fig7b")))
+"""Fig. 7a and 7b's experiment (one run for both)."""
+FIG7_SWEEP = register(Experiment("and_network_sweep", ANDNetworkConfig, sweep, scaled, ANDNetworkConfig.runs,
+                                 ANDNetworkConfig.iterations, SweepResult,
+                                 claim_rows=lambda result, config: sweep_claim_rows(result), figures=("fig7_sweep",),
+                                 chapter=False, copies=len(DEFAULT_SWEEP) + 1))
+"""The stuck sweep: experiment 2 at each region II reward of DEFAULT_SWEEP, and the highest
+reward's rerun on another stream."""
 
 
 # ---- plots (each draws on a given Axes) ----

@@ -15,8 +15,9 @@ from pathlib import Path
 
 import numpy as np
 
-from glamas import figures, runs
+from glamas import runs
 from glamas.experiments import gridworld as gw
+from glamas.experiments.registry import Experiment, register
 from glamas.paths import RESULTS
 from glamas.plotting import legend_below
 
@@ -61,6 +62,10 @@ class ReadingsConfig:
         if not readings or len(set(readings)) != len(readings) or not set(readings) <= set(READINGS):
             raise ValueError(f"readings must be distinct names from {list(READINGS)}, got {self.readings!r}")
         object.__setattr__(self, "readings", readings)
+
+    def memory_bytes(self) -> int:
+        """Bytes of every reading's runs (each a run of 2observe's experiment)."""
+        return sum(self.reading(name).memory_bytes() for name in self.readings)
 
     def reading(self, name: str) -> gw.GridworldConfig:
         """2observe's configuration under reading ``name``."""
@@ -110,7 +115,7 @@ def run(config: ReadingsConfig = ReadingsConfig(), seed: int = 0, workers=None, 
 
 def load(config: ReadingsConfig = ReadingsConfig(), seed: int = 0, results_dir: Path = RESULTS) -> ReadingsResult:
     """The committed study of ``config`` (``results_dir/fig10_readings.npz``), its configuration checked."""
-    return STUDY.load(results_dir, config, seed)
+    return EXPERIMENT.load(results_dir, config, seed)
 
 
 def with_baselines(result: ReadingsResult, k: int, baselines: gw.GridworldResult) -> gw.GridworldResult:
@@ -218,14 +223,12 @@ def plot_collisions(ax, rows: list[dict]):
 
 # --- the experiment of the figure script (paper_figures/fig10_readings.py) ---------------------
 
-RESULT_NAME = "fig10_readings"
-
-
 def scaled(runs: int, episodes: int) -> ReadingsConfig:
     """The study at ``runs`` and ``episodes``."""
     return ReadingsConfig(gridworld=gw.GridworldConfig(learners=("two_observe",), runs=runs, episodes=episodes))
 
 
-STUDY = figures.Experiment(RESULT_NAME, run, gw.GridworldConfig.runs, gw.GridworldConfig.episodes, scaled,
-                           ReadingsResult)
-"""The readings of Fig. 10 at --runs and --iterations (episodes)."""
+EXPERIMENT = register(Experiment("fig10_readings", ReadingsConfig, run, scaled, gw.GridworldConfig.runs,
+                                 gw.GridworldConfig.episodes, ReadingsResult, figures=("fig10_readings",),
+                                 chapter=False))
+"""The readings of Fig. 10 (no claims of its own: :func:`summary` judges each reading by Sec. 5.3's)."""

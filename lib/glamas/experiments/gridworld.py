@@ -13,11 +13,12 @@ from pathlib import Path
 import numpy as np
 from matplotlib.ticker import NullFormatter
 
-from glamas import checks, figures, gla, results, runs
+from glamas import checks, gla, memory, results, runs
 from glamas import claims as chapter
 from glamas.curves import (DEFINITIONS, convergence_episode, convergence_episodes, convergence_grid,
                            convergence_ratio, earlier_share, final, grid_verdict, interval_verdict,
                            level_episode)
+from glamas.experiments.registry import Experiment, register
 from glamas.gridworld import GridMap, dp, load_map, rules
 from glamas.learners import episode as ep
 from glamas.learners import registry, spec, two_observe
@@ -25,9 +26,6 @@ from glamas.learners.settings import LearningSettings
 from glamas.paths import MAPS, RESULTS
 from glamas.plotting import drawn_underneath, legend_below, learner_style, plot_mean_band
 
-EXPERIMENT = "gridworld"
-RESULT_NAME = "gridworld"
-"""Result file shared by the Fig. 11 and 12 scripts: the experiment runs once for all four."""
 LEARNERS = registry.family("chapter")
 """The learners this experiment trains: the chapter's (glamas.learners.registry), in the order
 their seeds are drawn."""
@@ -73,9 +71,20 @@ class GridworldConfig(LearningSettings):
     def schedule(self) -> ep.Schedule:
         return ep.Schedule(self.episodes, self.edges(), self.max_steps)
 
+    def memory_bytes(self) -> int:
+        """Bytes of every learner's runs: their tables and logs (:func:`learner_bytes`)."""
+        gridmap = self.gridmap()
+        return self.runs * sum(learner_bytes(name, self, gridmap, self.bins) for name in self.learners)
+
     def delta_scale(self) -> float:
         """What the GLA context multiplies delta by (``gla_delta_scale``) on this map."""
         return two_observe.delta_scale(self.gla_delta_scale, self.gridmap())
+
+
+def learner_bytes(name: str, settings, gridmap: GridMap, bins: int) -> int:
+    """Bytes one run of learner ``name`` allocates: its tables (with the runner's working copy) and its log."""
+    tables = registry.get(name).bytes_per_run(settings, gridmap)
+    return tables * memory.WORKING_COPIES + bins * ep.n_columns(gridmap.n_agents) * memory.BYTES_PER_VALUE
 
 
 @dataclass(frozen=True)
@@ -165,7 +174,7 @@ def result_of(config: GridworldConfig, outputs: list, seed: int = 0) -> Gridworl
 
 def load(config: GridworldConfig = GridworldConfig(), seed: int = 0, results_dir: Path = RESULTS) -> GridworldResult:
     """The committed (or ``results_dir``'s) result of ``config`` and ``seed``, its configuration checked."""
-    return STUDY.load(results_dir, config, seed)
+    return EXPERIMENT.load(results_dir, config, seed)
 
 
 ZERO_COLLISIONS = 0.05
@@ -320,13 +329,13 @@ def with_learner(result: GridworldResult, other: GridworldResult, name: str) -> 
 def matches_committed(result: GridworldResult, config: GridworldConfig, seed: int = 0) -> bool:
     """Whether ``result`` equals, array for array, the committed result of ``config`` and ``seed``
     (data/results/gridworld.npz, its configuration checked)."""
-    stored = results.load(RESULTS / f"{RESULT_NAME}.npz", config, seed=seed)
+    stored = results.load(EXPERIMENT.file(RESULTS), config, seed=seed)
     return all(np.array_equal(getattr(result, name), stored[name]) for name in stored)
 
 
 def claim_rows(result: GridworldResult) -> list[dict]:
     """The chapter's Section 5.3 claims with their verdicts, computed from ``result``."""
-    return chapter.verdicts(chapter.load(EXPERIMENT), measure(result))
+    return chapter.verdicts(chapter.load("gridworld"), measure(result))
 
 
 def state_action_table(result: GridworldResult) -> str:
@@ -605,5 +614,8 @@ def scaled(runs: int, episodes: int) -> GridworldConfig:
     return GridworldConfig(runs=runs, episodes=episodes)
 
 
-STUDY = figures.Experiment(RESULT_NAME, run, GridworldConfig.runs, GridworldConfig.episodes, scaled, GridworldResult)
-"""The chapter's experiment of Section 5.3 at --runs and --iterations (episodes)."""
+EXPERIMENT = register(Experiment("gridworld", GridworldConfig, run, scaled, GridworldConfig.runs,
+                                 GridworldConfig.episodes, GridworldResult,
+                                 claim_rows=lambda result, config: claim_rows(result),
+                                 figures=("fig9", "fig10", "fig11a", "fig11b", "fig12a", "fig12b")))
+"""The chapter's experiment of Section 5.3 (Fig. 9 and 10 draw its map and its GLAs' feedback)."""

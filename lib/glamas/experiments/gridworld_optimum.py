@@ -10,6 +10,7 @@ import numpy as np
 
 from glamas import claims, memory
 from glamas import checks
+from glamas.experiments.registry import Experiment, register
 from glamas.gridworld import GridMap, dp, draw, load_map, rules
 from glamas.paths import MAPS
 
@@ -43,6 +44,15 @@ class GridworldOptimumConfig:
             raise ValueError(f"bounce must be one of {sorted(rules.BOUNCE_MODES)}, got {self.bounce!r}")
         if not isinstance(self.selfish_steps, int) or self.selfish_steps < 1:
             raise ValueError(f"selfish_steps must be a positive integer, got {self.selfish_steps!r}")
+
+    def memory_bytes(self) -> int:
+        """Bytes of glamas.gridworld.dp's tables per joint state and action: next state, reward,
+        collisions, each agent's reward (8 bytes) and bumped and reached flags (1 byte), and the Q
+        values. They grow as cells ** agents."""
+        gridmap = load_map(MAPS / f"{self.map_name}.txt")
+        n = gridmap.n_agents
+        per_pair = 4 * memory.BYTES_PER_VALUE + n * (memory.BYTES_PER_VALUE + 2)
+        return gridmap.n_cells ** n * 4 ** n * per_pair
 
 
 @dataclass(frozen=True, eq=False)
@@ -130,3 +140,10 @@ def plot_episode(ax, result: GridworldOptimumResult, which: str = "optimal"):
 def claim_rows(result: GridworldOptimumResult) -> list[dict]:
     """The claims about the map (data/chapter/gridworld_optimum.json) with computed verdicts."""
     return claims.verdicts(claims.load("gridworld_optimum"), measure(result))
+
+
+EXPERIMENT = register(Experiment("gridworld_optimum", GridworldOptimumConfig, run,
+                                 lambda runs, iterations: GridworldOptimumConfig(), 1, 1, GridworldOptimumResult,
+                                 claim_rows=lambda result, config: claim_rows(result), figures=("fig9_optimum",),
+                                 stored=False))
+"""The exact optimum of Fig. 9's map: computed in a second whenever it is needed, never stored."""

@@ -14,7 +14,8 @@ from pathlib import Path
 import numpy as np
 
 from glamas import claims as chapter
-from glamas import figures, runs
+from glamas import runs
+from glamas.experiments.registry import Experiment, register
 from glamas.experiments import gridworld as gw
 from glamas.gridworld import GridMap, rules
 from glamas.learners import cq, registry, spec, sparse_maq
@@ -22,7 +23,6 @@ from glamas.learners.settings import LearnerSettings, RelatedSettings, combine
 from glamas.paths import RESULTS
 from glamas.plotting import legend_below, legend_right, learner_style, mean_and_band, plot_mean_band
 
-EXPERIMENT = "related_work"
 RELATED_LEARNERS = registry.family("related")
 """The related-work learners (glamas.learners.registry), in the order their seeds are drawn."""
 CHAPTER_LEARNERS = ("independent", "mmdp", "two_observe")
@@ -56,6 +56,12 @@ class RelatedWorkConfig(RelatedSettings):
 
     def gridmap(self) -> GridMap:
         return self.gridworld.gridmap()
+
+    def memory_bytes(self) -> int:
+        """Bytes of the chapter's learners' runs and of the related-work learners' runs."""
+        base, gridmap, settings = self.gridworld, self.gridmap(), self.settings()
+        related = base.runs * sum(gw.learner_bytes(name, settings, gridmap, base.bins) for name in self.learners)
+        return base.memory_bytes() + related
 
 
 def learner_codes() -> tuple:
@@ -132,7 +138,7 @@ def storage(names: list, shapes: np.ndarray, learned: np.ndarray, settings, grid
 
 def load(config: RelatedWorkConfig = RelatedWorkConfig(), seed: int = 0, results_dir: Path = RESULTS) -> RelatedWorkResult:
     """The committed (or ``results_dir``'s) result of ``config`` and ``seed``, its configuration checked."""
-    return STUDY.load(results_dir, config, seed)
+    return EXPERIMENT.load(results_dir, config, seed)
 
 
 # --- measurements and claims --------------------------------------------------------------------
@@ -198,7 +204,7 @@ def fewest_flagged_collisions(config: RelatedWorkConfig) -> int:
 
 def claim_rows(result: RelatedWorkResult, config: RelatedWorkConfig) -> list[dict]:
     """The related-work claims (data/chapter/related_work.json) with verdicts computed from ``result``."""
-    return chapter.verdicts(chapter.load(EXPERIMENT), measure(result, config))
+    return chapter.verdicts(chapter.load("related_work"), measure(result, config))
 
 
 def summary_table(result: RelatedWorkResult, config: RelatedWorkConfig) -> str:
@@ -305,15 +311,13 @@ def note_cq_solo_phase(ax, result: RelatedWorkResult, config: RelatedWorkConfig)
 
 # --- the experiment of the figure scripts (paper_figures/related_*.py) --------------------------
 
-RESULT_NAME = "related_work"
-"""Result file shared by the related_* figure scripts: the comparison runs once for all of them."""
-
-
 def scaled(runs: int, episodes: int) -> RelatedWorkConfig:
     """The comparison at ``runs`` and ``episodes``, beside the chapter's learners it trains by default."""
     return RelatedWorkConfig(gridworld=gw.GridworldConfig(learners=CHAPTER_LEARNERS, runs=runs, episodes=episodes))
 
 
-STUDY = figures.Experiment(RESULT_NAME, run, gw.GridworldConfig.runs, gw.GridworldConfig.episodes, scaled,
-                           RelatedWorkResult)
-"""The related-work comparison at --runs and --iterations (episodes)."""
+EXPERIMENT = register(Experiment("related_work", RelatedWorkConfig, run, scaled, gw.GridworldConfig.runs,
+                                 gw.GridworldConfig.episodes, RelatedWorkResult, claim_rows=claim_rows,
+                                 figures=("related_collisions", "related_coordinations", "related_reward",
+                                          "related_sizes", "related_steps"), chapter=False))
+"""The related-work comparison (its result file is shared by the related_* figure scripts)."""

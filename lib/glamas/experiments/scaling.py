@@ -25,9 +25,10 @@ from pathlib import Path
 
 import numpy as np
 
-from glamas import checks, figures, runs
+from glamas import checks, memory, runs
 from glamas import claims as chapter
 from glamas.curves import convergence_episode, final
+from glamas.experiments.registry import Experiment, register
 from glamas.gridworld import GridMap, load_map
 from glamas.learners import episode as ep
 from glamas.learners import registry, spec
@@ -35,10 +36,6 @@ from glamas.learners.settings import LearnerSettings, LearningSettings, RelatedS
 from glamas.learners.spec import BYTES_PER_VALUE, Learner
 from glamas.paths import MAPS, RESULTS
 from glamas.plotting import BAND_DRAWS, learner_style, legend_right, plot_mean_band
-
-EXPERIMENT = "scaling"
-RESULT_NAME = "scaling"
-"""Result file shared by the scaling_* figure scripts: the study runs once for all of them."""
 
 
 @dataclass(frozen=True)
@@ -131,6 +128,16 @@ class ScalingConfig(RelatedSettings):
         """The map with ``n`` agents: ``map_pattern`` as a path, or as a name in data/maps."""
         path = Path(self.map_pattern.format(n=n))
         return load_map(path if path.is_file() or path.parent != Path(".") else MAPS / path)
+
+    def memory_bytes(self) -> int:
+        """Bytes of the largest runs held at once and of every log. A run's tables live in the
+        worker that fills it, one run per worker at a time: at most the runs of the largest
+        learner that fits the budget at once, whatever the number of workers."""
+        budget = self.memory_budget_gib * 2 ** 30
+        needs = [memory_needed(self, method, self.gridmap(n)) for n in self.agents for method in self.methods]
+        largest = max((need for need in needs if need <= budget), default=0)
+        logs = len(self.methods) * len(self.agents) * self.runs * self.n_bins * len(METRICS)
+        return largest * memory.WORKING_COPIES + logs * memory.BYTES_PER_VALUE
 
     @property
     def n_bins(self) -> int:
@@ -263,7 +270,7 @@ def run(config: ScalingConfig = ScalingConfig(), seed: int = 0, workers=None, pr
 
 def load(config: ScalingConfig = ScalingConfig(), seed: int = 0, results_dir: Path = RESULTS) -> ScalingResult:
     """The committed (or ``results_dir``'s) result of ``config`` and ``seed``, its configuration checked."""
-    return STUDY.load(results_dir, config, seed)
+    return EXPERIMENT.load(results_dir, config, seed)
 
 
 def agent_means(log: np.ndarray) -> np.ndarray:
@@ -332,7 +339,7 @@ def measure(result: ScalingResult) -> dict:
 
 def claim_rows(result: ScalingResult) -> list[dict]:
     """The Table 1 / Section 3.1 claims of data/chapter/scaling.json with computed verdicts."""
-    return chapter.verdicts(chapter.load(EXPERIMENT), measure(result))
+    return chapter.verdicts(chapter.load("scaling"), measure(result))
 
 
 def size_table(result: ScalingResult) -> str:
@@ -550,5 +557,7 @@ def scaled(runs: int, episodes: int) -> ScalingConfig:
     return ScalingConfig(runs=runs, episodes=episodes, bin_size=math.gcd(episodes, ScalingConfig.bin_size))
 
 
-STUDY = figures.Experiment(RESULT_NAME, run, ScalingConfig.runs, ScalingConfig.episodes, scaled, ScalingResult)
-"""The scaling study at --runs and --iterations (episodes)."""
+EXPERIMENT = register(Experiment("scaling", ScalingConfig, run, scaled, ScalingConfig.runs, ScalingConfig.episodes,
+                                 ScalingResult, claim_rows=lambda result, config: claim_rows(result),
+                                 figures=("scaling_performance", "scaling_sizes"), chapter=False))
+"""The scaling study (its result file is shared by the scaling_* figure scripts)."""

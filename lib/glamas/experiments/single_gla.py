@@ -13,13 +13,16 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 from numba import njit
 
-from glamas import checks, claims, figures, gla, lineworld, memory
+from glamas import checks, claims, gla, lineworld, memory
 from glamas.curves import BOOTSTRAP_DRAWS, final_per_run
+from glamas.experiments.registry import Experiment, register
 from glamas.learners import single_gla as learner
 from glamas.plotting import legend_below, plot_mean_band
 from glamas.runs import run_batches
 
 ENCODING_NAMES = ("joint", "absolute", "deictic")
+PARAMETERS = 2 * 2 * 3
+"""GLA parameters of a run at most: 2 agents, 2 actions, the longest context (joint, 3 inputs)."""
 
 BOX_READINGS = ("fig5", "two", "input_range")
 """Readings of Fig. 6's box L (eq. 14), which the chapter does not restate (:class:`EncodingConfig`)."""
@@ -76,6 +79,10 @@ class SingleGLAConfig:
 
     def gla_params(self) -> gla.GLAParams:
         return gla.GLAParams(self.learning_rate, self.temperature, self.K, self.L, self.bounding)
+
+    def memory_bytes(self) -> int:
+        """Bytes of a run's arrays: the reward curve and the parameters (agents, actions, longest context)."""
+        return memory.per_run(self.runs, self.record_points + PARAMETERS)
 
 
 @dataclass(frozen=True)
@@ -430,6 +437,12 @@ class EncodingConfig:
         spaced = np.rint(np.geomspace(min(10, last), last, self.checkpoints)).astype(np.int64)
         return np.unique(np.concatenate([[0], spaced]))
 
+    def memory_bytes(self) -> int:
+        """Bytes of one encoding's runs: experiment 1's arrays and the parameters at the start and
+        at the checkpoints."""
+        checkpoints = memory.per_run(self.experiment.runs, (self.checkpoints + 1) * PARAMETERS)
+        return self.experiment.memory_bytes() + checkpoints
+
 
 def compare_encodings(config: EncodingConfig, seed: int = 0, workers=None,
                       progress: str | None = None) -> dict:
@@ -623,18 +636,9 @@ def scaled(runs: int, iterations: int, **settings) -> SingleGLAConfig:
                            **settings)
 
 
-FIG5 = figures.Experiment("fig5", run, SingleGLAConfig.runs, SingleGLAConfig.iterations, scaled, SingleGLAResult,
-                          to_arrays=SingleGLAResult.arrays)
-"""Fig. 5's experiment for the figure scripts: experiment 1 with the joint context."""
 def scaled_encodings(runs: int, iterations: int, **settings) -> EncodingConfig:
     """Fig. 6 (with ``settings`` of :class:`EncodingConfig` changed) at ``runs`` and ``iterations``."""
     return EncodingConfig(scaled(runs, iterations), **settings)
-
-
-FIG6 = figures.Experiment("fig6", compare_encodings, SingleGLAConfig.runs, SingleGLAConfig.iterations,
-                          scaled_encodings, copies=len(ENCODING_NAMES), to_arrays=encoding_arrays,
-                          from_arrays=encodings_from_arrays)
-"""Fig. 6's experiment for the figure scripts: experiment 1 with each context, in Fig. 6's default box."""
 
 
 def claim_rows(result: SingleGLAResult) -> list[dict]:
@@ -645,6 +649,17 @@ def claim_rows(result: SingleGLAResult) -> list[dict]:
 def encoding_claim_rows(results: dict) -> list[dict]:
     """The Fig. 6 claims (data/chapter/section4.json) with verdicts computed from ``results``."""
     return claims.verdicts(claims.load("state_encoding"), measure_encodings(results))
+
+
+FIG5 = register(Experiment(
+    "single_gla", SingleGLAConfig, run, scaled, SingleGLAConfig.runs, SingleGLAConfig.iterations, SingleGLAResult,
+    claim_rows=lambda result, config: claim_rows(result), figures=("fig5",), to_arrays=SingleGLAResult.arrays))
+"""Fig. 5's experiment: experiment 1 with the joint context."""
+FIG6 = register(Experiment(
+    "state_encoding", EncodingConfig, compare_encodings, scaled_encodings, SingleGLAConfig.runs,
+    SingleGLAConfig.iterations, claim_rows=lambda results, config: encoding_claim_rows(results), figures=("fig6",),
+    copies=len(ENCODING_NAMES), to_arrays=encoding_arrays, from_arrays=encodings_from_arrays))
+"""Fig. 6's experiment: experiment 1 with each context, in Fig. 6's default box."""
 
 
 # ---- plots (each draws on a given Axes) ----

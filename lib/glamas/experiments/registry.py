@@ -1,0 +1,145 @@
+"""Every experiment by name: what the figure scripts, the ledger, ``make reproduce``, ``make verify``
+and the memory check need to know of one, declared once by the experiment itself.
+
+An experiment module ends with one ``register(Experiment(...))``; :func:`experiments` imports every
+module of :mod:`glamas.experiments` and returns what registered, so that nothing else lists the
+experiments. This module is data only: it imports no experiment and no plotting, so that the
+experiments stand below the figures and the command line that use them.
+"""
+
+import dataclasses
+import importlib
+import pkgutil
+import re
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Callable
+
+from glamas import results
+
+REGISTRY: dict = {}
+"""The registered experiments by name, in the order they registered."""
+
+
+@dataclass(frozen=True)
+class Experiment:
+    """One experiment: its configuration, how it runs, how its result is stored and judged, and
+    the figure scripts drawn from it."""
+
+    name: str
+    """Its key in the claims of ``data/chapter/*.json``; its result file is ``name.npz``."""
+    config: type
+    """Its configuration class: a frozen dataclass whose ``memory_bytes()`` estimates a run's arrays."""
+    run: Callable
+    """``run(config, seed=, workers=, progress=)``: the result of a configuration."""
+    configure: Callable
+    """``configure(runs, iterations)``: the configuration at a command line's --runs and --iterations."""
+    runs: int
+    """The paper-scale --runs."""
+    iterations: int
+    """The paper-scale --iterations (learning iterations or episodes per run)."""
+    result: type | None = None
+    """The dataclass of arrays :attr:`run` returns; a field named ``config`` is the configuration,
+    which the file keeps as its header, not as an array. None with :attr:`to_arrays` and
+    :attr:`from_arrays` for a result of another kind."""
+    claim_rows: Callable | None = None
+    """``claim_rows(result, config)``: the verdict rows of its claims (:func:`glamas.claims.verdicts`);
+    None for an experiment without claims."""
+    figures: tuple = ()
+    """The scripts of ``paper_figures/`` drawn from it, by name: the first to run computes it."""
+    chapter: bool = True
+    """Whether its figures are the chapter's (``make figures``) or a study beyond it (``--all``)."""
+    stored: bool = True
+    """Whether its result is stored in a file; False for one computed in a second when needed."""
+    copies: int = 1
+    """How many results of the configuration one run makes (for the memory check before it)."""
+    to_arrays: Callable | None = None
+    """``to_arrays(result) -> dict`` for a result that is not one dataclass of arrays."""
+    from_arrays: Callable | None = None
+    """``from_arrays(config, arrays) -> result``, the inverse of :attr:`to_arrays`."""
+
+    def __post_init__(self):
+        if not callable(getattr(self.config, "memory_bytes", None)):
+            raise TypeError(f"experiment {self.name!r}: its config {self.config.__name__} needs a memory_bytes() "
+                            "method, the estimate the memory check makes before a run")
+
+    def arrays(self, result) -> dict:
+        """The arrays of ``result`` its file stores."""
+        if self.to_arrays is not None:
+            return self.to_arrays(result)
+        return {f.name: getattr(result, f.name) for f in dataclasses.fields(result) if f.name != "config"}
+
+    def result_of(self, config, arrays: dict):
+        """The result that a file of ``config`` holding ``arrays`` stores."""
+        if self.from_arrays is not None:
+            return self.from_arrays(config, arrays)
+        carries_config = "config" in {f.name for f in dataclasses.fields(self.result)}
+        return self.result(config=config, **arrays) if carries_config else self.result(**arrays)
+
+    def paper_scale(self):
+        """The configuration of the committed result (the paper-scale --runs and --iterations)."""
+        return self.configure(self.runs, self.iterations)
+
+    def file(self, directory) -> Path:
+        """Its result file in ``directory``."""
+        return Path(directory) / f"{self.name}.npz"
+
+    def load(self, directory, config, seed: int):
+        """The result of ``config`` and master ``seed`` in ``directory``, its configuration and
+        provenance checked (:func:`glamas.results.load`); computed when it is not :attr:`stored`."""
+        if not self.stored:
+            return self.run(config, seed=seed)
+        return self.result_of(config, results.load(self.file(directory), config, seed=seed))
+
+
+def register(experiment: Experiment) -> Experiment:
+    """Make ``experiment`` known by its name. Another module's experiment of the same name is
+    refused; the same module registering it again (a reload) replaces it."""
+    known = REGISTRY.get(experiment.name)
+    if known is not None and known.run.__module__ != experiment.run.__module__:
+        raise ValueError(f"an experiment named {experiment.name!r} is registered already; choose another name")
+    REGISTRY[experiment.name] = experiment
+    return experiment
+
+
+def unregister(name: str) -> None:
+    """Forget experiment ``name`` (one registered for a while, as in a test)."""
+    REGISTRY.pop(name, None)
+
+
+def experiments() -> tuple:
+    """Every experiment: those of each module of :mod:`glamas.experiments` (imported here, so that
+    an experiment is known by being there) and any registered since; the chapter's first, each
+    part in the order of its first figure (:func:`figure_order`)."""
+    package = importlib.import_module("glamas.experiments")
+    for module in pkgutil.walk_packages(package.__path__, f"{package.__name__}."):
+        importlib.import_module(module.name)
+    return tuple(sorted(REGISTRY.values(), key=lambda e: (not e.chapter, figure_order(e.figures[0] if e.figures else e.name))))
+
+
+def figure_order(name: str) -> tuple:
+    """The sort key of a figure script's name that puts fig9 before fig9_optimum before fig10."""
+    return tuple(int(part) if part.isdigit() else part for part in re.split(r"(\d+)", name))
+
+
+def figure_scripts(chapter_only: bool = True) -> tuple:
+    """The figure scripts of the experiments (of the chapter's only, unless ``chapter_only`` is
+    False), in the order they run: the chapter's first, each part in figure order, so that an
+    experiment's first figure computes it and the figures after it read its result."""
+    parts = (True,) if chapter_only else (True, False)
+    return tuple(name for chapter in parts
+                 for name in sorted((name for e in experiments() if e.chapter == chapter for name in e.figures),
+                                    key=figure_order))
+
+
+def get(name: str) -> Experiment:
+    """The experiment registered as ``name``."""
+    found = {experiment.name: experiment for experiment in experiments()}
+    if name not in found:
+        raise ValueError(f"no experiment {name!r}; the experiments are {', '.join(found)}")
+    return found[name]
+
+
+def result_files() -> tuple:
+    """The names of the result files the experiments store (``name.npz``)."""
+    return tuple(sorted(f"{experiment.name}.npz" for experiment in experiments() if experiment.stored))
