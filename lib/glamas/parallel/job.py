@@ -1,10 +1,5 @@
 """One job: a chunk of runs filled, in the calling process or in a worker, and what is sent to a
-worker process for it: the kernel by name, the inputs and the outputs' initial slices.
-
-A job derives its runs' generator states from the master seed and its run indices
-(:func:`glamas.rng.chunk_states`), so every backend, number of workers and chunking gives
-bit-identical results.
-"""
+worker process for it: the kernel by name, the inputs and the outputs' initial slices."""
 
 import importlib
 from dataclasses import dataclass
