@@ -12,7 +12,7 @@ import time
 
 import numpy as np
 
-from glamas import runs
+from glamas import parallel
 from glamas.experiments import gridworld
 
 SWEEP = gridworld.GridworldConfig(episodes=4_000, runs=16)
@@ -32,12 +32,12 @@ def main():
     from distributed import LocalCluster
 
     print(f"gridworld sweep: {SWEEP.runs} runs x {SWEEP.episodes} episodes x {len(SWEEP.learners)} learners")
-    _timed(runs.Threads())  # compiles (or loads) the kernels
-    baseline, reference = _timed(runs.Threads())
+    _timed(parallel.Threads())  # compiles (or loads) the kernels
+    baseline, reference = _timed(parallel.Threads())
     print(f"threads (all cores): {baseline:6.2f} s")
     with LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as cluster:
-        for name, workers in [("threads, 1", runs.Threads(1)), ("processes, 2 (default)", None),
-                              ("dask LocalCluster, 2 processes", runs.Dask(cluster.scheduler_address))]:
+        for name, workers in [("threads, 1", parallel.Threads(1)), ("processes, 2 (default)", None),
+                              ("dask LocalCluster, 2 processes", parallel.Dask(cluster.scheduler_address))]:
             first, result = _timed(workers)
             steady, again = _timed(workers)
             identical = _same(result, reference) and _same(again, reference)

@@ -11,7 +11,7 @@ import random
 import time
 
 from benchmarks import python_lineworld, timing
-from glamas import runs
+from glamas import parallel
 from glamas.experiments.single_gla import SingleGLAConfig, run
 
 SIZES = {"full": (20_000, SingleGLAConfig(runs=8, iterations=100_000)),
@@ -22,7 +22,7 @@ SIZES = {"full": (20_000, SingleGLAConfig(runs=8, iterations=100_000)),
 def main():
     reference_iterations, compiled = SIZES["quick" if timing.quick(__doc__) else "full"]
     run(SingleGLAConfig(runs=2, iterations=1000, record_points=10), seed=0,
-        workers=runs.Threads(1))  # compiles (or loads) the kernel in this process
+        workers=parallel.Threads(1))  # compiles (or loads) the kernel in this process
     reference = SingleGLAConfig(runs=1, iterations=reference_iterations)
     start = time.perf_counter()
     python_lineworld.single_gla_run(reference, random.Random(0))
@@ -30,7 +30,7 @@ def main():
 
     def timed(workers):
         start = time.perf_counter()
-        run(compiled, seed=0, workers=runs.Threads(workers))
+        run(compiled, seed=0, workers=parallel.Threads(workers))
         return (time.perf_counter() - start, compiled.runs * compiled.iterations,
                 f"{compiled.runs} runs x {compiled.iterations:,} iterations")
     timing.compare("experiment 1", "iteration", python, timed)

@@ -4,7 +4,7 @@ learner's registry entry), and the calls.
 
 Only this module knows how the kernels are called: the benchmarks, the C reference
 (``c_reference``) and the tests of the references ask it for a kernel's outputs, so that a
-change of the kernels' arguments is adapted here alone. The runs go through ``glamas.runs`` as the
+change of the kernels' arguments is adapted here alone. The runs go through ``glamas.parallel`` as the
 experiments' do: run ``r`` of ``seed`` draws from :func:`run_state` ``(seed, r)``.
 """
 
@@ -15,7 +15,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from numba import njit
 
-from glamas import rng, runs
+from glamas import parallel, rng
 from glamas.gridworld import load_map, rules
 from glamas.learners import cq, registry, spec
 from glamas.learners import episode as ep
@@ -94,18 +94,18 @@ def new_outputs(workload: Workload, n_runs: int) -> dict:
 
 def run_compiled(workload: Workload, seed: int = 0, n_runs: int = 1, workers=None) -> Outputs:
     """``n_runs`` runs of the workload's compiled kernel: in this thread (``workers`` None, timed
-    by its CPU time) or on glamas.runs ``workers`` (timed by the wall clock)."""
+    by its CPU time) or on glamas.parallel ``workers`` (timed by the wall clock)."""
     learner, gridmap = registry.get(workload.learner), workload.gridmap()
     inputs = spec.kernel_inputs(learner, workload.settings, gridmap, workload.schedule())
     arrays = new_outputs(workload, n_runs)
     if workers is None:
         start = time.thread_time()
-        _, filled = runs.fill_chunk(learner.kernel_for(gridmap.n_agents), inputs, seed, 0, n_runs, tuple(arrays.values()))
+        _, filled = parallel.fill_chunk(learner.kernel_for(gridmap.n_agents), inputs, seed, 0, n_runs, tuple(arrays.values()))
         seconds = time.thread_time() - start
         arrays = dict(zip(arrays, filled))
     else:
         start = time.perf_counter()
-        runs.run_batches(learner.kernel_for(gridmap.n_agents), inputs, tuple(arrays.values()), seed, workers=workers)
+        parallel.run_batches(learner.kernel_for(gridmap.n_agents), inputs, tuple(arrays.values()), seed, workers=workers)
         seconds = time.perf_counter() - start
     return Outputs(arrays, seconds, workload.block)
 

@@ -7,7 +7,7 @@ import random
 import time
 
 from benchmarks import kernels, python_gridworld
-from glamas import runs
+from glamas import parallel
 
 
 def quick(description: str) -> bool:
@@ -22,11 +22,11 @@ def quick(description: str) -> bool:
 def compare(label: str, unit: str, python: tuple, compiled) -> None:
     """Print the plain-Python time per ``unit``, then the compiled time per ``unit`` on one thread
     and on all with the speed-up. ``python`` is (seconds, units, what was timed); ``compiled(workers)``
-    runs the kernel on glamas.runs.Threads(workers) and returns the same."""
+    runs the kernel on glamas.parallel.Threads(workers) and returns the same."""
     seconds, count, what = python
     per_unit = seconds / count
     print(f"{label}: plain Python {per_unit * 1e9:8.0f} ns per {unit} ({what}, scaled per {unit})")
-    for workers in sorted({1, runs.cores()}):
+    for workers in sorted({1, parallel.cores()}):
         seconds, count, what = compiled(workers)
         print(f"{label}: compiled, {workers} thread(s) {seconds / count * 1e9:6.0f} ns per {unit} ({what})  "
               f"speed-up {per_unit * count / seconds:6.1f}x")
@@ -42,6 +42,6 @@ def compare_gridworld(label: str, reference: kernels.Workload, workload: kernels
     python = (time.perf_counter() - start, steps, f"1 run x {reference.episodes:,} episodes = {steps:,} steps")
 
     def compiled(workers):
-        out = kernels.run_compiled(workload, 0, n_runs, runs.Threads(workers))
+        out = kernels.run_compiled(workload, 0, n_runs, parallel.Threads(workers))
         return out.seconds, out.steps(), f"{n_runs} runs x {workload.episodes:,} episodes = {out.steps():,.0f} steps"
     compare(label, "step", python, compiled)

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 from numba import njit
 
-from glamas import cli, reproduce, rng, runs
+from glamas import cli, parallel, reproduce, rng
 from glamas.experiments import gridworld, single_gla
 from glamas.learners import and_network as and_network_learner
 from glamas.learners import registry, two_observe
@@ -43,8 +43,8 @@ def dask_scheduler():
 @pytest.fixture(scope="module")
 def reference():
     """Both experiments on one thread in this process."""
-    return {"single": single_gla.run(SINGLE, seed=11, workers=runs.Threads(1)),
-            "grid": gridworld.run(GRID, seed=2, workers=runs.Threads(1))}
+    return {"single": single_gla.run(SINGLE, seed=11, workers=parallel.Threads(1)),
+            "grid": gridworld.run(GRID, seed=2, workers=parallel.Threads(1))}
 
 
 def test_chunk_states_are_the_slices_of_the_whole_spawn():
@@ -58,7 +58,7 @@ def test_chunk_states_are_the_slices_of_the_whole_spawn():
         rng.chunk_states(-1, 0, 2)
 
 
-@pytest.mark.parametrize("workers", [None, 2, runs.Processes(2), runs.Processes(1), runs.Threads(2)],
+@pytest.mark.parametrize("workers", [None, 2, parallel.Processes(2), parallel.Processes(1), parallel.Threads(2)],
                          ids=["default", "int-2", "Processes(2)", "Processes(1)", "Threads(2)"])
 def test_local_backends_give_the_one_thread_results_bit_for_bit(reference, workers):
     _assert_identical(single_gla.run(SINGLE, seed=11, workers=workers), reference["single"])
@@ -66,7 +66,7 @@ def test_local_backends_give_the_one_thread_results_bit_for_bit(reference, worke
 
 
 def test_a_dask_cluster_gives_the_one_thread_results_bit_for_bit(reference, dask_scheduler):
-    backend = runs.Dask(dask_scheduler)
+    backend = parallel.Dask(dask_scheduler)
     _assert_identical(single_gla.run(SINGLE, seed=11, workers=backend), reference["single"])
     _assert_identical(gridworld.run(GRID, seed=2, workers=backend), reference["grid"])
 
@@ -79,8 +79,8 @@ def no_checkpoints(n_runs):
 def test_job_size_does_not_change_results(reference):
     params = np.zeros_like(reference["single"].params)
     reward = np.zeros_like(reference["single"].reward)
-    runs.run_batches(single_gla_learner.learn, single_gla_learner.kernel_inputs(SINGLE), (params, reward, no_checkpoints(7)),
-                     11, workers=runs.Processes(2), chunk=3)
+    parallel.run_batches(single_gla_learner.learn, single_gla_learner.kernel_inputs(SINGLE), (params, reward, no_checkpoints(7)),
+                         11, workers=parallel.Processes(2), chunk=3)
     assert np.array_equal(reward, reference["single"].reward)
     assert np.array_equal(params, reference["single"].params)
 
@@ -89,7 +89,7 @@ def test_a_job_runs_any_slice_of_the_sweep_on_its_own(reference):
     inputs = single_gla_learner.kernel_inputs(SINGLE)
     initial = (np.zeros((2,) + reference["single"].params.shape[1:]), np.zeros((2, SINGLE.record_points)),
                no_checkpoints(2))
-    start, (params, reward, _) = runs.run_chunk("glamas.learners.single_gla:learn", inputs, 11, 4, 6, initial)
+    start, (params, reward, _) = parallel.run_chunk("glamas.learners.single_gla:learn", inputs, 11, 4, 6, initial)
     assert start == 4
     assert np.array_equal(reward, reference["single"].reward[4:6])
     assert np.array_equal(params, reference["single"].params[4:6])
@@ -106,8 +106,8 @@ def test_run_kernels_release_the_gil_so_threads_run_them_at_once(kernel):
 
 
 def test_jobs_are_about_four_per_local_worker():
-    assert runs.chunk_size(100, runs.Processes(2)) == 13 and runs.chunk_size(100, runs.Threads(1)) == 25
-    assert runs.chunk_size(3, runs.Processes(2)) == 1 and runs.chunk_size(100, runs.Dask("tcp://h:1")) == 8
+    assert parallel.chunk_size(100, parallel.Processes(2)) == 13 and parallel.chunk_size(100, parallel.Threads(1)) == 25
+    assert parallel.chunk_size(3, parallel.Processes(2)) == 1 and parallel.chunk_size(100, parallel.Dask("tcp://h:1")) == 8
 
 
 def test_a_kernel_that_workers_cannot_import_is_rejected():
@@ -116,25 +116,25 @@ def test_a_kernel_that_workers_cannot_import_is_rejected():
         out[0] = rng.uniform(state)
 
     with pytest.raises(ValueError, match="local_kernel is not a module-level function of an importable module"):
-        runs.run_batches(local_kernel, (), (np.zeros((3, 1)),), 0, workers=runs.Processes(1))
+        parallel.run_batches(local_kernel, (), (np.zeros((3, 1)),), 0, workers=parallel.Processes(1))
     out = np.zeros((3, 1))
-    runs.run_batches(local_kernel, (), (out,), 0, workers=runs.Threads())  # threads need no import
+    parallel.run_batches(local_kernel, (), (out,), 0, workers=parallel.Threads())  # threads need no import
     assert out.all()
 
 
 @pytest.mark.parametrize("call, message", [
-    (lambda: runs.backend("gpu"), "backend must be one of threads, processes, dask, got 'gpu'"),
-    (lambda: runs.backend("dask"), "the dask backend needs the scheduler's address: --scheduler ADDRESS"),
-    (lambda: runs.backend("processes", scheduler="tcp://h:8786"), "--scheduler means the dask backend, not 'processes'"),
-    (lambda: runs.backend(None, workers=2, scheduler="tcp://h:8786"), "--workers does not apply to the dask backend"),
-    (lambda: runs.Processes(0), r"Processes\(workers=...\) must be a whole number >= 1"),
-    (lambda: runs.Dask(""), r"Dask\(scheduler=...\) must be the scheduler's address"),
-    (lambda: runs.Dask("tcp://h:8786", timeout=0), r"Dask\(timeout=...\) must be a positive number"),
+    (lambda: parallel.backend("gpu"), "backend must be one of threads, processes, dask, got 'gpu'"),
+    (lambda: parallel.backend("dask"), "the dask backend needs the scheduler's address: --scheduler ADDRESS"),
+    (lambda: parallel.backend("processes", scheduler="tcp://h:8786"), "--scheduler means the dask backend, not 'processes'"),
+    (lambda: parallel.backend(None, workers=2, scheduler="tcp://h:8786"), "--workers does not apply to the dask backend"),
+    (lambda: parallel.Processes(0), r"Processes\(workers=...\) must be a whole number >= 1"),
+    (lambda: parallel.Dask(""), r"Dask\(scheduler=...\) must be the scheduler's address"),
+    (lambda: parallel.Dask("tcp://h:8786", timeout=0), r"Dask\(timeout=...\) must be a positive number"),
     (lambda: single_gla.run(SINGLE, workers="dask"), "workers must be a process count, None .* or a backend"),
     (lambda: single_gla.run(SINGLE, workers=True), "workers must be a process count, None .* or a backend"),
-    (lambda: runs.run_batches(single_gla_learner.learn, (), (np.zeros((2, 1)),), 0, chunk=0),
+    (lambda: parallel.run_batches(single_gla_learner.learn, (), (np.zeros((2, 1)),), 0, chunk=0),
      "chunk must be a whole number of runs >= 1 or None, got 0"),
-    (lambda: runs.run_batches(single_gla_learner.learn, (), (np.zeros((2, 1)), np.zeros(2)), 0),
+    (lambda: parallel.run_batches(single_gla_learner.learn, (), (np.zeros((2, 1)), np.zeros(2)), 0),
      r"every output needs an axis of runs and an array per run \(ndim >= 2\), got shapes \[\(2, 1\), \(2,\)\]"),
 ])
 def test_bad_backend_choices_are_rejected(call, message):
@@ -143,22 +143,22 @@ def test_bad_backend_choices_are_rejected(call, message):
 
 
 def test_backend_choices_map_to_backends():
-    assert runs.backend() == runs.Processes() and runs.backend("threads", workers=2) == runs.Threads(2)
-    assert runs.backend("processes", workers=2) == runs.Processes(2)
-    assert runs.backend(None, scheduler="tcp://h:8786") == runs.Dask("tcp://h:8786")
+    assert parallel.backend() == parallel.Processes() and parallel.backend("threads", workers=2) == parallel.Threads(2)
+    assert parallel.backend("processes", workers=2) == parallel.Processes(2)
+    assert parallel.backend(None, scheduler="tcp://h:8786") == parallel.Dask("tcp://h:8786")
 
 
 def test_dask_without_the_extra_names_the_extra_and_how_to_install_it(monkeypatch):
     monkeypatch.setitem(sys.modules, "distributed", None)  # makes `import distributed` fail
-    with pytest.raises(runs.BackendError, match=r"optional extra 'dask'.*pip install -e '\.\[dask\]'"):
-        runs.backend("dask", scheduler="tcp://h:8786")
-    with pytest.raises(runs.BackendError, match="optional extra 'dask'"):
-        single_gla.run(SINGLE, workers=runs.Dask("tcp://h:8786"))
+    with pytest.raises(parallel.BackendError, match=r"optional extra 'dask'.*pip install -e '\.\[dask\]'"):
+        parallel.backend("dask", scheduler="tcp://h:8786")
+    with pytest.raises(parallel.BackendError, match="optional extra 'dask'"):
+        single_gla.run(SINGLE, workers=parallel.Dask("tcp://h:8786"))
 
 
 def test_an_unreachable_scheduler_is_named():
-    with pytest.raises(runs.BackendError, match=r"cannot reach the Dask scheduler at tcp://127\.0\.0\.1:9 within 0\.5 s"):
-        single_gla.run(SINGLE, workers=runs.Dask("tcp://127.0.0.1:9", timeout=0.5))
+    with pytest.raises(parallel.BackendError, match=r"cannot reach the Dask scheduler at tcp://127\.0\.0\.1:9 within 0\.5 s"):
+        single_gla.run(SINGLE, workers=parallel.Dask("tcp://127.0.0.1:9", timeout=0.5))
 
 
 def _parse(argv):
@@ -166,11 +166,11 @@ def _parse(argv):
 
 
 def test_command_line_backends(dask_scheduler):
-    assert _parse([]).workers == runs.Processes() and _parse(["--workers", "2"]).workers == runs.Processes(2)
-    assert _parse(["--backend", "threads", "--workers", "2"]).workers == runs.Threads(2)
-    assert _parse(["--backend", "processes", "--workers", "2"]).workers == runs.Processes(2)
-    assert _parse(["--scheduler", dask_scheduler]).workers == runs.Dask(dask_scheduler)
-    assert _parse(["--backend", "dask", "--scheduler", dask_scheduler]).workers == runs.Dask(dask_scheduler)
+    assert _parse([]).workers == parallel.Processes() and _parse(["--workers", "2"]).workers == parallel.Processes(2)
+    assert _parse(["--backend", "threads", "--workers", "2"]).workers == parallel.Threads(2)
+    assert _parse(["--backend", "processes", "--workers", "2"]).workers == parallel.Processes(2)
+    assert _parse(["--scheduler", dask_scheduler]).workers == parallel.Dask(dask_scheduler)
+    assert _parse(["--backend", "dask", "--scheduler", dask_scheduler]).workers == parallel.Dask(dask_scheduler)
 
 
 @pytest.mark.parametrize("argv, message", [
@@ -193,7 +193,7 @@ def test_command_line_without_the_dask_extra(monkeypatch, capsys):
 
 
 def test_command_line_with_an_unreachable_scheduler_names_its_address(monkeypatch, capsys):
-    monkeypatch.setattr(runs, "backend", functools.partial(runs.backend, timeout=0.5))  # a short wait
+    monkeypatch.setattr(parallel, "backend", functools.partial(parallel.backend, timeout=0.5))  # a short wait
     with pytest.raises(SystemExit):
         _parse(["--scheduler", "tcp://127.0.0.1:9"])
     assert "cannot reach the Dask scheduler at tcp://127.0.0.1:9 within 0.5 s" in capsys.readouterr().err
@@ -201,49 +201,49 @@ def test_command_line_with_an_unreachable_scheduler_names_its_address(monkeypatc
 
 def test_an_output_slice_of_one_value_travels_as_its_value_and_comes_back_equal():
     filled, varied, nan = np.full((2, 3), 5.0), np.arange(6.0).reshape(2, 3), np.full(3, np.nan)
-    sent = runs._Filled.of(filled)
-    assert isinstance(sent, runs._Filled) and runs._array_of(sent, copy=False).dtype == filled.dtype
-    assert np.array_equal(runs._array_of(sent, copy=False), filled)
-    assert runs._Filled.of(varied) is varied and runs._Filled.of(nan) is nan  # sent as they are
+    sent = parallel.job.Filled.of(filled)
+    assert isinstance(sent, parallel.job.Filled) and parallel.job._array_of(sent, copy=False).dtype == filled.dtype
+    assert np.array_equal(parallel.job._array_of(sent, copy=False), filled)
+    assert parallel.job.Filled.of(varied) is varied and parallel.job.Filled.of(nan) is nan  # sent as they are
 
 
-@pytest.mark.parametrize("workers", [runs.Processes(1), runs.Processes(2), runs.Threads(2)], ids=repr)
+@pytest.mark.parametrize("workers", [parallel.Processes(1), parallel.Processes(2), parallel.Threads(2)], ids=repr)
 def test_a_scratch_output_is_filled_by_the_runs_and_not_kept(reference, workers):
     """A Scratch output changes nothing of the kept outputs, and nothing of it comes back."""
     reward = np.zeros_like(reference["single"].reward)
-    params = runs.Scratch(reference["single"].params.shape, np.dtype(float), 0.0)
-    runs.run_batches(single_gla_learner.learn, single_gla_learner.kernel_inputs(SINGLE), (params, reward, no_checkpoints(7)),
-                     11, workers=workers, chunk=3)
+    params = parallel.Scratch(reference["single"].params.shape, np.dtype(float), 0.0)
+    parallel.run_batches(single_gla_learner.learn, single_gla_learner.kernel_inputs(SINGLE), (params, reward, no_checkpoints(7)),
+                         11, workers=workers, chunk=3)
     assert np.array_equal(reward, reference["single"].reward)
-    _, (dropped, kept, _) = runs.run_chunk("glamas.learners.single_gla:learn", single_gla_learner.kernel_inputs(SINGLE),
-                                           11, 4, 6, (params.runs(4, 6), np.zeros((2, SINGLE.record_points)),
-                                                      no_checkpoints(2)))
+    _, (dropped, kept, _) = parallel.run_chunk("glamas.learners.single_gla:learn", single_gla_learner.kernel_inputs(SINGLE),
+                                               11, 4, 6, (params.runs(4, 6), np.zeros((2, SINGLE.record_points)),
+                                                          no_checkpoints(2)))
     assert dropped is None and np.array_equal(kept, reference["single"].reward[4:6])
 
 
 def test_a_second_worker_takes_another_kernel_while_the_first_compiles_one():
-    """runs._next_job: a job of a kernel whose first job still runs (maybe compiling it) waits
+    """parallel.local._next_job: a job of a kernel whose first job still runs (maybe compiling it) waits
     while another kernel has a job; in order otherwise."""
     a1, a2, b1 = (0, "m:a", 1), (0, "m:a", 2), (1, "m:b", 1)
-    assert runs._next_job([a2, b1], [a1], set()) == 1
-    assert runs._next_job([a2, b1], [a1], {"m:a"}) == 0
-    assert runs._next_job([a2], [a1], set()) == 0
+    assert parallel.local._next_job([a2, b1], [a1], set()) == 1
+    assert parallel.local._next_job([a2, b1], [a1], {"m:a"}) == 0
+    assert parallel.local._next_job([a2], [a1], set()) == 0
 
 
 def test_a_batch_run_before_takes_its_outputs_instead_of_running_again(monkeypatch):
-    monkeypatch.setattr(runs, "_memo", type(runs._memo)())
-    monkeypatch.setattr(runs, "MEMO_BYTES", runs.MEMO_BYTES)
-    runs.reuse_batches(reproduce.REUSED_BYTES)
+    monkeypatch.setattr(parallel.memo, "_kept", type(parallel.memo._kept)())
+    monkeypatch.setattr(parallel.memo, "MEMO_BYTES", parallel.memo.MEMO_BYTES)
+    parallel.reuse_batches(reproduce.REUSED_BYTES)
     first = gridworld.run(GRID, workers=1)
 
     def no_run(*args):
         raise AssertionError("ran a batch it had run before")
 
-    monkeypatch.setattr(runs, "_run_in_processes", no_run)
+    monkeypatch.setattr(parallel.local, "run_in_processes", no_run)
     _assert_identical(first, gridworld.run(GRID, workers=2))
     with pytest.raises(AssertionError, match="ran a batch"):  # another seed: other runs
         gridworld.run(GRID, seed=1, workers=2)
     with pytest.raises(AssertionError, match="ran a batch"):  # another setting
         gridworld.run(dataclasses.replace(GRID, q_initial=0.25), workers=2)
     with pytest.raises(ValueError, match="max_bytes must be a whole number >= 0, got -1"):
-        runs.reuse_batches(-1)
+        parallel.reuse_batches(-1)

@@ -26,7 +26,7 @@ import numpy as np
 import pytest
 
 import glamas
-from glamas import cli, figures, memory, plotting, provenance, results, runs, sources
+from glamas import cli, figures, memory, parallel, plotting, provenance, results, sources
 from glamas.experiments import and_network, gridworld, gridworld_optimum, registry, scaling, single_gla
 from glamas.gridworld import MapError, load_map
 from glamas.paths import MAPS, REPO, RESULTS
@@ -157,7 +157,7 @@ def test_a_concurrent_writer_of_another_configuration_is_not_silently_replaced(t
 
     def run_while_another_saves(config, seed, workers, progress):
         results.save(tmp_path / "exp.npz", other, {"reward": np.ones(1)}, seed=seed)  # the other run finishes first
-        return single_gla.run(config, seed=seed, workers=runs.Threads(1))
+        return single_gla.run(config, seed=seed, workers=parallel.Threads(1))
 
     experiment = dataclasses.replace(single_gla.FIG5, name="exp", run=run_while_another_saves)
     with pytest.raises(results.ResultFileError, match="different configuration and was not overwritten"):
@@ -174,9 +174,9 @@ def test_too_many_workers_are_refused():
 
 def test_workers_are_capped_at_the_number_of_jobs(monkeypatch):
     seen = []
-    original = runs._run_in_threads
-    monkeypatch.setattr(runs, "_run_in_threads", lambda backend, jobs: seen.append(backend.workers) or original(backend, jobs))
-    single_gla.run(SMALL_LINE, workers=runs.Threads(64))
+    original = parallel.local.run_in_threads
+    monkeypatch.setattr(parallel.local, "run_in_threads", lambda backend, jobs: seen.append(backend.workers) or original(backend, jobs))
+    single_gla.run(SMALL_LINE, workers=parallel.Threads(64))
     assert seen == [2]
 
 
@@ -194,8 +194,8 @@ def test_a_server_that_is_not_a_dask_scheduler_fails_within_the_timeout():
         server.listen()
         address = f"tcp://127.0.0.1:{server.getsockname()[1]}"
         started = time.monotonic()
-        with pytest.raises(runs.BackendError, match=f"cannot reach the Dask scheduler at {address} within 1 s"):
-            runs.connect(runs.Dask(address, timeout=1.0))
+        with pytest.raises(parallel.BackendError, match=f"cannot reach the Dask scheduler at {address} within 1 s"):
+            parallel.connect(parallel.Dask(address, timeout=1.0))
         assert time.monotonic() - started < 5
 
 
@@ -203,8 +203,8 @@ def test_a_cluster_without_workers_is_reported_within_the_timeout():
     distributed = pytest.importorskip("distributed")
     with distributed.LocalCluster(n_workers=0, processes=False, dashboard_address=None) as cluster:
         started = time.monotonic()
-        with pytest.raises(runs.BackendError, match="has had no worker for 1 s with 1 jobs left"):
-            single_gla.run(SMALL_LINE, workers=runs.Dask(cluster.scheduler_address, timeout=1.0))
+        with pytest.raises(parallel.BackendError, match="has had no worker for 1 s with 1 jobs left"):
+            single_gla.run(SMALL_LINE, workers=parallel.Dask(cluster.scheduler_address, timeout=1.0))
         assert time.monotonic() - started < 10
 
 
@@ -227,8 +227,8 @@ def test_a_worker_process_killed_mid_run_is_reported_at_once():
     killer = threading.Thread(target=kill_a_worker, daemon=True)
     killer.start()
     config = gridworld.GridworldConfig(runs=2, episodes=1_000_000, learners=("mmdp",))
-    with pytest.raises(runs.BackendError, match=r"a worker process died mid-run .*SIGKILL"):
-        gridworld.run(config, workers=runs.Processes(2))
+    with pytest.raises(parallel.BackendError, match=r"a worker process died mid-run .*SIGKILL"):
+        gridworld.run(config, workers=parallel.Processes(2))
     killer.join()
 
 
@@ -421,15 +421,15 @@ def test_wrong_types_and_non_finite_settings_are_refused_with_the_field(make, me
 
 def test_learning_that_leaves_the_finite_numbers_stops_the_run():
     config = dataclasses.replace(SMALL_LINE, learning_rate=1e300)
-    with pytest.raises(runs.NonFiniteError, match="glamas.learners.single_gla.learn produced NaN or infinite"):
-        single_gla.run(config, workers=runs.Threads(1))
+    with pytest.raises(parallel.NonFiniteError, match="glamas.learners.single_gla.learn produced NaN or infinite"):
+        single_gla.run(config, workers=parallel.Threads(1))
 
 
 def test_figure_scripts_name_the_setting_likely_responsible(tmp_path):
     args = cli.parse(cli.figure_parser("t", runs=2, iterations=200), ["--results", str(tmp_path), "--out", str(tmp_path)])
-    args.workers = runs.Threads(1)
+    args.workers = parallel.Threads(1)
     config = dataclasses.replace(SMALL_LINE, learning_rate=1e300)
-    with pytest.raises(runs.NonFiniteError, match=r"likely responsible: learning_rate=1e\+300 \(default 0.01\)"):
+    with pytest.raises(parallel.NonFiniteError, match=r"likely responsible: learning_rate=1e\+300 \(default 0.01\)"):
         cli.run_experiment(args, "exp", config, single_gla.run)
     assert not (tmp_path / "exp.npz").exists()
 

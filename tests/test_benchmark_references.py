@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 
 from benchmarks import kernels, python_gridworld, python_lineworld
-from glamas import rng, runs
+from glamas import parallel, rng
 from glamas.experiments import and_network, single_gla
 from glamas.experiments.scaling import ScalingConfig
 from glamas.gridworld import BOUNCE_MODES, rules
@@ -87,7 +87,7 @@ def test_rules_reference_ends_with_the_compiled_totals(map_file, bounce):
 @pytest.mark.parametrize("init_scale", [0.0, 0.5])
 def test_experiment_1_reference_learns_the_kernels_parameters(init_scale):
     config = single_gla.SingleGLAConfig(runs=1, iterations=4000, record_points=1, init_scale=init_scale)
-    result = single_gla.run(config, seed=7, workers=runs.Threads(1))
+    result = single_gla.run(config, seed=7, workers=parallel.Threads(1))
     total, u = python_lineworld.single_gla_run(config, KernelStream(kernels.run_state(7)))
     np.testing.assert_array_equal(np.array(u), result.params[0])
     assert total / config.iterations == result.reward[0, 0]
@@ -95,7 +95,7 @@ def test_experiment_1_reference_learns_the_kernels_parameters(init_scale):
 
 def test_experiment_2_reference_learns_the_kernels_parameters():
     config = and_network.ANDNetworkConfig(runs=1, iterations=4000, record_points=2)
-    result = and_network.run(config, seed=7, workers=runs.Threads(1))
+    result = and_network.run(config, seed=7, workers=parallel.Threads(1))
     _, u = python_lineworld.and_network_run(config, KernelStream(kernels.run_state(7)))
     context = len(u[0][0][0])
     np.testing.assert_array_equal(np.array(u), result.params[0, ..., :context])

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 from numba import njit
 
-from glamas import cli, figures, plotting, provenance, results, rng, runs
+from glamas import cli, figures, parallel, plotting, provenance, results, rng
 from glamas.experiments import registry
 
 
@@ -20,7 +20,7 @@ def _draws_run(n_draws, out, state):
 
 def _draws(seed, n_runs, workers, chunk=None):
     out = np.zeros((n_runs, 50))
-    runs.run_batches(_draws_run, (50,), (out,), seed, workers=workers, chunk=chunk)
+    parallel.run_batches(_draws_run, (50,), (out,), seed, workers=workers, chunk=chunk)
     return out
 
 
@@ -28,7 +28,7 @@ def test_same_seed_same_results_for_one_and_two_workers_and_any_chunking():
     one = _draws(7, 10, workers=1)
     assert np.array_equal(one, _draws(7, 10, workers=2))
     assert np.array_equal(one, _draws(7, 10, workers=2, chunk=3))
-    assert np.array_equal(one, _draws(7, 10, workers=runs.Threads(2), chunk=1))
+    assert np.array_equal(one, _draws(7, 10, workers=parallel.Threads(2), chunk=1))
     assert not np.array_equal(one, _draws(8, 10, workers=1))
     assert not np.array_equal(one[0], one[1])  # runs get different streams
 
@@ -55,9 +55,9 @@ def test_bad_seeds_and_run_counts_are_rejected(seed, n_runs, message):
 
 def test_bad_worker_counts_are_rejected():
     with pytest.raises(ValueError, match=r"Threads\(workers=...\) must be a whole number >= 1"):
-        runs.Threads(0)
+        parallel.Threads(0)
     with pytest.raises(ValueError, match=r"Processes\(workers=...\) must be a whole number >= 1"):
-        runs.Processes(2.0)
+        parallel.Processes(2.0)
 
 
 @dataclasses.dataclass(frozen=True)

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 from numba import njit
 
-from glamas import rng, runs
+from glamas import parallel, rng
 from glamas.experiments import gridworld as gw
 from glamas.experiments import related_work as rw
 from glamas.experiments import scaling as sc
@@ -51,19 +51,19 @@ def registered():
 def test_a_registered_learner_runs_beside_the_chapters_learners(registered):
     chapter = gw.GridworldConfig(learners=("independent",), episodes=60, runs=2, bins=6, max_steps=2000)
     config = rw.RelatedWorkConfig(gridworld=chapter, learners=("sparse_maq", "random_walk"))
-    result = rw.run(config, seed=1, workers=runs.Threads(1))
+    result = rw.run(config, seed=1, workers=parallel.Threads(1))
     assert result.names() == ["independent", "sparse_maq", "random_walk"]
     walk = result.curves("random_walk", "steps")
     assert np.isfinite(walk).all() and (walk >= 10).all()
     assert result.local_entries[-1] == 25 * 4 and result.reward_samples[-1] == 0
     # registering it changed nobody's seeds: the library learners' curves are those without it
-    alone = rw.run(rw.RelatedWorkConfig(gridworld=chapter, learners=("sparse_maq",)), seed=1, workers=runs.Threads(1))
+    alone = rw.run(rw.RelatedWorkConfig(gridworld=chapter, learners=("sparse_maq",)), seed=1, workers=parallel.Threads(1))
     assert np.array_equal(result.log[:2], alone.log)
 
 
 def test_a_registered_learner_joins_the_scaling_study(registered):
     config = sc.ScalingConfig(agents=(2, 3), methods=("independent", "random_walk"), episodes=40, runs=2, bin_size=20)
-    result = sc.run(config, seed=0, workers=runs.Threads(1))
+    result = sc.run(config, seed=0, workers=parallel.Threads(1))
     assert result.ran.all() and result.table_shapes[1].tolist() == [[2, 35, 4], [3, 35, 4]]
     assert np.isfinite(result.curves("random_walk", 3, "collisions")).all()
 

@@ -5,7 +5,7 @@ small runs, and the two learners in the scaling study."""
 import numpy as np
 import pytest
 
-from glamas import runs
+from glamas import parallel
 from glamas.experiments import scaling as sc
 from glamas.gridworld import load_map, rules
 from glamas.gridworld.rules import E, S, W
@@ -143,7 +143,7 @@ def test_cq_marks_with_many_agents_pair_an_agent_with_a_near_agent():
     n = g.n_agents
     settings = LearnerSettings(max_steps=1000, cq_window=30, cq_significance=0.05, cq_solo_episodes=200)
     outputs = spec.train(cq.LEARNER, settings, g, ep.Schedule(400, ep.uniform_edges(400, 100), 1000), 1, 2,
-                         workers=runs.Threads(1))
+                         workers=parallel.Threads(1))
     q_aug, marked, log = outputs["q_aug"], outputs["marked"], outputs["log"]
     own, other = np.nonzero(marked[0].any(axis=0))
     assert own.size > 0 and (log[0, :, ep.column(n, ep.COORDINATIONS)] > 0).any()

@@ -4,7 +4,7 @@ script lists, a figure drawn in-process equal to the committed one, a user error
 
 import pytest
 
-from glamas import reproduce, runs
+from glamas import parallel, reproduce
 from glamas.experiments import registry
 from glamas.paths import DATA, REPO, RESULTS
 from glamas.verify import FIGURES
@@ -120,7 +120,7 @@ def test_fresh_refuses_a_file(tmp_path, capsys):
 
 def test_fresh_draws_into_the_emptied_directories(tmp_path, capsys, monkeypatch):
     monkeypatch.setattr(registry, "figure_scripts", lambda chapter_only: ("fig9",))  # nothing to compute
-    monkeypatch.setattr(runs, "MEMO_BYTES", runs.MEMO_BYTES)  # main turns the reuse of runs on: undone after
+    monkeypatch.setattr(parallel.memo, "MEMO_BYTES", parallel.memo.MEMO_BYTES)  # main turns the reuse of runs on: undone after
     old = tmp_path / "a b" / "results" / "single_gla.npz"
     old.parent.mkdir(parents=True)
     old.write_text("an earlier run's")

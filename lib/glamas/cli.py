@@ -12,8 +12,7 @@ import contextlib
 import sys
 from pathlib import Path
 
-from glamas import atomic, memory, results
-from glamas import runs as runners  # "runs" is the run count in figure_parser
+from glamas import atomic, memory, parallel, results
 from glamas.checks import MAX_COUNT, suspect_settings
 from glamas.gridworld.maps import MapError
 from glamas.paths import REPO, RESULTS
@@ -30,8 +29,8 @@ WORKERS_PER_CORE = 4
 """More local workers than this per core only add start-up time and memory."""
 EXIT_USAGE = 2
 """Exit status of a user error (as argparse's)."""
-USER_ERRORS = (ValueError, results.ResultFileError, MapError, MemoryError, runners.BackendError,
-               runners.NonFiniteError, OSError)
+USER_ERRORS = (ValueError, results.ResultFileError, MapError, MemoryError, parallel.BackendError,
+               parallel.NonFiniteError, OSError)
 """What the library raises for bad input or a fault outside the program (:func:`user_errors_reported`)."""
 NO_EXPERIMENT = "not used: this figure runs no experiment"
 """The help of every option but --out in the parser of a figure that runs no experiment."""
@@ -116,7 +115,7 @@ def figure_parser(description: str, *, runs: int | None = None, iterations: int 
     option("--workers", type=_positive_int, default=None,
            help="worker processes (threads with --backend threads) for the runs (default: one per core); "
                 "results do not depend on it")
-    option("--backend", choices=runners.BACKENDS, default=None,
+    option("--backend", choices=parallel.BACKENDS, default=None,
            help="who runs the runs: local processes (default), threads in this process, or a Dask "
                 "cluster; results are bit-identical")
     option("--scheduler", metavar="ADDRESS", default=None,
@@ -138,7 +137,7 @@ def parse(parser: argparse.ArgumentParser, argv=None) -> argparse.Namespace:
     they can be written, before anything is computed.
 
     ``args.workers`` becomes what the experiments' ``run(..., workers=)`` takes: a
-    :mod:`glamas.runs` backend. For a figure that runs no experiment (:func:`figure_parser` without
+    :mod:`glamas.parallel` backend. For a figure that runs no experiment (:func:`figure_parser` without
     ``runs``) only --out is looked at: its figure is the same whatever the other options say.
     """
     args = parser.parse_args(argv)
@@ -148,10 +147,10 @@ def parse(parser: argparse.ArgumentParser, argv=None) -> argparse.Namespace:
         return args
     _check_workers(parser, args.workers)
     try:
-        args.workers = runners.backend(args.backend, args.workers, args.scheduler)
-        if isinstance(args.workers, runners.Dask):
-            runners.connect(args.workers).close()  # an unreachable scheduler fails here, not mid-way
-    except (ValueError, runners.BackendError) as error:
+        args.workers = parallel.backend(args.backend, args.workers, args.scheduler)
+        if isinstance(args.workers, parallel.Dask):
+            parallel.connect(args.workers).close()  # an unreachable scheduler fails here, not mid-way
+    except (ValueError, parallel.BackendError) as error:
         parser.error(str(error))
     _choose_directories(parser, args)
     _check_directories(parser, args, ("out", "results"))
@@ -167,10 +166,10 @@ def _check_directories(parser, args, options) -> None:
 
 
 def _check_workers(parser, workers: int | None) -> None:
-    limit = WORKERS_PER_CORE * runners.cores()
+    limit = WORKERS_PER_CORE * parallel.cores()
     if workers is not None and workers > limit:
         parser.error(f"--workers {workers} is more than {WORKERS_PER_CORE} per core of this machine "
-                     f"({runners.cores()} cores); give at most {limit}, or use a Dask cluster (--scheduler)")
+                     f"({parallel.cores()} cores); give at most {limit}, or use a Dask cluster (--scheduler)")
 
 
 def _choose_directories(parser, args) -> None:
@@ -207,8 +206,8 @@ def run_experiment(args: argparse.Namespace, name: str, config, run, copies: int
 def _naming_suspects(config):
     try:
         yield
-    except runners.NonFiniteError as error:
+    except parallel.NonFiniteError as error:
         suspects = suspect_settings(config)
         if not suspects:
             raise
-        raise runners.NonFiniteError(f"{error}; likely responsible: {suspects}") from None
+        raise parallel.NonFiniteError(f"{error}; likely responsible: {suspects}") from None

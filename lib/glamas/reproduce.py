@@ -11,7 +11,7 @@ first (:func:`fresh_directories`): what ``make reproduce`` and ``make verify`` r
 Makefile deletes nothing itself.
 
 One process instead of one per script: Python, numba and matplotlib are imported once, the
-worker processes of the runs (:mod:`glamas.runs`) start once and keep the kernels they loaded
+worker processes of the runs (:mod:`glamas.parallel`) start once and keep the kernels they loaded
 (about a second per script otherwise), and runs that two scripts' experiments share are run once
 (:data:`REUSED_BYTES`). A script's figure is the same either way (``make verify``
 compares them byte for byte with the committed ones). A user error in a script stops the
@@ -25,7 +25,7 @@ import importlib.util
 import sys
 from pathlib import Path
 
-from glamas import atomic, cli, runs
+from glamas import atomic, cli, parallel
 from glamas.experiments import registry
 from glamas.paths import DATA, REPO
 
@@ -33,7 +33,7 @@ SCRIPTS = REPO / "paper_figures"
 
 
 REUSED_BYTES = 128 * 2 ** 20
-"""Outputs of the runs that the scripts share, at most (glamas.runs.reuse_batches): Fig. 11's
+"""Outputs of the runs that the scripts share, at most (glamas.parallel.reuse_batches): Fig. 11's
 learners train as the Fig. 10 study's default reading and the related-work comparison's do."""
 
 
@@ -148,7 +148,7 @@ def main(argv=None) -> int:
                 atomic.check_writable_directory(directory, flag)
     options = [item for flag, value in (("--out", args.out), ("--results", args.results)) if value is not None
                for item in (flag, str(value))]
-    runs.reuse_batches(REUSED_BYTES)
+    parallel.reuse_batches(REUSED_BYTES)
     run(registry.figure_scripts(chapter_only=not args.all), options)  # a script's user error exits with status 2
     return 0
 

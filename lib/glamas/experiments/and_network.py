@@ -12,12 +12,11 @@ from dataclasses import dataclass, replace
 import numpy as np
 from numba import njit
 
-from glamas import checks, claims, gla, lineworld, memory
+from glamas import checks, claims, gla, lineworld, memory, parallel
 from glamas.experiments.registry import Experiment, register
 from glamas.learners import and_network as learner
 from glamas.learners.and_network import CONTEXT_LENGTH, NETWORK, left_probability
 from glamas.plotting import legend_below
-from glamas.runs import Batch, cores, run_many
 
 
 
@@ -124,20 +123,20 @@ def run(config: ANDNetworkConfig, seed: int = 0, workers=None,
     """All runs of experiment 2 for ``config``; identical for any number of workers."""
     memory.check(config)
     work = batch(config, seed)
-    run_many([work], workers=workers, progress=progress)
+    parallel.run_many([work], workers=workers, progress=progress)
     return result_of(config, work)
 
 
-def batch(config: ANDNetworkConfig, seed: int) -> Batch:
-    """The runs of ``config`` ready to run (:func:`glamas.runs.run_many`): their outputs probes,
+def batch(config: ANDNetworkConfig, seed: int) -> parallel.Batch:
+    """The runs of ``config`` ready to run (:func:`glamas.parallel.run_many`): their outputs probes,
     unit parameters and Fig. 7b's curve."""
     c = config
     shape = (c.runs, 2, NETWORK.n_units, max(NETWORK.unit_actions), NETWORK.n_inputs)
     outputs = (np.zeros((c.runs, c.probe_points, 2)), np.zeros(shape), np.zeros((c.runs, c.record_points, 2)))
-    return Batch(learner.learn, learner.kernel_inputs(config), outputs, seed)
+    return parallel.Batch(learner.learn, learner.kernel_inputs(config), outputs, seed)
 
 
-def result_of(config: ANDNetworkConfig, work: Batch) -> ANDNetworkResult:
+def result_of(config: ANDNetworkConfig, work: parallel.Batch) -> ANDNetworkResult:
     """The result of ``config`` once its :func:`batch` has run."""
     _, params, prob_left = work.outputs
     n = config.record_points
@@ -194,7 +193,7 @@ def _left_maps(result: ANDNetworkResult) -> np.ndarray:
     """(runs, 2 agents, points) every run's final P(L) on the evaluation grid, the runs' maps
     drawn on one thread per core (the kernel releases the GIL)."""
     x1, x2, _ = _evaluation_points(result.config)
-    with ThreadPoolExecutor(cores()) as pool:
+    with ThreadPoolExecutor(parallel.cores()) as pool:
         return np.stack(list(pool.map(lambda r: left_map(result, r, x1, x2), range(result.params.shape[0]))))
 
 
@@ -269,7 +268,7 @@ def sweep(config: ANDNetworkConfig, rewards_outside=DEFAULT_SWEEP, seed: int = 0
     configs.append(replace(configs[-1], stream=RERUN_STREAM))
     memory.check(config, copies=len(configs))  # every reward's arrays are held at once
     batches = [batch(c, seed) for c in configs]
-    run_many(batches, workers=workers, progress=progress)  # every reward's runs on one pool
+    parallel.run_many(batches, workers=workers, progress=progress)  # every reward's runs on one pool
     left_I = np.array([final_left_by_region(result_of(c, work))[0] for c, work in zip(configs, batches)])
     stuck = (left_I[:-1] < config.stuck_threshold).all(axis=2)
     return SweepResult(config, values, stuck, left_I[:-1], left_I[-1])

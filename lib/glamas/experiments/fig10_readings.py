@@ -15,7 +15,7 @@ from pathlib import Path
 
 import numpy as np
 
-from glamas import runs
+from glamas import parallel
 from glamas.experiments import gridworld as gw
 from glamas.experiments.registry import Experiment, register
 from glamas.paths import RESULTS
@@ -104,7 +104,7 @@ def run(config: ReadingsConfig = ReadingsConfig(), seed: int = 0, workers=None, 
     on one pool of workers."""
     readings = [config.reading(name) for name in config.readings]
     work = [gw.trainings(reading, seed) for reading in readings]
-    runs.run_many([batch for trainings in work for batch, _ in trainings], workers=workers, progress=progress)
+    parallel.run_many([batch for trainings in work for batch, _ in trainings], workers=workers, progress=progress)
     parts = [gw.result_of(reading, [outputs for _, outputs in trainings], seed)
              for reading, trainings in zip(readings, work)]
     return ReadingsResult(config=config, log=np.concatenate([p.log for p in parts]),

@@ -13,7 +13,7 @@ from pathlib import Path
 import numpy as np
 from matplotlib.ticker import NullFormatter
 
-from glamas import checks, gla, memory, results, runs
+from glamas import checks, gla, memory, parallel, results
 from glamas import claims as chapter
 from glamas.curves import (DEFINITIONS, convergence_episode, convergence_episodes, convergence_grid,
                            convergence_ratio, earlier_share, final, grid_verdict, interval_verdict,
@@ -135,19 +135,19 @@ class GridworldResult:
 def run(config: GridworldConfig = GridworldConfig(), seed: int = 0, workers=None,
         progress=None) -> GridworldResult:
     """Train every learner of ``config`` in ``config.runs`` runs, all learners' runs on one pool of
-    workers (:func:`glamas.runs.run_many`).
+    workers (:func:`glamas.parallel.run_many`).
 
     Each learner draws its runs' streams from its own master seed
     (:func:`glamas.learners.registry.master_seed` over LEARNERS): every (seed, learner) pair has
     its own streams, and a learner gets the same streams whichever other learners are trained with it.
     """
     work = trainings(config, seed)
-    runs.run_many([batch for batch, _ in work], workers=workers, progress=progress)
+    parallel.run_many([batch for batch, _ in work], workers=workers, progress=progress)
     return result_of(config, [outputs for _, outputs in work], seed)
 
 
 def trainings(config: GridworldConfig, seed: int = 0) -> list:
-    """Per learner of ``config``: its runs, ready to run (glamas.runs.Batch), and the outputs they fill."""
+    """Per learner of ``config``: its runs, ready to run (glamas.parallel.Batch), and the outputs they fill."""
     gridmap, schedule = config.gridmap(), config.schedule()
     return [spec.batch(registry.get(name), config, gridmap, schedule, config.runs,
                        registry.master_seed(seed, LEARNERS, name)) for name in config.learners]

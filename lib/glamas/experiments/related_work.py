@@ -14,7 +14,7 @@ from pathlib import Path
 import numpy as np
 
 from glamas import claims as chapter
-from glamas import runs
+from glamas import parallel
 from glamas.experiments.registry import Experiment, register
 from glamas.experiments import gridworld as gw
 from glamas.gridworld import GridMap, rules
@@ -104,7 +104,7 @@ def run(config: RelatedWorkConfig = RelatedWorkConfig(), seed: int = 0, workers=
     related = [spec.batch(registry.get(name), settings, gridmap, schedule, base.runs,
                           registry.master_seed(seed, RELATED_LEARNERS, name, registry.get(name).family))
                for name in config.learners]
-    runs.run_many([batch for batch, _ in chapter + related], workers=workers, progress=progress)
+    parallel.run_many([batch for batch, _ in chapter + related], workers=workers, progress=progress)
     chapter_result = gw.result_of(base, [outputs for _, outputs in chapter], seed)
     shapes = np.array([outputs["q"].shape[1:] for _, outputs in related], dtype=np.int64).reshape(-1, 3)
     learned = np.array([registry.get(name).joint_learned(outputs, settings, gridmap)

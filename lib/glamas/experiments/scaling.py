@@ -25,7 +25,7 @@ from pathlib import Path
 
 import numpy as np
 
-from glamas import checks, memory, runs
+from glamas import checks, memory, parallel
 from glamas import claims as chapter
 from glamas.curves import convergence_episode, final
 from glamas.experiments.registry import Experiment, register
@@ -229,7 +229,7 @@ def seed_of(seed: int, method: str, n_agents: int) -> int:
 
 def run(config: ScalingConfig = ScalingConfig(), seed: int = 0, workers=None, progress=None) -> ScalingResult:
     """Train every method at every N that fits the memory budget (``config.runs`` runs each), all
-    runs on one pool of workers (:func:`glamas.runs.run_many`). Each run's Q tables stay in the
+    runs on one pool of workers (:func:`glamas.parallel.run_many`). Each run's Q tables stay in the
     worker that fills them (the study keeps learning curves and table sizes), so memory holds
     the tables of the runs in progress only."""
     m, a = len(config.methods), len(config.agents)
@@ -257,7 +257,7 @@ def run(config: ScalingConfig = ScalingConfig(), seed: int = 0, workers=None, pr
                 trainings[k, j] = learner, settings, gridmap, batch, outputs
     # One run per job: runs differ widely in length (some spend most episodes at the step cap),
     # and small jobs keep every worker busy until the last runs are done.
-    runs.run_many([batch for *_, batch, _ in trainings.values()], workers=workers, progress=progress, chunk=1)
+    parallel.run_many([batch for *_, batch, _ in trainings.values()], workers=workers, progress=progress, chunk=1)
     for (k, j), (learner, settings, gridmap, _, outputs) in trainings.items():
         joints[k, j] = learner.joint_learned(outputs, settings, gridmap).mean()
         ran[k, j] = True

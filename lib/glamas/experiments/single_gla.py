@@ -13,12 +13,11 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 from numba import njit
 
-from glamas import checks, claims, gla, lineworld, memory
+from glamas import checks, claims, gla, lineworld, memory, parallel
 from glamas.curves import BOOTSTRAP_DRAWS, final_per_run
 from glamas.experiments.registry import Experiment, register
 from glamas.learners import single_gla as learner
 from glamas.plotting import legend_below, plot_mean_band
-from glamas.runs import run_batches
 
 ENCODING_NAMES = ("joint", "absolute", "deictic")
 PARAMETERS = 2 * 2 * 3
@@ -120,8 +119,8 @@ def run(config: SingleGLAConfig, seed: int = 0, workers=None, progress: str | No
     params = np.zeros((config.runs, 2, 2, n_inputs))
     reward = np.zeros((config.runs, config.record_points))
     checkpoints = np.zeros((config.runs, len(checkpoint_at), 2, 2, n_inputs))
-    run_batches(learner.learn, learner.kernel_inputs(config, checkpoint_at), (params, reward, checkpoints), seed,
-                workers=workers, progress=progress)
+    parallel.run_batches(learner.learn, learner.kernel_inputs(config, checkpoint_at), (params, reward, checkpoints),
+                         seed, workers=workers, progress=progress)
     points = np.arange(1, config.record_points + 1)
     return SingleGLAResult(config, points * config.iterations // config.record_points, reward, params,
                            np.asarray(checkpoint_at, dtype=np.int64), checkpoints)

@@ -19,7 +19,7 @@ from typing import Callable
 
 import numpy as np
 
-from glamas import runs
+from glamas import parallel
 from glamas.gridworld import GridMap, rules
 from glamas.learners import episode as ep
 from glamas.qlearning import QLearning
@@ -107,24 +107,24 @@ def kernel_inputs(learner: Learner, settings, gridmap: GridMap, schedule: ep.Sch
 def allocate(learner: Learner, settings, gridmap: GridMap, schedule: ep.Schedule, n_runs: int,
              keep_q: bool = True) -> dict:
     """Every run's outputs, in kernel order: q (filled with ``q_initial``; without ``keep_q`` a
-    :class:`glamas.runs.Scratch` that the runs fill and drop), the learner's own, log."""
+    :class:`glamas.parallel.Scratch` that the runs fill and drop), the learner's own, log."""
     shape = (n_runs,) + learner.table_shape(gridmap.n_cells, gridmap.n_agents)
-    q = np.full(shape, float(settings.q_initial)) if keep_q else runs.Scratch(shape, np.dtype(float),
-                                                                               float(settings.q_initial))
+    q = np.full(shape, float(settings.q_initial)) if keep_q else parallel.Scratch(shape, np.dtype(float),
+                                                                                   float(settings.q_initial))
     own = {name: np.stack([array] * n_runs) for name, array in learner.outputs(settings, gridmap).items()}
     log = np.zeros((n_runs, schedule.edges.size - 1, ep.n_columns(gridmap.n_agents)))
     return {"q": q, **own, "log": log}
 
 
 def batch(learner: Learner, settings, gridmap: GridMap, schedule: ep.Schedule, n_runs: int,
-          master_seed: int, keep_q: bool = True) -> tuple[runs.Batch, dict]:
-    """``n_runs`` runs of ``learner`` on ``gridmap``, ready to run (:func:`glamas.runs.run_many`),
+          master_seed: int, keep_q: bool = True) -> tuple[parallel.Batch, dict]:
+    """``n_runs`` runs of ``learner`` on ``gridmap``, ready to run (:func:`glamas.parallel.run_many`),
     and the outputs they fill, by name (``q``, the learner's own, ``log``; runs on the first axis).
     Without ``keep_q`` the runs' Q tables are not kept (:func:`allocate`): an experiment that
     reads only the learning curves saves their memory and their transport."""
     outputs = allocate(learner, settings, gridmap, schedule, n_runs, keep_q)
     inputs = kernel_inputs(learner, settings, gridmap, schedule)
-    return runs.Batch(learner.kernel_for(gridmap.n_agents), inputs, tuple(outputs.values()), master_seed), outputs
+    return parallel.Batch(learner.kernel_for(gridmap.n_agents), inputs, tuple(outputs.values()), master_seed), outputs
 
 
 def train(learner: Learner, settings, gridmap: GridMap, schedule: ep.Schedule, n_runs: int, master_seed: int,
@@ -132,5 +132,5 @@ def train(learner: Learner, settings, gridmap: GridMap, schedule: ep.Schedule, n
     """``n_runs`` runs of ``learner`` on ``gridmap``: its outputs by name (``q``, its own, ``log``),
     each with the runs on the first axis."""
     work, outputs = batch(learner, settings, gridmap, schedule, n_runs, master_seed)
-    runs.run_many([work], workers=workers, progress=progress)
+    parallel.run_many([work], workers=workers, progress=progress)
     return outputs
