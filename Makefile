@@ -50,7 +50,7 @@ lab: $(READY)
 	$(PY) -m pip install --quiet -e '.[lab]'
 	$(PY) -m jupyter lab notebooks/
 
-## ledger: rewrite README.md's table of every claim's verdict from the committed results
+## ledger: write docs/ledger.md, every claim's verdict, and README.md's count of verdicts from the committed results
 ledger: $(READY)
 	$(PY) -m glamas.ledger --write
 

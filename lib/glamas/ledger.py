@@ -1,9 +1,9 @@
 """One ledger of every claim of every experiment, computed from the committed results.
 
-``python -m glamas.ledger`` prints it as Markdown; ``--write`` puts it into README.md between the
-ledger markers; ``--check`` exits 1 when README.md's copy is stale. Each registered experiment
-with claims (:mod:`glamas.experiments.registry`) gives its rows from the result file the figure
-scripts wrote (its configuration checked).
+``python -m glamas.ledger`` prints it as Markdown; ``--write`` writes it whole to docs/ledger.md
+and its count of verdicts into README.md between the verdict markers; ``--check`` exits 1 when
+either is stale. Each registered experiment with claims (:mod:`glamas.experiments.registry`)
+gives its rows from the result file the figure scripts wrote (its configuration checked).
 """
 
 import argparse
@@ -11,6 +11,7 @@ import math
 import sys
 from pathlib import Path
 
+from glamas import claims
 from glamas.experiments import registry
 from glamas.experiments.registry import Experiment
 from glamas.paths import REPO, RESULTS
@@ -18,7 +19,13 @@ from glamas.paths import REPO, RESULTS
 SEED = 0
 """The master seed of the committed results (the figure scripts' default)."""
 README = REPO / "README.md"
-START, END = "<!-- ledger:start -->", "<!-- ledger:end -->"
+"""Holds the count of verdicts (:func:`verdict_count`) between START and END."""
+START, END = "<!-- verdicts:start -->", "<!-- verdicts:end -->"
+LEDGER = REPO / "docs" / "ledger.md"
+"""The ledger's page, generated whole (:func:`page`)."""
+LEDGER_LINK = LEDGER.relative_to(README.parent).as_posix()
+"""The ledger's page as README.md links to it."""
+VERDICTS = (claims.REPRODUCED, claims.NOT_REPRODUCED, claims.UNDECIDABLE)
 
 
 def claim_rows(experiment: Experiment, results_dir: Path = RESULTS) -> list[dict]:
@@ -61,32 +68,57 @@ def _row(experiment: str, row: dict) -> str:
     return "| " + " | ".join(cell.replace("|", "\\|") for cell in cells) + " |"
 
 
-def readme_with(ledger: str, text: str) -> str:
-    """``text`` (README.md) with the part between the ledger markers replaced by ``ledger``."""
+def page(ledger: str) -> str:
+    """docs/ledger.md: a title, what the table is, the table ``ledger``."""
+    return ("# Claim ledger\n\n"
+            "Every claim of every experiment and its verdict, computed from the committed results in "
+            "`data/results/` by `python -m glamas.ledger --write` (`make ledger`): do not edit this "
+            "page by hand.\n\n"
+            f"{ledger}\n")
+
+
+def verdict_count(ledger: str) -> str:
+    """One line: how many claims the table ``ledger`` holds and how many have each verdict, with
+    a link to the ledger's page."""
+    rows = [line for line in ledger.splitlines()[2:] if line.startswith("| ")]
+    last = [row.removesuffix(" |").rsplit(" | ", 1)[-1].removeprefix("**") for row in rows]
+    counts = {verdict: sum(cell.startswith(verdict) for cell in last) for verdict in VERDICTS}
+    if sum(counts.values()) != len(rows):
+        raise ValueError("a row of the ledger has no verdict of " + ", ".join(VERDICTS))
+    parts = ", ".join(f"{n} {verdict.lower()}" for verdict, n in counts.items())
+    return f"{len(rows)} claims: {parts} — see [the claim ledger]({LEDGER_LINK})."
+
+
+def readme_with(count: str, text: str) -> str:
+    """``text`` (README.md) with the part between the verdict markers replaced by ``count``."""
     if text.count(START) != 1 or text.count(END) != 1 or text.index(START) > text.index(END):
         raise ValueError(f"README.md must hold one {START} ... {END} pair")
     head, rest = text.split(START)
-    return f"{head}{START}\n{ledger}\n{END}{rest.split(END, 1)[1]}"
+    return f"{head}{START}\n{count}\n{END}{rest.split(END, 1)[1]}"
 
 
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     mode = parser.add_mutually_exclusive_group()
-    mode.add_argument("--write", action="store_true", help="replace the ledger in README.md")
-    mode.add_argument("--check", action="store_true", help="exit 1 if README.md's ledger is stale")
+    mode.add_argument("--write", action="store_true", help="write docs/ledger.md and README.md's count of verdicts")
+    mode.add_argument("--check", action="store_true", help="exit 1 if docs/ledger.md or README.md's count is stale")
     args = parser.parse_args(argv)
     ledger = markdown()
     if not (args.write or args.check):
         print(ledger)
         return 0
     text = README.read_text()
-    updated = readme_with(ledger, text)
+    wanted = {LEDGER: page(ledger), README: readme_with(verdict_count(ledger), text)}
     if args.check:
-        if updated != text:
-            print("README.md's claim ledger is stale: run `make ledger` and commit README.md")
+        stale = [path for path, content in wanted.items() if not path.is_file() or path.read_text() != content]
+        if stale:
+            names = " and ".join(path.name for path in stale)
+            print(f"the claim ledger in {names} is stale: run `make ledger` and commit the result")
             return 1
         return 0
-    README.write_text(updated)
+    LEDGER.parent.mkdir(exist_ok=True)
+    for path, content in wanted.items():
+        path.write_text(content)
     return 0
 
 
