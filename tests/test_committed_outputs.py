@@ -17,7 +17,7 @@ import pytest
 from glamas.paths import REPO, RESULTS
 
 OUTPUT = REPO / "paper_figures" / "output"
-RECOMPUTED = {"fig5": "fig5", "fig6": "fig6", "fig7a": "fig7"}
+RECOMPUTED = {"fig5": "single_gla", "fig6": "state_encoding", "fig7a": "and_network"}
 """Fast scripts recomputed at paper scale: script -> the result file it writes."""
 
 
