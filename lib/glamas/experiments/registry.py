@@ -102,11 +102,6 @@ def register(experiment: Experiment) -> Experiment:
     return experiment
 
 
-def unregister(name: str) -> None:
-    """Forget experiment ``name`` (one registered for a while, as in a test)."""
-    REGISTRY.pop(name, None)
-
-
 def experiments() -> tuple:
     """Every experiment: those of each module of :mod:`glamas.experiments` (imported here, so that
     an experiment is known by being there) and any registered since; the chapter's first, each
@@ -114,7 +109,8 @@ def experiments() -> tuple:
     package = importlib.import_module("glamas.experiments")
     for module in pkgutil.walk_packages(package.__path__, f"{package.__name__}."):
         importlib.import_module(module.name)
-    return tuple(sorted(REGISTRY.values(), key=lambda e: (not e.chapter, figure_order(e.figures[0] if e.figures else e.name))))
+    return tuple(sorted(REGISTRY.values(),
+                        key=lambda e: (not e.chapter, figure_order(e.figures[0] if e.figures else e.name))))
 
 
 def figure_order(name: str) -> tuple:
@@ -126,18 +122,10 @@ def figure_scripts(chapter_only: bool = True) -> tuple:
     """The figure scripts of the experiments (of the chapter's only, unless ``chapter_only`` is
     False), in the order they run: the chapter's first, each part in figure order, so that an
     experiment's first figure computes it and the figures after it read its result."""
+    known = experiments()
     parts = (True,) if chapter_only else (True, False)
     return tuple(name for chapter in parts
-                 for name in sorted((name for e in experiments() if e.chapter == chapter for name in e.figures),
-                                    key=figure_order))
-
-
-def get(name: str) -> Experiment:
-    """The experiment registered as ``name``."""
-    found = {experiment.name: experiment for experiment in experiments()}
-    if name not in found:
-        raise ValueError(f"no experiment {name!r}; the experiments are {', '.join(found)}")
-    return found[name]
+                 for name in sorted((name for e in known if e.chapter == chapter for name in e.figures), key=figure_order))
 
 
 def result_files() -> tuple:
