@@ -20,7 +20,6 @@ from glamas.gridworld import load_map, rules
 from glamas.learners import cq, registry, spec
 from glamas.learners import episode as ep
 from glamas.learners.settings import LearnerSettings
-from glamas.paths import MAPS
 
 
 @dataclass(frozen=True)
@@ -44,7 +43,7 @@ class Workload:
             raise ValueError(f"block ({self.block}) must divide episodes ({self.episodes})")
 
     def gridmap(self):
-        return load_map(MAPS / self.map_file)
+        return load_map(self.map_file)
 
     def schedule(self) -> ep.Schedule:
         return ep.Schedule(self.episodes, ep.uniform_edges(self.episodes, self.block), self.settings.max_steps)

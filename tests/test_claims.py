@@ -6,7 +6,6 @@ import json
 import math
 from dataclasses import replace
 
-from dataclasses import replace
 
 import numpy as np
 import pytest

@@ -123,7 +123,7 @@ def test_experiment_measure_and_config_errors():
     metrics = gridworld_optimum.measure(gridworld_optimum.run(gridworld_optimum.GridworldOptimumConfig()))
     assert metrics["optimal_total_steps"] == 21 and metrics["optimal_collisions"] == 0
     assert metrics["value_gap"] < 1e-8 and metrics["selfish_collisions"] >= 1
-    with pytest.raises(ValueError, match="map_name 'nowhere' is not a map"):
+    with pytest.raises(ValueError, match="no map file nowhere; give a map file's path or the name of a map in data/maps"):
         gridworld_optimum.GridworldOptimumConfig(map_name="nowhere")
     with pytest.raises(ValueError, match=r"gamma must be a float in \(0, 1\)"):
         gridworld_optimum.GridworldOptimumConfig(gamma=1.5)

@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 
 from glamas.gridworld import MapError, load_map, tunnel_to_goal
+from glamas.gridworld.maps import map_hash, map_path
 from glamas.gridworld.rules import E, N, S, W
 from glamas.paths import MAPS, REPO
 
@@ -143,3 +144,22 @@ def test_draw_map_walls():
     # The border (4 lines) and the 8 wall segments above and below the goal row.
     assert len(walls) == 4 + 8
     assert ([0, 1], [2, 2]) in walls and ([3, 4], [3, 3]) in walls and ([4, 5], [2, 2]) not in walls
+
+
+def test_a_map_by_name_with_or_without_txt_is_parsed_once():
+    assert load_map("tunnel_to_goal") is load_map("tunnel_to_goal.txt") is load_map(MAPS / "tunnel_to_goal.txt")
+    assert map_path("warehouse_3") == MAPS / "warehouse_3.txt"
+
+
+def test_an_edited_map_file_is_parsed_again_and_hashes_anew(tmp_path):
+    path = tmp_path / "small.txt"
+    path.write_text(GOOD)
+    first, first_hash = load_map(path), map_hash(path)
+    path.write_text(GOOD.replace("2 #", "2 ."))
+    assert load_map(path) is not first and not load_map(path).blocked.any()
+    assert map_hash(str(path)) != first_hash
+
+
+def test_an_unknown_name_lists_the_maps_there_are():
+    with pytest.raises(MapError, match=r"no map file nowhere; .* data/maps \(.*tunnel_to_goal.*\)"):
+        map_path("nowhere")

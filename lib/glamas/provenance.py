@@ -10,47 +10,40 @@ comment.
 """
 
 import dataclasses
-import hashlib
-from pathlib import Path
 
 import glamas
-from glamas.paths import MAPS
+from glamas.gridworld.maps import MapError, map_hash
 
 MISSING = "missing"
 
 
 def record(config) -> dict:
     """``{"version": glamas.__version__, "maps": {field: hash of the map file's bytes}}``."""
-    return {"version": glamas.__version__, "maps": {field: file_hash(path) for field, path in map_files(config)}}
+    return {"version": glamas.__version__, "maps": {field: file_hash(name) for field, name in map_files(config)}}
 
 
-def map_files(config, prefix: str = "") -> list[tuple[str, Path]]:
-    """(field, path) of every map file a config (and the configs inside it) reads."""
+def map_files(config, prefix: str = "") -> list[tuple[str, str]]:
+    """(field, map name or path) of every map file a config (and the configs inside it) reads."""
     found = []
     for field in dataclasses.fields(config):
         value, name = getattr(config, field.name), prefix + field.name
         if dataclasses.is_dataclass(value):
             found += map_files(value, f"{name}.")
         elif field.name == "map_file" and isinstance(value, str):
-            found.append((name, resolve_map(value)))
+            found.append((name, value))
         elif field.name == "map_name" and isinstance(value, str):
-            found.append((name, MAPS / f"{value}.txt"))
+            found.append((name, value))
         elif field.name == "map_pattern" and isinstance(value, str):
-            found += [(f"{name}[n={n}]", resolve_map(value.format(n=n))) for n in getattr(config, "agents", ())]
+            found += [(f"{name}[n={n}]", value.format(n=n)) for n in getattr(config, "agents", ())]
     return found
 
 
-def resolve_map(name: str) -> Path:
-    """A map file given as a path, or as a bare name in data/maps (as the experiments read it)."""
-    path = Path(name)
-    return path if path.is_file() or path.parent != Path(".") else MAPS / path
-
-
-def file_hash(path: Path) -> str:
-    """SHA-256 of a file's bytes (MISSING if it cannot be read)."""
+def file_hash(name: str) -> str:
+    """SHA-256 of the bytes of the map file ``name`` (:func:`glamas.gridworld.maps.map_hash`;
+    MISSING if there is none or it cannot be read)."""
     try:
-        return hashlib.sha256(path.read_bytes()).hexdigest()
-    except OSError:
+        return map_hash(name)
+    except MapError:
         return MISSING
 
 

@@ -23,7 +23,7 @@ from glamas.gridworld import GridMap, dp, load_map, rules
 from glamas.learners import episode as ep
 from glamas.learners import registry, spec, two_observe
 from glamas.learners.settings import LearningSettings
-from glamas.paths import MAPS, RESULTS
+from glamas.paths import RESULTS
 from glamas.plotting import drawn_underneath, legend_below, learner_style, plot_mean_band
 
 LEARNERS = registry.family("chapter")
@@ -60,9 +60,8 @@ class GridworldConfig(LearningSettings):
             raise ValueError(f"the learners are written for two agents; map {self.map_file!r} has {gridmap.n_agents}")
 
     def gridmap(self) -> GridMap:
-        """The map: ``map_file`` as a path, or as a name in data/maps."""
-        path = Path(self.map_file)
-        return load_map(path if path.is_file() or path.parent != Path(".") else MAPS / path)
+        """The map: ``map_file`` as a name in data/maps or a path (:func:`glamas.gridworld.load_map`)."""
+        return load_map(self.map_file)
 
     def edges(self) -> np.ndarray:
         """The learning curves' block edges (glamas.learners.episode.log_edges)."""

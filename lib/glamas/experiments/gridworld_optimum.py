@@ -12,7 +12,6 @@ from glamas import claims, memory
 from glamas import checks
 from glamas.experiments.registry import Experiment, register
 from glamas.gridworld import GridMap, dp, draw, load_map, rules
-from glamas.paths import MAPS
 
 
 @dataclass(frozen=True)
@@ -20,7 +19,7 @@ class GridworldOptimumConfig:
     """Which map to solve and how (the chapter states none of gamma, epsilon or the bounce cell)."""
 
     map_name: str = "tunnel_to_goal"
-    """Stem of a map file in data/maps (Fig. 9 is 'tunnel_to_goal')."""
+    """A map's name in data/maps or a map file's path (Fig. 9 is 'tunnel_to_goal')."""
     gamma: float = 0.9
     """Discount factor of the DP; the chapter gives none. 0.9 makes a yielding agent bump once
     (-1) rather than detour two steps; from about 0.99 the detour wins (see the notebook)."""
@@ -33,9 +32,7 @@ class GridworldOptimumConfig:
 
     def __post_init__(self):
         checks.field_types(self)
-        if not (MAPS / f"{self.map_name}.txt").is_file():
-            known = sorted(p.stem for p in MAPS.glob("*.txt"))
-            raise ValueError(f"map_name {self.map_name!r} is not a map in {MAPS}; known maps: {known}")
+        self.gridmap()  # a map that is not there or is malformed is refused here (MapError)
         if not isinstance(self.gamma, float) or not 0.0 < self.gamma < 1.0:
             raise ValueError(f"gamma must be a float in (0, 1), got {self.gamma!r}")
         if not isinstance(self.epsilon, float) or not self.epsilon > 0.0:
@@ -45,11 +42,15 @@ class GridworldOptimumConfig:
         if not isinstance(self.selfish_steps, int) or self.selfish_steps < 1:
             raise ValueError(f"selfish_steps must be a positive integer, got {self.selfish_steps!r}")
 
+    def gridmap(self) -> GridMap:
+        """The map: ``map_name`` as a name in data/maps or a path (:func:`glamas.gridworld.load_map`)."""
+        return load_map(self.map_name)
+
     def memory_bytes(self) -> int:
         """Bytes of glamas.gridworld.dp's tables per joint state and action: next state, reward,
         collisions, each agent's reward (8 bytes) and bumped and reached flags (1 byte), and the Q
         values. They grow as cells ** agents."""
-        gridmap = load_map(MAPS / f"{self.map_name}.txt")
+        gridmap = self.gridmap()
         n = gridmap.n_agents
         per_pair = 4 * memory.BYTES_PER_VALUE + n * (memory.BYTES_PER_VALUE + 2)
         return gridmap.n_cells ** n * 4 ** n * per_pair
@@ -83,7 +84,7 @@ def run(config: GridworldOptimumConfig, seed: int = 0, workers=None, progress=No
     Deterministic: ``seed``, ``workers`` and ``progress`` are accepted for the common interface.
     """
     memory.check(config)  # the joint tables grow as cells ** agents
-    gridmap = load_map(MAPS / f"{config.map_name}.txt")
+    gridmap = config.gridmap()
     mdp = dp.joint_mdp(gridmap, config.bounce)
     by_values = dp.value_iteration(mdp, config.gamma, config.epsilon)
     by_policies = dp.policy_iteration(mdp, config.gamma, config.epsilon)

@@ -34,7 +34,7 @@ from glamas.learners import episode as ep
 from glamas.learners import registry, spec
 from glamas.learners.settings import LearnerSettings, LearningSettings, RelatedSettings, combine
 from glamas.learners.spec import BYTES_PER_VALUE, Learner
-from glamas.paths import MAPS, RESULTS
+from glamas.paths import RESULTS
 from glamas.plotting import BAND_DRAWS, learner_style, legend_right, plot_mean_band
 
 
@@ -125,9 +125,9 @@ class ScalingConfig(RelatedSettings):
                                  f"give each map file exactly N starts 1..N")
 
     def gridmap(self, n: int) -> GridMap:
-        """The map with ``n`` agents: ``map_pattern`` as a path, or as a name in data/maps."""
-        path = Path(self.map_pattern.format(n=n))
-        return load_map(path if path.is_file() or path.parent != Path(".") else MAPS / path)
+        """The map with ``n`` agents: ``map_pattern`` as a name in data/maps or a path
+        (:func:`glamas.gridworld.load_map`)."""
+        return load_map(self.map_pattern.format(n=n))
 
     def memory_bytes(self) -> int:
         """Bytes of the largest runs held at once and of every log. A run's tables live in the

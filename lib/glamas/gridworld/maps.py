@@ -14,6 +14,7 @@ symbol stands in place of the cell symbol, so a start is always a free cell (nev
 blocked cell). Walls are symmetric by construction: one character separates two cells.
 """
 
+import hashlib
 from collections import deque
 from dataclasses import dataclass
 from pathlib import Path
@@ -78,30 +79,61 @@ class GridMap:
 
 
 def load_map(source) -> GridMap:
-    """A :class:`GridMap` from a map file path or from the map's text; raises :class:`MapError`
-    (naming the file for a map read from one)."""
-    if isinstance(source, Path) or (isinstance(source, str) and "\n" not in source):
-        path = Path(source)
-        if not path.is_file():
-            raise MapError(f"no map file {path}; give the path of a map file or the map's text")
+    """A :class:`GridMap` from a map's name in ``data/maps`` (``"tunnel_to_goal"``, with or
+    without ``.txt``), a map file's path, or the map's text; raises :class:`MapError` (naming the
+    file for a map read from one). A file is parsed once per content (:func:`map_text_hash`):
+    the experiments ask for their map many times, and an edited file is parsed again."""
+    if isinstance(source, str) and "\n" in source:
+        return _parse(source.removeprefix(_BOM), "inline")
+    path = map_path(source)
+    data = _read_bytes(path)
+    key = (path.stem, hashlib.sha256(data).hexdigest())
+    if key not in _PARSED:
         try:
-            return _parse(read_map_text(path), path.stem)
+            _PARSED[key] = _parse(_decode(data), path.stem)
         except MapError as error:
             raise MapError(f"map file {path}: {error}") from None
-    if isinstance(source, str):
-        return _parse(source.removeprefix(_BOM), "inline")
-    raise TypeError(f"load_map takes a path or the map's text, got {type(source).__name__}")
+    return _PARSED[key]
+
+
+_PARSED: dict = {}
+"""Parsed maps by (name, SHA-256 of the file's bytes): a GridMap is immutable, so one serves all."""
+
+
+def map_path(source) -> Path:
+    """The file of a map given by name in ``data/maps`` (with or without ``.txt``) or by path; a
+    path that names a directory, or a name that is no map there, is refused with the known maps."""
+    if not isinstance(source, (str, Path)):
+        raise TypeError(f"a map is given by name, path or the map's text, got {type(source).__name__}")
+    path = Path(source)
+    if path.is_file():
+        return path
+    if path.parent == Path(".") and not path.is_absolute():
+        for candidate in (MAPS / path, MAPS / f"{path}.txt"):
+            if candidate.is_file():
+                return candidate
+    known = ", ".join(sorted(p.stem for p in MAPS.glob("*.txt")))
+    raise MapError(f"no map file {source}; give a map file's path or the name of a map in data/maps ({known})")
+
+
+def map_hash(source) -> str:
+    """SHA-256 of the bytes of the map file ``source`` names (:func:`map_path`): what a result
+    records of its map, so that an edited map makes it stale (:mod:`glamas.provenance`)."""
+    return hashlib.sha256(_read_bytes(map_path(source))).hexdigest()
+
+
+def _read_bytes(path: Path) -> bytes:
+    try:
+        return path.read_bytes()
+    except OSError as error:
+        raise MapError(f"map file {path}: cannot read it ({error.strerror})") from None
 
 
 _BOM = "\ufeff"  # some editors start UTF-8 files with it; it is not part of the map
 
 
-def read_map_text(path: Path) -> str:
-    """The text of a map file: UTF-8, with or without a byte-order mark."""
-    try:
-        data = path.read_bytes()
-    except OSError as error:
-        raise MapError(f"cannot read it ({error.strerror})") from None
+def _decode(data: bytes) -> str:
+    """The text of a map file's bytes: UTF-8, with or without a byte-order mark."""
     try:
         return data.decode("utf-8").removeprefix(_BOM)
     except UnicodeDecodeError as error:
@@ -112,7 +144,7 @@ def read_map_text(path: Path) -> str:
 
 def tunnel_to_goal() -> GridMap:
     """The chapter's Fig. 9 gridworld (De Hauwere's 'TunnelToGoal'), from ``data/maps``."""
-    return load_map(MAPS / "tunnel_to_goal.txt")
+    return load_map("tunnel_to_goal")
 
 
 def _parse(text: str, name: str) -> GridMap:
