@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 from numba import njit
 
-from glamas import cli, figures, parallel, plotting, provenance, results, rng
+from glamas import cli, curves, figures, parallel, plotting, provenance, results, rng
 from glamas.experiments import registry
 
 
@@ -218,6 +218,6 @@ def test_figures_are_byte_reproducible(tmp_path):
 
 def test_mean_and_band_stays_within_the_runs():
     counts = np.array([[0.0, 1.0], [0.0, 1.0], [9.0, 1.0]])  # a count with one outlying run
-    mean, low, high = plotting.mean_and_band(counts)
+    mean, low, high = curves.mean_and_band(counts)
     assert mean.tolist() == [3.0, 1.0]
     assert 0.0 <= low[0] < mean[0] < high[0] <= 9.0 and low[1] == high[1] == 1.0

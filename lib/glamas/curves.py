@@ -1,6 +1,7 @@
 """What the experiments read from learning curves (runs on the first axis, points or blocks of
-episodes on the second): the final value, the mean over the last FINAL_FRACTION of the episodes
-(or iterations), per run or over the runs, and the episode from which a curve has converged."""
+episodes on the second): the mean over the runs with its bootstrap band, the final value, the mean
+over the last FINAL_FRACTION of the episodes (or iterations), per run or over the runs, and the
+episode from which a curve has converged."""
 
 import numpy as np
 
@@ -13,6 +14,8 @@ TOLERANCES = (0.03, 0.05, 0.10, 0.15)
 changes inside this range is reported as changing, never read at one tolerance only."""
 BOOTSTRAP_DRAWS = 2000
 """Resamples of the runs behind the 95 % interval of a convergence ratio."""
+BAND_DRAWS = 1000
+"""Resamples of the runs behind every band."""
 DEFINITIONS = ("per_run", "run_mean", "shared_level")
 """The definitions of "converges faster" that :func:`convergence_ratio` computes:
 
@@ -50,6 +53,19 @@ def final_per_run(curves: np.ndarray, fraction: float = FINAL_FRACTION) -> np.nd
     one point)."""
     tail = max(1, int(round(curves.shape[1] * fraction)))
     return curves[:, -tail:].mean(axis=1)
+
+
+def mean_and_band(curves: np.ndarray, seed: int = 0):
+    """Mean over runs (axis 0) and its 95 % bootstrap band (percentiles of the means of runs
+    resampled with replacement; fixed seed, so figures stay byte-reproducible). The band is made of
+    means of real runs, so it never leaves the range the runs span (a count never goes below 0)."""
+    curves = np.asarray(curves, dtype=np.float64)
+    mean = curves.mean(axis=0)
+    if curves.shape[0] < 2:
+        return mean, mean, mean
+    picks = np.random.default_rng(seed).integers(0, curves.shape[0], (BAND_DRAWS, curves.shape[0]))
+    low, high = np.percentile(curves[picks].mean(axis=1), [2.5, 97.5], axis=0)
+    return mean, low, high
 
 
 def convergence_episode(curves: np.ndarray, episodes: np.ndarray, tolerance: float = CONVERGENCE_TOLERANCE) -> float:

@@ -5,9 +5,9 @@ from functools import partial
 from pathlib import Path
 
 import matplotlib.pyplot as plt
-import numpy as np
 
 from glamas import atomic
+from glamas.curves import mean_and_band
 
 # No creation dates, producers or software versions: the same data gives the same bytes.
 _PDF_METADATA = {"CreationDate": None, "ModDate": None, "Producer": None, "Creator": None}
@@ -51,23 +51,6 @@ def learner_style(name: str, marker: bool = False) -> dict:
 def drawn_underneath(name: str) -> bool:
     """Whether learner ``name``'s curve goes under the others (LEARNER_STYLES)."""
     return LEARNER_STYLES.get(name, {}).get("underneath", False)
-
-
-BAND_DRAWS = 1000
-"""Resamples of the runs behind every band."""
-
-
-def mean_and_band(curves: np.ndarray, seed: int = 0):
-    """Mean over runs (axis 0) and its 95 % bootstrap band (percentiles of the means of runs
-    resampled with replacement; fixed seed, so figures stay byte-reproducible). The band is made of
-    means of real runs, so it never leaves the range the runs span (a count never goes below 0)."""
-    curves = np.asarray(curves, dtype=np.float64)
-    mean = curves.mean(axis=0)
-    if curves.shape[0] < 2:
-        return mean, mean, mean
-    picks = np.random.default_rng(seed).integers(0, curves.shape[0], (BAND_DRAWS, curves.shape[0]))
-    low, high = np.percentile(curves[picks].mean(axis=1), [2.5, 97.5], axis=0)
-    return mean, low, high
 
 
 def plot_mean_band(ax, x, curves, label: str, **style):

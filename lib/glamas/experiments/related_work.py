@@ -15,13 +15,14 @@ import numpy as np
 
 from glamas import claims as chapter
 from glamas import parallel
+from glamas.curves import mean_and_band
 from glamas.experiments.registry import Experiment, register
 from glamas.experiments import gridworld as gw
 from glamas.gridworld import GridMap, rules
 from glamas.learners import cq, registry, spec, sparse_maq
 from glamas.learners.settings import LearnerSettings, RelatedSettings, combine
 from glamas.paths import RESULTS
-from glamas.plotting import legend_below, legend_right, learner_style, mean_and_band, plot_mean_band
+from glamas.plotting import legend_below, legend_right, learner_style, plot_mean_band
 
 RELATED_LEARNERS = registry.family("related")
 """The related-work learners (glamas.learners.registry), in the order their seeds are drawn."""

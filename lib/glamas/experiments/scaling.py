@@ -27,7 +27,7 @@ import numpy as np
 
 from glamas import checks, memory, parallel
 from glamas import claims as chapter
-from glamas.curves import convergence_episode, final
+from glamas.curves import BAND_DRAWS, convergence_episode, final
 from glamas.experiments.registry import Experiment, register
 from glamas.gridworld import GridMap, load_map
 from glamas.learners import episode as ep
@@ -35,7 +35,7 @@ from glamas.learners import registry, spec
 from glamas.learners.settings import LearnerSettings, LearningSettings, RelatedSettings, combine
 from glamas.learners.spec import BYTES_PER_VALUE, Learner
 from glamas.paths import RESULTS
-from glamas.plotting import BAND_DRAWS, learner_style, legend_right, plot_mean_band
+from glamas.plotting import learner_style, legend_right, plot_mean_band
 
 
 @dataclass(frozen=True)
