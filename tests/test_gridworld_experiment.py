@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from glamas import claims
-from glamas.curves import convergence_episode, convergence_grid, convergence_ratio, grid_verdict
+from glamas.curves import convergence_episode, convergence_grid, convergence_ratio, final, grid_verdict
 from glamas.experiments import gridworld as gw
 from glamas.gridworld import MapError
 from glamas.paths import REPO
@@ -69,7 +69,7 @@ def test_map_file_by_name_or_path():
 def test_final_and_convergence_episode_on_a_made_up_curve():
     episodes = np.arange(1, 11) * 100
     curves = np.array([[40.0, 30, 20, 12, 10.4, 10, 10, 10, 10, 10]] * 2)
-    assert gw.final(curves, episodes) == 10.0  # the last 10 % of the episodes
+    assert final(curves, episodes) == 10.0  # the last 10 % of the episodes
     assert convergence_episode(curves, episodes) == 400.0  # 12 is the last block outside 5 %
     assert convergence_episode(np.full((2, 10), 3.0), episodes) == 0.0
 
@@ -88,7 +88,7 @@ def test_measure_gives_every_claimed_metric_and_verdicts_are_computed(small):
     for row in rows:
         assert row["value"] == measured[row["claim"].metric] or np.isnan(row["value"])
         assert row["holds"] == row["claim"].holds(row["value"])
-    assert measured["steps_independent"] == pytest.approx(gw.final(result.steps("independent"), result.episodes))
+    assert measured["steps_independent"] == pytest.approx(final(result.steps("independent"), result.episodes))
     assert measured["coordinations_independent"] == 0.0
 
 
@@ -163,9 +163,9 @@ def test_out_that_is_a_file_is_rejected(tmp_path, capsys):
 def test_final_weighs_log_spaced_blocks_by_their_episodes_in_the_last_tenth():
     episodes = np.array([1, 2, 4, 8, 16, 50, 100])  # last 10 %: episodes 90 .. 100 of the last block
     curves = np.array([[9.0, 9, 9, 9, 9, 5, 2]] * 3)
-    assert gw.final(curves, episodes) == 2.0
+    assert final(curves, episodes) == 2.0
     episodes = np.array([10, 85, 95, 100])  # blocks 85-95 (5 of its episodes) and 95-100 (all 5)
-    assert gw.final(np.array([[0.0, 0, 4, 2]]), episodes) == 3.0
+    assert final(np.array([[0.0, 0, 4, 2]]), episodes) == 3.0
 
 
 def test_a_convergence_ratio_is_decided_only_when_its_interval_excludes_one():

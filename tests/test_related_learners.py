@@ -10,6 +10,7 @@ import numpy as np
 import pytest
 
 from glamas import claims
+from glamas.curves import final
 from glamas.experiments import gridworld as gw
 from glamas.experiments import related_work as rw
 from glamas.gridworld import tunnel_to_goal
@@ -179,9 +180,9 @@ def test_measure_gives_every_claimed_metric(small):
 
 def test_final_interval_is_the_final_mean_with_a_band_over_runs(small):
     mean, low, high = rw.final_interval(small, "cq")
-    assert mean == pytest.approx(gw.final(small.curves("cq", "collisions"), small.episodes))
+    assert mean == pytest.approx(final(small.curves("cq", "collisions"), small.episodes))
     assert low <= mean <= high
-    per_run = [gw.final(c[None], small.episodes) for c in small.curves("independent", "steps")]
+    per_run = [final(c[None], small.episodes) for c in small.curves("independent", "steps")]
     _, low, high = rw.final_interval(small, "independent", "steps")
     assert min(per_run) <= low <= high <= max(per_run)  # a band of run means stays in the runs' range
 

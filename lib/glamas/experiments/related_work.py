@@ -15,7 +15,7 @@ import numpy as np
 
 from glamas import claims as chapter
 from glamas import parallel
-from glamas.curves import mean_and_band
+from glamas.curves import final, mean_and_band
 from glamas.experiments.registry import Experiment, register
 from glamas.experiments import gridworld as gw
 from glamas.gridworld import GridMap, rules
@@ -182,9 +182,9 @@ def measure(result: RelatedWorkResult, config: RelatedWorkConfig) -> dict:
 
 
 def final_interval(result: RelatedWorkResult, name: str, metric: str = "collisions") -> tuple[float, float, float]:
-    """Learner ``name``'s final value of one metric (``gw.final``, last 10 % of the episodes)
+    """Learner ``name``'s final value of one metric (:func:`glamas.curves.final`, last 10 % of the episodes)
     as (mean over runs, 95 % bootstrap interval of that mean: runs resampled, as the figures' bands)."""
-    per_run = np.array([gw.final(curve[None], result.episodes) for curve in result.curves(name, metric)])
+    per_run = np.array([final(curve[None], result.episodes) for curve in result.curves(name, metric)])
     mean, low, high = mean_and_band(per_run[:, None])
     return float(mean[0]), float(low[0]), float(high[0])
 

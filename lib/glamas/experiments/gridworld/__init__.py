@@ -1,0 +1,48 @@
+"""The gridworld experiment of Section 5.3 (Fig. 9-12): the chapter's four learners on TunnelToGoal.
+:mod:`.experiment` configures and runs it, :mod:`.analysis` measures it (claims, tables, optimum) and
+:mod:`.plots` draws it; this face hands their names on (the plots' on first use) and registers it."""
+
+from pathlib import Path
+
+import numpy as np
+
+from glamas import results
+from glamas.experiments.faces import plots_on_first_use
+from glamas.experiments.gridworld.analysis import (claim_rows, convergence_comparison, convergence_report,
+                                                   convergence_spread, coordination_probability, in_range_share,
+                                                   measure, need_probability, optimum, state_action_spaces,
+                                                   state_action_table, stuck_by_start, summary_table, with_learner,
+                                                   zero_collisions_table)
+from glamas.experiments.gridworld.experiment import (LEARNERS, GridworldConfig, GridworldResult, learner_bytes,
+                                                     result_of, run, scaled, trainings)
+from glamas.experiments.registry import Experiment, register
+from glamas.paths import RESULTS
+
+PLOTS = ("plot_steps", "plot_reward", "plot_collisions", "plot_coordinations", "plot_feedback_table",
+         "plot_coordination_probability")
+"""The drawing functions of :mod:`.plots` this face hands on."""
+__getattr__ = plots_on_first_use(__name__, PLOTS)
+
+__all__ = ["EXPERIMENT", "LEARNERS", "GridworldConfig", "GridworldResult", "claim_rows", "convergence_comparison",
+           "convergence_report", "convergence_spread", "coordination_probability", "in_range_share",
+           "learner_bytes", "load", "matches_committed", "measure", "need_probability", "optimum", "result_of",
+           "run", "state_action_spaces", "state_action_table", "stuck_by_start", "summary_table", "trainings",
+           "with_learner", "zero_collisions_table", *PLOTS]
+
+EXPERIMENT = register(Experiment("gridworld", GridworldConfig, run, scaled, GridworldConfig.runs,
+                                 GridworldConfig.episodes, GridworldResult,
+                                 claim_rows=lambda result, config: claim_rows(result),
+                                 figures=("fig9", "fig10", "fig11a", "fig11b", "fig12a", "fig12b")))
+"""The chapter's experiment of Section 5.3 (Fig. 9 and 10 draw its map and its GLAs' feedback)."""
+
+
+def load(config: GridworldConfig = GridworldConfig(), seed: int = 0, results_dir: Path = RESULTS) -> GridworldResult:
+    """The committed (or ``results_dir``'s) result of ``config`` and ``seed``, its configuration checked."""
+    return EXPERIMENT.load(results_dir, config, seed)
+
+
+def matches_committed(result: GridworldResult, config: GridworldConfig, seed: int = 0) -> bool:
+    """Whether ``result`` equals, array for array, the committed result of ``config`` and ``seed``
+    (data/results/gridworld.npz, its configuration checked)."""
+    stored = results.load(EXPERIMENT.file(RESULTS), config, seed=seed)
+    return all(np.array_equal(getattr(result, name), stored[name]) for name in stored)

@@ -1,0 +1,288 @@
+"""What a result of the gridworld experiment says (Section 5.3): the numbers the chapter's claims
+are about (:func:`measure`) and their verdicts, what 2observe's GLAs learned, the optimum the
+learners are drawn against, and the notebook's text tables."""
+
+import math
+from dataclasses import replace
+
+import numpy as np
+
+from glamas import claims as chapter
+from glamas import gla
+from glamas.curves import (DEFINITIONS, convergence_episode, convergence_episodes, convergence_grid,
+                           convergence_ratio, earlier_share, final, grid_verdict, interval_verdict,
+                           level_episode)
+from glamas.experiments.gridworld.experiment import GridworldConfig, GridworldResult
+from glamas.gridworld import GridMap, dp, rules
+from glamas.learners import registry, two_observe
+
+
+ZERO_COLLISIONS = 0.05
+"""The learning curves' "zero collisions": at most one collision per 20 episodes. Exploration
+keeps a learner that has found a collision-free path colliding now and then."""
+ZERO_COLLISION_LEVELS = (0.02, 0.05, 0.1)
+"""The levels of "zero collisions" the notebook shows the fast-to-zero claims at."""
+SATURATED = 1e-3
+"""A GLA is saturated at a distance when its less likely choice has probability below this:
+eq. 13's gradient, proportional to that probability, has all but vanished there."""
+
+
+def measure(result: GridworldResult) -> dict:
+    """The numbers the chapter's claims are about (data/chapter/section5.json), per learner and compared."""
+    m = {}
+    x = result.episodes
+    for name in result.names():
+        m[f"steps_{name}"] = final(result.steps(name), x)
+        m[f"reward_{name}"] = final(result.reward(name), x)
+        m[f"collisions_{name}"] = final(result.curves(name, "collisions"), x)
+        m[f"coordinations_{name}"] = final(result.curves(name, "coordinations"), x)
+        m[f"convergence_{name}"] = float(np.median(convergence_episodes(result.steps(name), x)))
+        m[f"zero_collisions_after_{name}"] = zero_collisions_after(result, name)
+        m[f"capped_episodes_{name}"] = float(result.curves(name, "capped").mean(axis=0) @ result.widths())
+    if "two_observe" in result.names():
+        m.update(first_level_shares(result))
+    if {"two_observe", "independent", "mmdp"} <= set(result.names()):
+        for base in ("independent", "mmdp"):
+            m[f"steps_two_observe_minus_{base}"] = m["steps_two_observe"] - m[f"steps_{base}"]
+            m.update(convergence_comparison(result, "two_observe", base))
+        m["reward_two_observe_over_mmdp"] = m["reward_two_observe"] / m["reward_mmdp"]
+        m["reward_two_observe_minus_independent"] = m["reward_two_observe"] - m["reward_independent"]
+        m["collisions_independent_off_3"] = abs(m["collisions_independent"] - 3.0)
+        m["coordinations_two_observe_off_4"] = abs(m["coordinations_two_observe"] - 4.0)
+    return m
+
+
+def claim_rows(result: GridworldResult) -> list[dict]:
+    """The chapter's Section 5.3 claims with their verdicts, computed from ``result``."""
+    return chapter.verdicts(chapter.load("gridworld"), measure(result))
+
+
+def convergence_comparison(result: GridworldResult, name: str, base: str) -> dict:
+    """"``name`` converges faster than ``base``" under every definition of curves.DEFINITIONS, each
+    at every tolerance and block width of curves.convergence_grid. ``convergence_<name>_over_<base>``
+    decides the claims: the per-run ratio at the default tolerance and blocks, NaN (undecidable)
+    unless every tolerance and block width gives the same verdict, so that none of them can move
+    it; with ``_point``, ``_low``, ``_high`` and ``_verdict`` (the grid's). The run-mean and
+    shared-level definitions are kept beside it (suffixes ``_run_mean``, ``_shared_level``), and
+    ``..._earlier_share`` is the share of run pairs in which ``name``'s run converges first."""
+    key, x = f"convergence_{name}_over_{base}", result.episodes
+    curves, baseline = result.steps(name), result.steps(base)
+    m = {}
+    for definition in DEFINITIONS:
+        label = key if definition == "per_run" else f"{key}_{definition}"
+        point, low, high = convergence_ratio(curves, baseline, x, definition)
+        grid = convergence_grid(curves, baseline, x, definition)
+        verdict = grid_verdict(grid)
+        m.update({f"{label}_point": point, f"{label}_low": low, f"{label}_high": high, f"{label}_verdict": verdict})
+        m[label] = point if verdict != "undecidable" else math.nan
+        if verdict == "undecidable":
+            counts = {v: sum(interval_verdict(low, high) == v for *_, low, high in grid) for v in ("faster", "undecidable", "slower")}
+            m[f"{label}{chapter.WHY_UNDECIDABLE}"] = (
+                f"ratio {point:.2f} [{low:.2f}, {high:.2f}], but over tolerances of 3 to 15 % and blocks 1 to 4 "
+                f"times as wide the 95 % intervals say faster {counts['faster']}, undecidable "
+                f"{counts['undecidable']} and slower {counts['slower']} times")
+    m[f"{key}_earlier_share"] = earlier_share(curves, baseline, x)
+    return m
+
+
+def zero_collisions_after(result: GridworldResult, name: str, level: float = ZERO_COLLISIONS) -> float:
+    """The share of the run after which learner ``name``'s mean collisions per episode stay at or
+    below ``level`` (1: they end above it, the learner never settles at zero collisions)."""
+    return level_episode(result.curves(name, "collisions"), result.episodes, level) / result.episodes[-1]
+
+
+def in_range_distances(gridmap: GridMap) -> tuple[np.ndarray, np.ndarray]:
+    """The distances at which two agents could collide in one step from some pair of cells (in
+    range of interference), and those at which they never can (out of range), on ``gridmap``."""
+    share = in_range_share(gridmap)
+    deltas = np.arange(share.size)
+    seen = ~np.isnan(share)
+    return deltas[seen & (share > 0)], deltas[seen & (share == 0) & (deltas > 0)]
+
+
+def chapter_settings(result: GridworldResult) -> GridworldConfig:
+    """The chapter learners' settings that made ``result`` (a related-work result keeps them as its
+    configuration's ``gridworld``)."""
+    return getattr(result.config, "gridworld", result.config)
+
+
+def first_level_shares(result: GridworldResult) -> dict:
+    """What 2observe's GLAs learned, GLA by GLA (Sec. 5.1: the first level decides whether the
+    agents are within each other's range of interference): the share of final GLAs that coordinate
+    (P(coordinate) > 1/2) at every in-range distance, that act alone at every out-of-range one,
+    and the share of GLAs saturated on the wrong choice somewhere (:func:`stuck_share`) at the
+    start of the runs and at their end."""
+    config = chapter_settings(result)
+    near, far = in_range_distances(config.gridmap())
+    p_near = coordination_probabilities(result.gla_parameters, config, near)
+    p_far = coordination_probabilities(result.gla_parameters, config, far)
+    return {"coordinates_in_range_share_two_observe": float((p_near > 0.5).all(axis=-1).mean()),
+            "alone_out_of_range_share_two_observe": float((p_far < 0.5).all(axis=-1).mean()),
+            "stuck_at_start_share_two_observe": stuck_share(result.gla_initial, config),
+            "stuck_at_end_share_two_observe": stuck_share(result.gla_parameters, config)}
+
+
+def stuck_share(u: np.ndarray, config: GridworldConfig) -> float:
+    """The share of the GLAs ``u`` (runs, agents, 2, 2) that :func:`stuck_glas` finds stuck."""
+    return float(stuck_glas(u, config).mean())
+
+
+def stuck_glas(u: np.ndarray, config: GridworldConfig) -> np.ndarray:
+    """bool (runs, agents): the GLAs ``u`` (runs, agents, 2, 2) saturated (SATURATED) on the wrong
+    choice at some distance of the map: acting alone where the agents could collide, or
+    coordinating where they cannot. From there eq. 13 can hardly bring them back."""
+    near, far = in_range_distances(config.gridmap())
+    wrong_near = coordination_probabilities(u, config, near) < SATURATED
+    wrong_far = coordination_probabilities(u, config, far) > 1.0 - SATURATED
+    return wrong_near.any(axis=-1) | wrong_far.any(axis=-1)
+
+
+def stuck_by_start(result: GridworldResult) -> dict:
+    """How 2observe's GLAs that end stuck (:func:`stuck_glas`) started: counts of all GLAs, of those
+    saturated on a wrong choice at the start, of those stuck at the end, and of those both."""
+    config = chapter_settings(result)
+    start, end = stuck_glas(result.gla_initial, config), stuck_glas(result.gla_parameters, config)
+    return {"GLAs": int(start.size), "saturated at the start": int(start.sum()),
+            "stuck at the end": int(end.sum()), "stuck at the end, saturated at the start": int((start & end).sum())}
+
+
+def summary_table(result: GridworldResult) -> str:
+    """Final values (last 10 % of the episodes, mean over runs) and convergence episode (median
+    over runs of each run's own, curves.convergence_episodes) per learner,
+    rounded to what 20 runs resolve."""
+    m = measure(result)
+    lines = [f"{'learner':24s} {'steps':>6s} {'reward':>7s} {'collisions':>10s} {'coordinations':>13s} "
+             f"{'converged by':>12s} {'capped/run':>10s}"]
+    for name in result.names():
+        lines.append(f"{registry.label(name):24s} {m[f'steps_{name}']:6.2f} {m[f'reward_{name}']:7.1f} "
+                     f"{m[f'collisions_{name}']:10.3f} {m[f'coordinations_{name}']:13.2f} "
+                     f"{m[f'convergence_{name}']:12.0f} {m[f'capped_episodes_{name}']:10.1f}")
+    return "\n".join(lines)
+
+
+def with_learner(result: GridworldResult, other: GridworldResult, name: str) -> GridworldResult:
+    """``result`` with learner ``name``'s curves and 2observe's arrays taken from ``other`` (to
+    compare a variant of one learner against the same baselines)."""
+    k, j = result.names().index(name), other.names().index(name)
+    log = result.log.copy()
+    log[k] = other.log[j]
+    learned = registry.get(name).outputs(other.config, other.config.gridmap())
+    first_level = {"gla_parameters": "u", "gla_initial": "u", "need_counts": "need_counts"}
+    return replace(result, log=log, **{field: getattr(other, field) for field, key in first_level.items() if key in learned})
+
+
+def state_action_table(result: GridworldResult) -> str:
+    """:func:`state_action_spaces` as text: the measured counterpart of Table 1 for this map."""
+    lines = [f"{'learner':24s} {'Q tables':>8s} {'states':>7s} {'actions':>7s} {'Q entries/agent':>15s} {'GLA params/agent':>16s}"]
+    for row in state_action_spaces(result):
+        lines.append(f"{registry.label(row['learner']):24s} {row['tables']:8d} {row['states']:7d} {row['actions']:7d} "
+                     f"{row['q_entries_per_agent']:15.0f} {row['gla_parameters_per_agent']:16d}")
+    return "\n".join(lines)
+
+
+def state_action_spaces(result: GridworldResult) -> list[dict]:
+    """Table 1 / Sec. 5.3 analysis, measured from the learners' final tables: per learner the
+    number of Q tables, their states and actions, the Q entries per agent and the GLA parameters."""
+    rows = []
+    gridmap = result.config.gridmap()
+    for name, (tables, states, actions) in zip(result.names(), result.table_shapes):
+        q_per_agent = tables * states * actions / gridmap.n_agents
+        gla_per_agent = registry.get(name).gla_parameters(result.config, gridmap) // gridmap.n_agents
+        rows.append({"learner": name, "tables": int(tables), "states": int(states),
+                     "actions": int(actions), "q_entries_per_agent": q_per_agent,
+                     "gla_parameters_per_agent": gla_per_agent})
+    return rows
+
+
+def coordination_probability(result: GridworldResult, config: GridworldConfig, deltas) -> np.ndarray:
+    """P(coordinate | delta) of 2observe's final GLAs (eq. 15), shape (runs, agents, len(deltas))."""
+    return coordination_probabilities(result.gla_parameters, config, deltas)
+
+
+def coordination_probabilities(u: np.ndarray, config: GridworldConfig, deltas) -> np.ndarray:
+    """P(coordinate | delta) (eq. 15) of the GLA parameters ``u`` (runs, agents, 2, 2), shape
+    (runs, agents, len(deltas)); under the fixed rule (``rule_distance``), its 0 or 1."""
+    if config.rule_distance is not None:
+        rule = (np.asarray(deltas) < config.rule_distance).astype(float)
+        return np.broadcast_to(rule, u.shape[:2] + rule.shape).copy()
+    p = config.gla_params()
+    contexts = [np.array([delta * config.delta_scale(), 1.0]) for delta in deltas]
+    probs = np.empty(2)
+    out = np.empty(u.shape[:2] + (len(deltas),))
+    for r in range(u.shape[0]):
+        for i in range(u.shape[1]):
+            for d, x in enumerate(contexts):
+                gla.boltzmann(u[r, i], x, p.temperature, p.L, p.bounding_code, probs)
+                out[r, i, d] = probs[two_observe.COORDINATE]
+    return out
+
+
+def optimum(config: GridworldConfig) -> dict:
+    """The reference the learners are drawn against: the episode of the optimal joint policy
+    (value iteration on the MMDP, gamma = config.discount), agent means, no exploration."""
+    episode = dp.optimal_rollout(config.gridmap(), config.discount, config.bounce)
+    return {"steps": float(episode.steps_to_goal.mean()), "reward": float(episode.returns.mean()),
+            "collisions": float(episode.collisions)}
+
+
+def in_range_share(gridmap: GridMap) -> np.ndarray:
+    """Per distance delta (0 .. rows + cols - 2): the share of ordered pairs of distinct usable
+    cells at that distance from which two agents could collide in one step (NaN where no pair is)."""
+    usable = np.flatnonzero(~(gridmap.is_goal | gridmap.blocked))
+    a, b = np.meshgrid(usable, usable, indexing="ij")
+    a, b = a[a != b], b[a != b]
+    delta = np.abs(a // gridmap.n_cols - b // gridmap.n_cols) + np.abs(a % gridmap.n_cols - b % gridmap.n_cols)
+    in_range = rules.in_range_table(gridmap.next_cell, gridmap.is_goal)[a, b]
+    n_deltas = gridmap.n_rows + gridmap.n_cols - 1
+    with np.errstate(invalid="ignore"):
+        return (np.bincount(delta, weights=in_range, minlength=n_deltas)
+                / np.bincount(delta, minlength=n_deltas))
+
+
+def convergence_report(result: GridworldResult) -> str:
+    """"2observe converges faster" against each baseline under every definition of
+    curves.DEFINITIONS at every block width and tolerance of curves.convergence_grid: the ratio of
+    the convergence episodes, its 95 % interval over runs and its verdict; per definition, the
+    verdict that none of them moves (per_run decides the claims)."""
+    lines = [f"{'against':24s} {'definition':13s} {'blocks':>6s} {'tolerance':>9s} {'ratio':>7s} "
+             f"{'95 % interval':>16s}  verdict"]
+    for base in ("independent", "mmdp"):
+        for definition in DEFINITIONS:
+            grid = convergence_grid(result.steps("two_observe"), result.steps(base), result.episodes, definition)
+            for factor, tolerance, point, low, high in grid:
+                lines.append(f"{registry.label(base):24s} {definition:13s} {f'x{factor}':>6s} {tolerance:9.0%} "
+                             f"{point:7.3f} [{low:6.3f}, {high:6.3f}]  {interval_verdict(low, high)}")
+            lines.append(f"{registry.label(base):24s} {definition:13s} {'all':>6s} {'all':>9s} {'':7s} {'':16s}  "
+                         f"{grid_verdict(grid)}")
+    return "\n".join(lines)
+
+
+def convergence_spread(result: GridworldResult) -> str:
+    """Per learner: the episode after which its run-mean steps curve stays within 5 % of its final
+    value, beside the quartiles over runs of each run's own convergence episode."""
+    x = result.episodes
+    lines = [f"{'learner':24s} {'mean curve settles':>18s} {'runs settle: 25 %':>18s} {'median':>7s} {'75 %':>7s}"]
+    for name in result.names():
+        quartiles = np.percentile(convergence_episodes(result.steps(name), x), [25, 50, 75])
+        lines.append(f"{registry.label(name):24s} {convergence_episode(result.steps(name), x):18.0f} "
+                     + " ".join(f"{q:{w}.0f}" for q, w in zip(quartiles, (18, 7, 7))))
+    return "\n".join(lines)
+
+
+def zero_collisions_table(result: GridworldResult) -> str:
+    """Per learner, the share of the run after which its mean collisions per episode stay at or
+    below each level of ZERO_COLLISION_LEVELS (1.000: they end above it)."""
+    lines = [f"{'learner':24s} " + " ".join(f"{'<= ' + format(level, 'g'):>8s}" for level in ZERO_COLLISION_LEVELS)]
+    for name in result.names():
+        lines.append(f"{registry.label(name):24s} "
+                     + " ".join(f"{zero_collisions_after(result, name, level):8.3f}" for level in ZERO_COLLISION_LEVELS))
+    return "\n".join(lines)
+
+
+def need_probability(result: GridworldResult) -> np.ndarray:
+    """P(need | delta) over 2observe's observed steps, pooled over runs (NaN where a distance
+    never occurred): under the symmetric table, coordinating pays where it is above 1/2."""
+    counts = result.need_counts.sum(axis=0)
+    seen = counts.sum(axis=1)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        return np.where(seen > 0, counts[:, 1] / seen, np.nan)

@@ -1,0 +1,158 @@
+"""The gridworld experiment's figures (Fig. 10-12) and the notebook's drawings of what 2observe's
+GLAs learned, each drawn on a given matplotlib Axes in the styles of :mod:`glamas.plotting`."""
+
+import numpy as np
+from matplotlib.ticker import NullFormatter
+
+from glamas.experiments.gridworld.analysis import coordination_probability, need_probability
+from glamas.experiments.gridworld.experiment import GridworldConfig
+from glamas.learners import registry
+from glamas.plotting import drawn_underneath, legend_below, learner_style, plot_mean_band
+
+
+def _line_style(name: str) -> dict:
+    """Colour, width and stacking of learner ``name``'s curve (2observe wide and underneath,
+    glamas.plotting.LEARNER_STYLES)."""
+    under = drawn_underneath(name)
+    return {**learner_style(name), "linewidth": 2.6 if under else 1.3, "zorder": 2 if under else 3}
+
+
+def _plot_learners(ax, result, values, ylabel, reference=None, learners=None):
+    x = result.episodes
+    names = list(learners or result.names())
+    for name in sorted(names, key=lambda name: not drawn_underneath(name)):  # 2observe first
+        plot_mean_band(ax, x, values(name), registry.label(name), **_line_style(name))
+    if reference is not None:
+        ax.axhline(reference, color="black", linestyle="--", linewidth=1, label="optimum (value iteration)")
+    ax.set_xscale("log")  # the learning happens in the first few thousand episodes
+    ax.set_xlabel("episode")
+    ax.set_ylabel(ylabel)
+    _legend_in_learner_order(ax, names)
+
+
+def _legend_in_learner_order(ax, names):
+    """The legend below the axes, learners in their usual order whatever order they were drawn in."""
+    handles, labels = ax.get_legend_handles_labels()
+    order = sorted(range(len(labels)), key=lambda i: _legend_rank(labels[i], names))
+    legend_below(ax, handles=[handles[i] for i in order], labels=[labels[i] for i in order])
+
+
+def _legend_rank(label: str, names) -> int:
+    ranks = {registry.label(name): k for k, name in enumerate(names)}
+    return ranks.get(label, len(ranks))
+
+
+STEP_TICKS = (10, 20, 50, 100, 1000)
+"""Fig. 11a's log-axis ticks: the scale of the steps, from the first episodes down to the goal."""
+STEP_TAIL_TICKS = (10, 11, 12, 14, 16)
+"""The zoomed tail's ticks: the final steps the text compares (the optimum is about 10.5)."""
+TAIL_FROM = 100
+"""The zoom shows the episodes from this one on, after the first drop of every learner."""
+
+
+def plot_steps(ax, result, optimum=None):
+    """Fig. 11a: steps from start to goal, mean of both agents (mean and 95 % band over runs), on
+    a log axis with ticks at round values, and the tail (episode 100 on) zoomed on a linear axis
+    in an inset, where the learners' final steps differ by one or two."""
+    _plot_learners(ax, result, result.steps, "steps to goal (mean of the agents)",
+                   None if optimum is None else optimum["steps"])
+    _round_log_ticks(ax, STEP_TICKS)
+    _plot_step_tail(ax, result, optimum)
+
+
+def _round_log_ticks(ax, ticks):
+    """Log y axis labelled at ``ticks`` as plain numbers (no 10^k, no unlabelled minor ticks)."""
+    ax.set_yscale("log")
+    ax.set_yticks(ticks, [f"{t:g}" for t in ticks])
+    ax.yaxis.set_minor_formatter(NullFormatter())
+
+
+def _plot_step_tail(ax, result, optimum):
+    """An inset in the empty upper right (every curve is below 20 steps there): the steps from
+    TAIL_FROM on, linear axis, ticks at STEP_TAIL_TICKS."""
+    tail = ax.inset_axes([0.5, 0.4, 0.47, 0.5])
+    keep = result.episodes >= TAIL_FROM
+    for name in sorted(result.names(), key=lambda name: not drawn_underneath(name)):
+        plot_mean_band(tail, result.episodes[keep], result.steps(name)[:, keep], registry.label(name), **_line_style(name))
+    if optimum is not None:
+        tail.axhline(optimum["steps"], color="black", linestyle="--", linewidth=1)
+    tail.set_xscale("log")
+    tail.set_yticks(STEP_TAIL_TICKS)
+    tail.set_ylim(STEP_TAIL_TICKS[0] - 0.5, STEP_TAIL_TICKS[-1] + 2)
+    tail.grid(axis="y", linewidth=0.4, color="0.85")
+    tail.tick_params(labelsize="x-small")
+    tail.set_title(f"from episode {TAIL_FROM}, linear axis", fontsize="x-small")
+
+
+def plot_reward(ax, result, optimum=None):
+    """Fig. 11b: undiscounted reward per episode, mean of both agents."""
+    _plot_learners(ax, result, result.reward, "reward per episode (mean of the agents)",
+                   None if optimum is None else optimum["reward"])
+
+
+def plot_collisions(ax, result, optimum=None):
+    """Fig. 12a: agent-agent collisions per episode."""
+    _plot_learners(ax, result, lambda name: result.curves(name, "collisions"), "collisions per episode",
+                   None if optimum is None else optimum["collisions"])
+
+
+CHAPTER_COORDINATIONS = 4.0
+"""Sec. 5.3: 2observe converges to "about four" coordinations per episode (Fig. 12b)."""
+
+
+def plot_coordinations(ax, result):
+    """Fig. 12b: steps per episode on which both 2observe agents chose to coordinate: every run
+    (faint), the median over runs and its interquartile range, against the chapter's "about four".
+    The median, not the mean: a few runs whose GLAs coordinate far from need would pull a mean up."""
+    x, per_run = result.episodes, result.curves("two_observe", "coordinations")
+    style = learner_style("two_observe")
+    for curve in per_run:
+        ax.plot(x, curve, alpha=0.2, linewidth=0.6, **style)
+    low, median, high = np.percentile(per_run, [25, 50, 75], axis=0)
+    ax.fill_between(x, low, high, alpha=0.3, linewidth=0, label="2observe, interquartile range over runs", **style)
+    ax.plot(x, median, linewidth=2.2, label="2observe, median over runs (faint: each run)", **style)
+    ax.axhline(CHAPTER_COORDINATIONS, color="black", linestyle=":", linewidth=1.2,
+               label='the chapter: "about four" per episode')
+    ax.set_xscale("log")
+    ax.set_xlabel("episode")
+    ax.set_ylabel("coordinations per episode")
+    legend_below(ax)
+
+
+NEED_LABELS = {"in_range": ("cannot collide this step", "could collide this step"),
+               "sampled": ("preferred actions would not collide", "preferred actions would collide"),
+               "outcome": ("no collision this step", "collided this step")}
+"""What "no need" and "need" mean under each reading of Fig. 10, in words."""
+
+
+def plot_feedback_table(ax, config: GridworldConfig):
+    """Fig. 10 (lost, reconstructed): the GLA feedback actually used."""
+    f, c = config.gla_feedback, config.coordination_penalty_per_cell
+    cells = [[f"{f[0][0]:g}", f"{f[0][1]:g}"],
+             [f"{f[1][0]:g}  ({f[1][0]:g} - {c:g}·δ if both coordinate)", f"{f[1][1]:g}"]]
+    ax.axis("off")
+    no_need, need = NEED_LABELS[config.gla_need]
+    table = ax.table(cellText=cells, rowLabels=["act alone", "coordinate"],
+                     colLabels=[f"no need ({no_need})", f"need ({need})"], loc="center", cellLoc="center")
+    table.scale(1, 2)
+    ax.set_title(f"Fig. 10, reconstructed: 2observe's GLA feedback (need = {config.gla_need})", fontsize="medium")
+
+
+def plot_coordination_probability(ax, result, config: GridworldConfig):
+    """What 2observe's GLAs learned: P(coordinate | delta) of each final GLA (faint) and their
+    mean, against the rule "coordinate when the agents could collide this step" (delta <= 2 on a
+    4-connected grid), with the observed P(need | delta) that the GLA's feedback depends on."""
+    deltas = np.arange(1, result.need_counts.shape[1])  # two acting agents are never at distance 0
+    p = coordination_probability(result, config, deltas)
+    for curve in p.reshape(-1, deltas.size):
+        ax.plot(deltas, curve, alpha=0.15, linewidth=0.8, **learner_style("two_observe"))
+    ax.plot(deltas, p.mean(axis=(0, 1)), "o-", label="P(coordinate), learned (mean of the GLAs)",
+            **learner_style("two_observe"))
+    ax.step(deltas, (deltas <= 2).astype(float), where="mid", color="black", linestyle="--",
+            label="coordinate when delta <= 2 (could collide)")
+    ax.plot(deltas, need_probability(result)[1:], "s:", color="tab:gray",
+            label=f"P(need | delta), observed ({config.gla_need})")
+    ax.set_xlabel("delta (Manhattan distance between the agents)")
+    ax.set_ylabel("probability")
+    ax.set_ylim(-0.03, 1.03)
+    ax.legend(fontsize="small")
