@@ -19,7 +19,7 @@ import time
 from pathlib import Path
 
 from benchmarks import python_lineworld, timing
-from glamas.experiments import and_network, single_gla
+from glamas.experiments import and_network, single_gla, state_encoding
 from glamas.paths import REPO
 
 SCRIPTS = ("fig5", "fig6", "fig7a", "fig7b")
@@ -42,7 +42,7 @@ def learning_iterations(options: tuple) -> dict:
     exp1, exp2 = single_gla.SingleGLAConfig(), and_network.ANDNetworkConfig()
     one_experiment_1 = scale.get("--runs", exp1.runs) * scale.get("--iterations", exp1.iterations)
     return {"fig5": ("exp. 1", one_experiment_1),
-            "fig6": ("exp. 1", len(single_gla.ENCODING_NAMES) * one_experiment_1),
+            "fig6": ("exp. 1", len(state_encoding.ENCODING_NAMES) * one_experiment_1),
             "fig7a": ("exp. 2", scale.get("--runs", exp2.runs) * scale.get("--iterations", exp2.iterations)),
             "fig7b": ("exp. 2", 0)}  # fig7b reads the run fig7a saved
 

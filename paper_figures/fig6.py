@@ -6,13 +6,13 @@ the start of learning that the left panel compresses into its first windows.
 """
 
 from glamas import figures
-from glamas.experiments import single_gla
+from glamas.experiments import single_gla, state_encoding
 
 
 def main(argv=None):
-    with figures.figure(single_gla.FIG6, "fig6", __doc__, argv, size=(11.0, 4.0), ncols=2) as (axes, results, _):
+    with figures.figure(state_encoding.FIG6, "fig6", __doc__, argv, size=(11.0, 4.0), ncols=2) as (axes, results, _):
         single_gla.plot_reward_curves(axes[0], results)
-        single_gla.plot_expected_curves(axes[1], results)
+        state_encoding.plot_expected_curves(axes[1], results)
 
 
 if __name__ == "__main__":

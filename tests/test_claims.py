@@ -10,8 +10,8 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from glamas import claims
-from glamas.experiments import and_network, single_gla
+from glamas import claims, lineworld
+from glamas.experiments import and_network, single_gla, state_encoding
 
 ALL_CLAIMS = [(name, claim) for name in claims.experiments() for claim in claims.load(name)]
 SECTION4 = ("single_gla", "state_encoding", "and_network", "and_network_sweep")
@@ -97,8 +97,8 @@ def _plays_everywhere(action):
 def _chapter_lines():
     """Lines like Fig. 5b's: A plays L above x2 = x1 + 0.25, B above x2 = x1 - 0.5 (a best line of B)."""
     params = np.zeros((FIG5.runs, 2, 2, 3))
-    params[:, 0, single_gla.lineworld.LEFT] = [-1.0, 1.0, -0.25]
-    params[:, 1, single_gla.lineworld.LEFT] = [-1.0, 1.0, 0.5]
+    params[:, 0, lineworld.LEFT] = [-1.0, 1.0, -0.25]
+    params[:, 1, lineworld.LEFT] = [-1.0, 1.0, 0.5]
     return params
 
 
@@ -110,9 +110,9 @@ def _agent_at_random(agent):
 
 
 FIG5_WRONG = {
-    "region_1_plays_LL": _plays_everywhere(single_gla.lineworld.RIGHT),
-    "region_2_plays_RR": _plays_everywhere(single_gla.lineworld.LEFT),
-    "region_3_moves_apart": _plays_everywhere(single_gla.lineworld.RIGHT),
+    "region_1_plays_LL": _plays_everywhere(lineworld.RIGHT),
+    "region_2_plays_RR": _plays_everywhere(lineworld.LEFT),
+    "region_3_moves_apart": _plays_everywhere(lineworld.RIGHT),
     "agent_a_best_response": _agent_at_random(0),
     "agent_b_best_response": _agent_at_random(1),
     "agent_a_learns_its_line": _agent_at_random(0),
@@ -139,8 +139,8 @@ def test_fig5_lines_like_the_learned_ones_pass_all_but_the_diagonal():
 def _lines_in_region_3(a_offset, b_offset):
     """Lines parallel to the diagonal: A plays L above x2 = x1 + a_offset, B above x2 = x1 + b_offset."""
     params = np.zeros((FIG5.runs, 2, 2, 3))
-    params[:, 0, single_gla.lineworld.LEFT] = [-1.0, 1.0, -a_offset]
-    params[:, 1, single_gla.lineworld.LEFT] = [-1.0, 1.0, -b_offset]
+    params[:, 0, lineworld.LEFT] = [-1.0, 1.0, -a_offset]
+    params[:, 1, lineworld.LEFT] = [-1.0, 1.0, -b_offset]
     return params
 
 
@@ -194,7 +194,7 @@ def _encodings(sharpness: dict):
 
 
 def _fig6_verdicts(sharpness: dict) -> dict:
-    return {row["claim"].id: row for row in single_gla.encoding_claim_rows(_encodings(sharpness))}
+    return {row["claim"].id: row for row in state_encoding.encoding_claim_rows(_encodings(sharpness))}
 
 
 def _rise(final=2.0, iterations=1000.0, runs=20, seed=0, scatter=0.05):
@@ -226,7 +226,7 @@ def test_fig6_claims_hold_when_deictic_learns_faster_to_the_same_end():
 
 
 def test_fig6_claims_are_undecidable_with_one_run():
-    rows = _fig6_verdicts({name: _rise(runs=1) for name in single_gla.ENCODING_NAMES})
+    rows = _fig6_verdicts({name: _rise(runs=1) for name in state_encoding.ENCODING_NAMES})
     assert {row["verdict"] for row in rows.values()} == {"undecidable"}
     assert all("run-to-run spread" in row["why_undecidable"] for row in rows.values())
 

@@ -13,8 +13,8 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 import pytest  # noqa: E402
 
-from glamas import claims  # noqa: E402
-from glamas.experiments import and_network, single_gla  # noqa: E402
+from glamas import claims, lineworld  # noqa: E402
+from glamas.experiments import and_network, single_gla, state_encoding  # noqa: E402
 
 REPO = Path(__file__).resolve().parents[1]
 RESULTS = REPO / "data" / "results"
@@ -83,19 +83,19 @@ def test_best_lines_region_shares_are_the_ceiling_of_each_reading(region3_reward
 @pytest.mark.parametrize("offset", single_gla.B_BEST_LINE_OFFSETS)
 def test_fig5b_draws_agent_b_best_lines(offset):
     # the reference lines Fig. 5b draws for B score what the exhaustive search finds best
-    x1, x2 = single_gla.lineworld.state_grid(200)
-    plays_left = np.where(x2 - x1 > offset, single_gla.lineworld.LEFT, single_gla.lineworld.RIGHT)
+    x1, x2 = lineworld.state_grid(200)
+    plays_left = np.where(x2 - x1 > offset, lineworld.LEFT, lineworld.RIGHT)
     share = (plays_left == single_gla.best_actions(x1, x2, 1)).mean()
     assert share == pytest.approx(single_gla.best_line_reward("joint", 1, grid=200), abs=0.01)
 
 
-SMALL_6 = single_gla.EncodingConfig(replace(SMALL_1, iterations=6000), checkpoints=24)
+SMALL_6 = state_encoding.EncodingConfig(replace(SMALL_1, iterations=6000), checkpoints=24)
 
 
 def test_encoding_comparison_metrics():
-    results = single_gla.compare_encodings(replace(SMALL_6, experiment=replace(SMALL_6.experiment, runs=3)), seed=0)
+    results = state_encoding.compare_encodings(replace(SMALL_6, experiment=replace(SMALL_6.experiment, runs=3)), seed=0)
     assert set(results) == {"joint", "absolute", "deictic"}
-    measured = single_gla.measure_encodings(results)
+    measured = state_encoding.measure_encodings(results)
     for claim in claims.load("state_encoding"):
         assert claim.metric in measured
 
@@ -114,15 +114,15 @@ def test_checkpoints_change_nothing_else_and_hold_the_parameters():
 @pytest.mark.parametrize("box, expected", [("fig5", (1.0, 1.0, 1.0)), ("two", (2.0, 2.0, 2.0)),
                                            ("input_range", (1.0, 2.0, 2.0))])
 def test_each_box_reading_gives_its_L(box, expected):
-    config = single_gla.EncodingConfig(box=box)
-    assert tuple(config.encoding(name).L for name in single_gla.ENCODING_NAMES) == expected
+    config = state_encoding.EncodingConfig(box=box)
+    assert tuple(config.encoding(name).L for name in state_encoding.ENCODING_NAMES) == expected
     with pytest.raises(ValueError, match="box must be one of"):
-        single_gla.EncodingConfig(box="wide")
+        state_encoding.EncodingConfig(box="wide")
 
 
 def test_fig6_metrics_do_not_move_with_the_plot_window():
     # every Fig. 6 metric is read from the parameters at the checkpoints, none from the windows
-    measured = [single_gla.measure_encodings(single_gla.compare_encodings(
+    measured = [state_encoding.measure_encodings(state_encoding.compare_encodings(
         replace(SMALL_6, experiment=replace(SMALL_6.experiment, record_points=points)), seed=1))
         for points in (10, 300)]
     assert measured[0].keys() == measured[1].keys()
@@ -132,22 +132,22 @@ def test_fig6_metrics_do_not_move_with_the_plot_window():
 def test_expected_rewards_do_not_move_with_the_checkpoints_or_the_grid():
     # the curve's mean is a trapezoid sum over log-spaced checkpoints, the expected reward a grid
     # average whose points on a region's edge count half on each side: neither moves much
-    results = {n: single_gla.compare_encodings(replace(SMALL_6, checkpoints=n), seed=2)["joint"] for n in (24, 96)}
-    means = {n: single_gla.curve_mean(single_gla.expected_curves(r), r.checkpoint) for n, r in results.items()}
+    results = {n: state_encoding.compare_encodings(replace(SMALL_6, checkpoints=n), seed=2)["joint"] for n in (24, 96)}
+    means = {n: state_encoding.curve_mean(state_encoding.expected_curves(r), r.checkpoint) for n, r in results.items()}
     np.testing.assert_allclose(means[24], means[96], atol=2e-3)
     finer = replace(results[24], config=replace(results[24].config, eval_grid=160))
-    np.testing.assert_allclose(single_gla.expected_curves(finer), single_gla.expected_curves(results[24]), atol=5e-4)
+    np.testing.assert_allclose(state_encoding.expected_curves(finer), state_encoding.expected_curves(results[24]), atol=5e-4)
 
 
 def test_the_learning_speed_verdict_does_not_move_with_the_reach_level():
     # the committed result: deictic / joint iterations to reach 1 - tolerance of the final value
-    results = single_gla.FIG6.load(RESULTS, single_gla.FIG6.paper_scale(), seed=0)
-    curves = {name: single_gla.expected_curves(results[name]) for name in ("deictic", "joint")}
+    results = state_encoding.FIG6.load(RESULTS, state_encoding.FIG6.paper_scale(), seed=0)
+    curves = {name: state_encoding.expected_curves(results[name]) for name in ("deictic", "joint")}
     claim = next(c for c in claims.load("state_encoding") if c.id == "deictic_learns_faster")
     verdicts = set()
     for tolerance in np.linspace(0.03, 0.15, 7):
-        reach = [single_gla.reach_iteration(curves[name], results[name].checkpoint, tolerance) for name in curves]
-        measured = single_gla.speed_comparison(*reach)
+        reach = [state_encoding.reach_iteration(curves[name], results[name].checkpoint, tolerance) for name in curves]
+        measured = state_encoding.speed_comparison(*reach)
         verdicts.add(claims.verdicts([claim], measured)[0]["verdict"])
     assert verdicts == {"reproduced"}
 
@@ -246,7 +246,7 @@ def test_and_network_config_errors_name_the_problem(change, message):
 
 @pytest.mark.parametrize("experiment, config", [
     ("single_gla", single_gla.SingleGLAConfig()),
-    ("state_encoding", single_gla.EncodingConfig().encoding("joint")),
+    ("state_encoding", state_encoding.EncodingConfig().encoding("joint")),
     ("and_network", and_network.ANDNetworkConfig()),
 ])
 def test_config_defaults_are_the_chapters_parameters(experiment, config):

@@ -1,0 +1,27 @@
+"""Fig. 6 (Section 4.2): experiment 1 once per context encoding, joint, absolute distance and deictic.
+:mod:`.experiment` configures and runs it, :mod:`.analysis` compares the encodings' expected rewards and
+:mod:`.plots` draws them; this face hands their names on (the plots' on first use) and registers Fig. 6."""
+
+from glamas.experiments.faces import plots_on_first_use
+from glamas.experiments.registry import Experiment, register
+from glamas.experiments.single_gla.experiment import SingleGLAConfig
+from glamas.experiments.state_encoding.analysis import (curve_mean, encoding_claim_rows, expected_curves,
+                                                        measure_encodings, paired_curve, reach_iteration,
+                                                        speed_comparison)
+from glamas.experiments.state_encoding.experiment import (BOX_READINGS, ENCODING_NAMES, EncodingConfig, box_L,
+                                                          compare_encodings, encoding_arrays, encodings_from_arrays,
+                                                          scaled_encodings)
+
+PLOTS = ("plot_expected_curves",)
+"""The drawing functions of :mod:`.plots` this face hands on."""
+__getattr__ = plots_on_first_use(__name__, PLOTS)
+
+__all__ = ["BOX_READINGS", "ENCODING_NAMES", "EncodingConfig", "FIG6", "box_L", "compare_encodings", "curve_mean",
+           "encoding_arrays", "encoding_claim_rows", "encodings_from_arrays", "expected_curves",
+           "measure_encodings", "paired_curve", "reach_iteration", "scaled_encodings", "speed_comparison", *PLOTS]
+
+FIG6 = register(Experiment(
+    "state_encoding", EncodingConfig, compare_encodings, scaled_encodings, SingleGLAConfig.runs,
+    SingleGLAConfig.iterations, claim_rows=lambda results, config: encoding_claim_rows(results), figures=("fig6",),
+    copies=len(ENCODING_NAMES), to_arrays=encoding_arrays, from_arrays=encodings_from_arrays))
+"""Fig. 6's experiment: experiment 1 with each context, in Fig. 6's default box."""
