@@ -7,6 +7,7 @@ import numpy as np
 import pytest
 
 from glamas import claims
+from glamas.curves import final
 from glamas.experiments import gridworld as gw
 from glamas.experiments import scaling as sc
 from glamas.gridworld import load_map, rules
@@ -252,7 +253,7 @@ def test_claim_verdicts_come_from_the_measurements(small_result):
 def test_pivot_table_has_a_row_per_method_and_counts_capped_runs(small_result):
     m = sc.measure(small_result)
     capped = small_result.curves("independent", 3, "capped")
-    capped_runs = sum(sc.final(run[None], small_result.episodes) > 0 for run in capped)
+    capped_runs = sum(final(run[None], small_result.episodes) > 0 for run in capped)
     assert m["capped_runs_independent_3"] == capped_runs
     table = sc.pivot_table(small_result, "collisions").splitlines()
     assert table[0].split() == ["collisions", "N", "=", "2", "N", "=", "3"] and len(table) == 1 + len(sc.METHODS)

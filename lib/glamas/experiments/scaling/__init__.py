@@ -1,0 +1,31 @@
+"""The scaling study (beyond the chapter): the Section 5.3 learners on warehouse maps of 2 to 6 agents.
+:mod:`.experiment` configures and runs it, :mod:`.analysis` measures it (growth fits, claims, tables) and
+:mod:`.plots` draws it; this face hands their names on (the plots' on first use) and registers it."""
+
+from pathlib import Path
+
+from glamas.experiments.faces import plots_on_first_use
+from glamas.experiments.registry import Experiment, register
+from glamas.experiments.scaling.analysis import (claim_rows, growth, growth_table, measure, performance_table,
+                                                 pivot_table, size_table)
+from glamas.experiments.scaling.experiment import (CHAPTER_METHODS, METHODS, RELATED_METHODS, ScalingConfig,
+                                                   ScalingResult, label, run, scaled, seed_of)
+from glamas.paths import RESULTS
+
+PLOTS = ("plot_sizes", "plot_final", "plot_curves")
+"""The drawing functions of :mod:`.plots` this face hands on."""
+__getattr__ = plots_on_first_use(__name__, PLOTS)
+
+__all__ = ["CHAPTER_METHODS", "EXPERIMENT", "METHODS", "RELATED_METHODS", "ScalingConfig", "ScalingResult",
+           "claim_rows", "growth", "growth_table", "label", "load", "measure", "performance_table", "pivot_table",
+           "run", "seed_of", "size_table", *PLOTS]
+
+EXPERIMENT = register(Experiment("scaling", ScalingConfig, run, scaled, ScalingConfig.runs, ScalingConfig.episodes,
+                                 ScalingResult, claim_rows=lambda result, config: claim_rows(result),
+                                 figures=("scaling_performance", "scaling_sizes"), chapter=False))
+"""The scaling study (its result file is shared by the scaling_* figure scripts)."""
+
+
+def load(config: ScalingConfig = ScalingConfig(), seed: int = 0, results_dir: Path = RESULTS) -> ScalingResult:
+    """The committed (or ``results_dir``'s) result of ``config`` and ``seed``, its configuration checked."""
+    return EXPERIMENT.load(results_dir, config, seed)

@@ -1,0 +1,149 @@
+"""What a result of the scaling study says: per (method, N) the values stored and the final
+performance, per method the growth of the stored values fitted over N (:func:`measure`), from
+which the claims of ``data/chapter/scaling.json`` get their verdicts, and the notebook's tables."""
+
+import math
+
+import numpy as np
+
+from glamas import claims as chapter
+from glamas.curves import BAND_DRAWS, convergence_episode, final
+from glamas.experiments.scaling.experiment import RELATED_METHODS, ScalingResult, label
+
+
+def growth(agents, values) -> dict:
+    """Least-squares growth of ``values`` over the numbers of agents: the factor per added agent
+    (exp of the slope of log value against N: exponential growth has a constant factor) and the
+    slope of log value against log N (polynomial growth N^k has slope k); NaN below two points."""
+    agents, values = np.asarray(agents, float), np.asarray(values, float)
+    if agents.size < 2:
+        return {"factor_per_agent": math.nan, "loglog_slope": math.nan}
+    slope = np.polyfit(agents, np.log(values), 1)[0]
+    loglog = np.polyfit(np.log(agents), np.log(values), 1)[0]
+    return {"factor_per_agent": float(np.exp(slope)), "loglog_slope": float(loglog)}
+
+
+def measure(result: ScalingResult) -> dict:
+    """Per (method, N): parameters, final steps, reward, collisions, coordinations, convergence
+    episode; per method: growth fitted over the N it ran at, the largest such N; and the
+    comparisons the claims of data/chapter/scaling.json are about."""
+    m = {}
+    params = result.parameters()
+    for k, method in enumerate(result.names()):
+        ran_at = [int(n) for n, ok in zip(result.agents, result.ran[k]) if ok]
+        for j, n in enumerate(result.agents):
+            m[f"parameters_{method}_{n}"] = float(params[k, j])
+            if not result.ran[k, j]:
+                continue
+            m[f"steps_{method}_{n}"] = final(result.curves(method, n, "steps"), result.episodes)
+            m[f"reward_{method}_{n}"] = final(result.curves(method, n, "reward"), result.episodes)
+            m[f"collisions_{method}_{n}"] = final(result.curves(method, n, "collisions"), result.episodes)
+            m[f"coordinations_{method}_{n}"] = final(result.curves(method, n, "coordinations"), result.episodes)
+            m[f"capped_{method}_{n}"] = final(result.curves(method, n, "capped"), result.episodes)
+            m[f"convergence_{method}_{n}"] = convergence_episode(result.curves(method, n, "steps"), result.episodes)
+            capped = result.curves(method, n, "capped")
+            m[f"capped_runs_{method}_{n}"] = float(sum(final(run[None], result.episodes) > 0 for run in capped))
+        fit = growth(ran_at, [params[k, list(result.agents).index(n)] for n in ran_at])
+        m[f"growth_factor_{method}"] = fit["factor_per_agent"]
+        m[f"loglog_slope_{method}"] = fit["loglog_slope"]
+        m[f"largest_n_{method}"] = float(max(ran_at)) if ran_at else 0.0
+    names = result.names()
+    if "independent" in names:
+        m["loglog_slope_independent_off_1"] = abs(m["loglog_slope_independent"] - 1.0)
+    if {"independent", "two_observe"} <= set(names):
+        ratio = params[names.index("two_observe")] / params[names.index("independent")]
+        m["parameters_two_observe_over_independent_max"] = float(ratio.max())
+    if {"mmdp", "two_observe"} <= set(names):
+        both = [n for j, n in enumerate(result.agents)
+                if result.ran[names.index("mmdp"), j] and result.ran[names.index("two_observe"), j]]
+        m["collisions_two_observe_minus_mmdp_max"] = max(
+            (m[f"collisions_two_observe_{n}"] - m[f"collisions_mmdp_{n}"] for n in both), default=math.nan)
+    for method in set(RELATED_METHODS) & set(names):
+        k = names.index(method)
+        ran_at = [n for n, ok in zip(result.agents, result.ran[k]) if ok]
+        m[f"collisions_{method}_max"] = max((m[f"collisions_{method}_{n}"] for n in ran_at), default=math.nan)
+    if {"cq", "two_observe"} <= set(names):
+        ratio = params[names.index("cq")] / params[names.index("two_observe")]
+        m["parameters_cq_over_two_observe_min"] = float(ratio.min())
+    return m
+
+
+def claim_rows(result: ScalingResult) -> list[dict]:
+    """The Table 1 / Section 3.1 claims of data/chapter/scaling.json with computed verdicts."""
+    return chapter.verdicts(chapter.load("scaling"), measure(result))
+
+
+def size_table(result: ScalingResult) -> str:
+    """Q tables per run (tables x states x actions), the related-work learners' joint values and
+    reward samples per run, all values stored per run and memory for all runs, per method and N;
+    skipped learners marked with the memory they would need."""
+    lines = [f"{'method':22s} {'N':>2s} {'tables x states x actions':>27s} {'joint':>8s} {'samples':>8s} "
+             f"{'parameters/run':>15s} {'GiB (all runs)':>14s}  status"]
+    params = result.parameters()
+    for k, method in enumerate(result.names()):
+        for j, n in enumerate(result.agents):
+            t, s, a = result.table_shapes[k, j]
+            status = "ran" if result.ran[k, j] else "skipped: exceeds the memory budget"
+            lines.append(f"{label(method):22s} {n:2d} {f'{t} x {s} x {a}':>27s} {result.joint_entries[k, j]:8.4g} "
+                         f"{result.reward_samples[k, j]:8d} {params[k, j]:15.3g} "
+                         f"{result.bytes_needed[k, j] / 2 ** 30:14.3g}  {status}")
+    return "\n".join(lines)
+
+
+def performance_table(result: ScalingResult) -> str:
+    """Final values (last 10 % of the episodes, mean over runs and agents; capped: the share of
+    those episodes that hit the step cap) and the episode after which the mean steps stay within
+    5 % of their final value, per method and N that ran."""
+    m = measure(result)
+    lines = [f"{'method':22s} {'N':>2s} {'steps':>7s} {'reward':>7s} {'collisions':>10s} "
+             f"{'coordinations':>13s} {'converged by':>12s} {'capped %':>8s}"]
+    for k, method in enumerate(result.names()):
+        for j, n in enumerate(result.agents):
+            if not result.ran[k, j]:
+                continue
+            lines.append(f"{label(method):22s} {n:2d} {m[f'steps_{method}_{n}']:7.2f} {m[f'reward_{method}_{n}']:7.1f} "
+                         f"{m[f'collisions_{method}_{n}']:10.2f} {m[f'coordinations_{method}_{n}']:13.2f} "
+                         f"{m[f'convergence_{method}_{n}']:12.0f} {100 * m[f'capped_{method}_{n}']:8.1f}")
+    return "\n".join(lines)
+
+
+PIVOT_METRICS = {"steps": "{:.1f}", "reward": "{:.1f}", "collisions": "{:.2f}", "coordinations": "{:.1f}",
+                 "capped": "{:.1%}", "convergence": "{:.0f}", "capped_runs": "{:.0f}"}
+"""What :func:`pivot_table` shows: the per-(method, N) measurements of :func:`measure` and their format."""
+
+
+def pivot_table(result: ScalingResult, metric: str) -> str:
+    """One final measurement per method (rows) and N (columns), '-' where the method did not run;
+    'capped_runs' counts the runs in which some of the final 10 % of the episodes hit the step cap."""
+    if metric not in PIVOT_METRICS:
+        raise ValueError(f"metric must be one of {sorted(PIVOT_METRICS)}, got {metric!r}")
+    m = measure(result)
+    lines = [f"{metric:22s}" + "".join(f"{f'N = {n}':>9s}" for n in result.agents)]
+    for k, method in enumerate(result.names()):
+        cells = [PIVOT_METRICS[metric].format(m[f"{metric}_{method}_{n}"]) if ok else "-"
+                 for n, ok in zip(result.agents, result.ran[k])]
+        lines.append(f"{label(method):22s}" + "".join(f"{cell:>9s}" for cell in cells))
+    return "\n".join(lines)
+
+
+def growth_table(result: ScalingResult) -> str:
+    """Per method: growth of the learned values per run, fitted over the N it ran at."""
+    m = measure(result)
+    lines = [f"{'method':22s} {'ran for N':>10s} {'factor per agent':>16s} {'log-log slope':>13s}"]
+    for k, method in enumerate(result.names()):
+        ran_at = [int(n) for n, ok in zip(result.agents, result.ran[k]) if ok]
+        span = f"{min(ran_at)}-{max(ran_at)}" if ran_at else "none"
+        lines.append(f"{label(method):22s} {span:>10s} {m[f'growth_factor_{method}']:16.3g} "
+                     f"{m[f'loglog_slope_{method}']:13.2f}")
+    return "\n".join(lines)
+
+
+def final_with_band(result: ScalingResult, method: str, n: int, metric: str) -> tuple[float, float, float]:
+    """The final value of ``metric`` (as :func:`measure`) and its 95 % bootstrap interval: runs
+    resampled with replacement, the statistic recomputed from each resample's mean curve."""
+    curves = result.curves(method, n, "steps" if metric == "convergence" else metric)
+    statistic = convergence_episode if metric == "convergence" else final
+    draws = np.random.default_rng(0).integers(0, curves.shape[0], (BAND_DRAWS, curves.shape[0]))
+    values = [statistic(curves[pick], result.episodes) for pick in draws]
+    low, high = np.percentile(values, [2.5, 97.5])
+    return statistic(curves, result.episodes), float(low), float(high)
