@@ -1,0 +1,31 @@
+"""Experiment 2 of Section 4.2 (Fig. 7): each agent an AND network of two GLAs, the regions split by a
+parabola, and the sweep in which raising region II's reward traps runs in 'R everywhere'. :mod:`.experiment`
+configures and runs both, :mod:`.analysis` measures them and :mod:`.plots` draws them; this face hands
+their names on (the plots' on first use) and registers both."""
+
+from glamas.experiments.and_network.analysis import (claim_rows, init_dependence, measure, measure_sweep,
+                                                     stuck_runs, sweep_claim_rows, typical_runs)
+from glamas.experiments.and_network.experiment import (DEFAULT_SWEEP, RERUN_STREAM, ANDNetworkConfig,
+                                                       ANDNetworkResult, SweepResult, final_left_by_region, left_map,
+                                                       run, scaled, sweep)
+from glamas.experiments.faces import plots_on_first_use
+from glamas.experiments.registry import Experiment, register
+
+PLOTS = ("plot_parabola", "plot_boundaries", "plot_prob_left", "plot_stuck_fraction")
+"""The drawing functions of :mod:`.plots` this face hands on."""
+__getattr__ = plots_on_first_use(__name__, PLOTS)
+
+__all__ = ["DEFAULT_SWEEP", "FIG7", "FIG7_SWEEP", "RERUN_STREAM", "ANDNetworkConfig", "ANDNetworkResult",
+           "SweepResult", "claim_rows", "final_left_by_region", "init_dependence", "left_map", "measure",
+           "measure_sweep", "run", "stuck_runs", "sweep", "sweep_claim_rows", "typical_runs", *PLOTS]
+
+FIG7 = register(Experiment("and_network", ANDNetworkConfig, run, scaled, ANDNetworkConfig.runs,
+                           ANDNetworkConfig.iterations, ANDNetworkResult,
+                           claim_rows=lambda result, config: claim_rows(result), figures=("fig7a", "fig7b")))
+"""Fig. 7a and 7b's experiment (one run for both)."""
+FIG7_SWEEP = register(Experiment("and_network_sweep", ANDNetworkConfig, sweep, scaled, ANDNetworkConfig.runs,
+                                 ANDNetworkConfig.iterations, SweepResult,
+                                 claim_rows=lambda result, config: sweep_claim_rows(result), figures=("fig7_sweep",),
+                                 chapter=False, copies=len(DEFAULT_SWEEP) + 1))
+"""The stuck sweep: experiment 2 at each region II reward of DEFAULT_SWEEP, and the highest
+reward's rerun on another stream."""
