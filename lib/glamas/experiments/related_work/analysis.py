@@ -1,0 +1,92 @@
+"""What a result of the related-work comparison says: the gridworld experiment's measurements for
+every learner, what each learner stores, the joint states CQ-learning marked, and the comparisons
+the claims of ``data/chapter/related_work.json`` are about."""
+
+import numpy as np
+
+from glamas import claims as chapter
+from glamas.curves import final, mean_and_band
+from glamas.experiments.gridworld import analysis as gw_analysis
+from glamas.experiments.related_work.experiment import RELATED_LEARNERS, RelatedWorkConfig, RelatedWorkResult
+from glamas.gridworld import rules
+from glamas.learners import cq, registry
+
+
+def usable_joint_states(config: RelatedWorkConfig) -> int:
+    """Joint states in which both agents act: ordered pairs of distinct cells, neither the goal nor blocked."""
+    g = config.gridworld.gridmap()
+    usable = int((~(g.is_goal | g.blocked)).sum())
+    return usable * (usable - 1)
+
+
+def marked_distances(result: RelatedWorkResult, config: RelatedWorkConfig) -> np.ndarray:
+    """Manhattan distance of every joint state a CQ agent marked (all runs and agents pooled)."""
+    n_cols = config.gridworld.gridmap().n_cols
+    _, _, own, other = np.nonzero(result.cq_marked)
+    return np.abs(own // n_cols - other // n_cols) + np.abs(own % n_cols - other % n_cols)
+
+
+def measure(result: RelatedWorkResult, config: RelatedWorkConfig) -> dict:
+    """:func:`glamas.experiments.gridworld.measure` for every learner, plus each learner's stored
+    values and the related-work comparisons (data/chapter/related_work.json)."""
+    m = gw_analysis.measure(result)
+    names = result.names()
+    for k, name in enumerate(names):
+        m[f"q_entries_{name}"] = float(result.local_entries[k] + result.joint_entries[k].mean())
+    if "cq" in names:
+        per_agent = result.cq_marked.sum(axis=(2, 3)).mean()
+        m["marked_joint_states_cq"] = float(per_agent)
+        m["marked_fraction_cq"] = float(per_agent / usable_joint_states(config))
+        distances = marked_distances(result, config)
+        m["marked_within_coordination_distance_cq"] = float((distances <= config.coordination_distance).mean()) if distances.size else 0.0
+    for name in set(names) & set(RELATED_LEARNERS):
+        if "mmdp" in names:
+            m[f"reward_{name}_over_mmdp"] = m[f"reward_{name}"] / m["reward_mmdp"]
+            m[f"q_entries_{name}_over_mmdp"] = m[f"q_entries_{name}"] / m["q_entries_mmdp"]
+            m.update(gw_analysis.convergence_comparison(result, name, "mmdp"))
+        if "independent" in names:
+            m[f"reward_{name}_minus_independent"] = m[f"reward_{name}"] - m["reward_independent"]
+    return m
+
+
+def claim_rows(result: RelatedWorkResult, config: RelatedWorkConfig) -> list[dict]:
+    """The related-work claims (data/chapter/related_work.json) with verdicts computed from ``result``."""
+    return chapter.verdicts(chapter.load("related_work"), measure(result, config))
+
+
+def final_interval(result: RelatedWorkResult, name: str, metric: str = "collisions") -> tuple[float, float, float]:
+    """Learner ``name``'s final value of one metric (:func:`glamas.curves.final`, last 10 % of the episodes)
+    as (mean over runs, 95 % bootstrap interval of that mean: runs resampled, as the figures' bands)."""
+    per_run = np.array([final(curve[None], result.episodes) for curve in result.curves(name, metric)])
+    mean, low, high = mean_and_band(per_run[:, None])
+    return float(mean[0]), float(low[0]), float(high[0])
+
+
+def fewest_flagged_collisions(config: RelatedWorkConfig) -> int:
+    """The fewest collisions among the ``cq_window`` recent rewards of a state-action that
+    CQ-learning's test flags against a baseline without any (``cq_window`` equal rewards, as of a
+    state-action that never collided alone); the other recent rewards equal the baseline's."""
+    window = config.cq_window
+    t_critical = cq.t_critical_values(2 * window - 2, config.cq_significance)
+    baseline = np.array([window, 0.0, 0.0])
+    for k in range(1, window + 1):
+        penalties = k * rules.COLLISION_PENALTY
+        if cq.significantly_lower(baseline, np.array([window, penalties, penalties * rules.COLLISION_PENALTY]), t_critical):
+            return k
+    return window + 1  # never: not even a window of collisions only
+
+
+def summary_table(result: RelatedWorkResult, config: RelatedWorkConfig) -> str:
+    """Per learner: final steps, reward, collisions and coordinations (last 10 % of the episodes,
+    mean over runs), convergence episode, and what each agent stores (measured)."""
+    m = measure(result, config)
+    lines = [f"{'learner':24s} {'steps':>6s} {'reward':>7s} {'collisions':>10s} {'coordinations':>13s} "
+             f"{'converged by':>12s} {'Q entries/agent':>15s} {'samples/agent':>13s} {'GLA params/agent':>16s}"]
+    settings, gridmap = config.settings(), config.gridmap()
+    for k, name in enumerate(result.names()):
+        gla_parameters = registry.get(name).gla_parameters(settings, gridmap) // gridmap.n_agents
+        lines.append(f"{registry.label(name):24s} {m[f'steps_{name}']:6.2f} {m[f'reward_{name}']:7.1f} "
+                     f"{m[f'collisions_{name}']:10.3f} {m[f'coordinations_{name}']:13.2f} "
+                     f"{m[f'convergence_{name}']:12.0f} {m[f'q_entries_{name}']:15.0f} "
+                     f"{result.reward_samples[k]:13d} {gla_parameters:16d}")
+    return "\n".join(lines)
