@@ -1,0 +1,86 @@
+"""What the readings of Fig. 10 give: every reading judged by the same Section 5.3 claims against
+the same baselines (the independent, joint-state and MMDP learners of
+:mod:`glamas.experiments.gridworld`, which do not depend on the reading), so a reader sees which
+readings of the lost figure give the chapter's reported outcome and which do not."""
+
+import math
+
+import numpy as np
+
+from glamas.experiments.fig10_readings.experiment import ReadingsConfig, ReadingsResult
+from glamas.experiments.gridworld import analysis as gw_analysis
+from glamas.experiments.gridworld.experiment import GridworldConfig, GridworldResult
+
+
+DELTAS = np.arange(1, 9)
+"""The distances at which the learned P(coordinate | delta) is reported (TunnelToGoal: 1 to 8)."""
+
+
+def with_baselines(result: ReadingsResult, k: int, baselines: GridworldResult) -> GridworldResult:
+    """``baselines`` (the four learners' result) with 2observe replaced by reading k's."""
+    return gw_analysis.with_learner(baselines, result.gridworld_result(k), "two_observe")
+
+
+def summary(result: ReadingsResult, config: ReadingsConfig, baselines: GridworldResult | None = None) -> list[dict]:
+    """Per reading: final steps, reward, collisions and coordinations, the share of final GLAs that
+    coordinate (P(coordinate) > 1/2) at each of DELTAS, the shares of GLAs stuck on a saturated
+    wrong choice at the start and at the end (as :func:`glamas.experiments.gridworld.measure` finds
+    them) and, given the ``baselines``, the Section 5.3 claim rows."""
+    rows = []
+    for k, name in enumerate(config.readings):
+        alone = result.gridworld_result(k)
+        reading = config.reading(name)
+        m = gw_analysis.measure(alone)
+        learns = reading.rule_distance is None
+        row = {"reading": name, "steps": m["steps_two_observe"], "reward": m["reward_two_observe"],
+               "collisions": m["collisions_two_observe"], "coordinations": m["coordinations_two_observe"],
+               "coordinating": coordinating_share(alone, reading),
+               "stuck_at_start": m["stuck_at_start_share_two_observe"] if learns else math.nan,
+               "stuck_at_end": m["stuck_at_end_share_two_observe"] if learns else math.nan}
+        if baselines is not None:
+            row["claims"] = gw_analysis.claim_rows(with_baselines(result, k, baselines))
+        rows.append(row)
+    return rows
+
+
+def coordinating_share(result: GridworldResult, config: GridworldConfig) -> np.ndarray:
+    """At each of DELTAS, the share of 2observe's final GLAs that coordinate (probability above
+    1/2; the fixed rule's 0 or 1): how many GLAs learned to coordinate there, not an average
+    probability, which would read a mix of GLAs at 0 and at 1 as one soft GLA."""
+    return (gw_analysis.coordination_probability(result, config, DELTAS) > 0.5).mean(axis=(0, 1))
+
+
+def table(rows: list[dict]) -> str:
+    """The readings side by side: final values, the share of GLAs coordinating at each distance,
+    the shares of stuck GLAs at the start and the end, and the claim count."""
+    head = (f"{'reading':36s} {'steps':>6s} {'reward':>6s} {'collis.':>7s} {'coord.':>6s}  "
+            f"coordinating at delta = {', '.join(str(d) for d in DELTAS)}   stuck start/end")
+    if "claims" in rows[0]:
+        head += "   claims reproduced"
+    lines = [head]
+    for row in rows:
+        shares = " ".join(f"{v:4.2f}" for v in row["coordinating"])
+        stuck = "   -   " if math.isnan(row["stuck_at_start"]) else f"{row['stuck_at_start']:.2f}/{row['stuck_at_end']:.2f}"
+        line = (f"{row['reading']:36s} {row['steps']:6.2f} {row['reward']:6.1f} {row['collisions']:7.3f} "
+                f"{row['coordinations']:6.2f}  {shares:48s} {stuck:>9s}")
+        if "claims" in row:
+            line += f"   {sum(r['holds'] for r in row['claims'])} of {len(row['claims'])}"
+        lines.append(line)
+    return "\n".join(lines)
+
+
+def verdict_table(rows: list[dict]) -> str:
+    """Claim by reading: R reproduced, - not reproduced, ? undecidable."""
+    claims = [r["claim"].id for r in rows[0]["claims"]]
+    lines = [f"{'claim':40s} " + " ".join(f"{k + 1:>2d}" for k in range(len(rows)))]
+    for c, claim in enumerate(claims):
+        marks = [_mark(row["claims"][c]) for row in rows]
+        lines.append(f"{claim:40s} " + " ".join(f"{m:>2s}" for m in marks))
+    lines.append("readings: " + "; ".join(f"{k + 1} = {row['reading']}" for k, row in enumerate(rows)))
+    return "\n".join(lines)
+
+
+def _mark(row: dict) -> str:
+    if math.isnan(row["value"]):
+        return "?"
+    return "R" if row["holds"] else "-"
