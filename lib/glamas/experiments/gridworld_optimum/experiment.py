@@ -1,17 +1,13 @@
-"""The gridworld of Fig. 9 solved exactly: dynamic programming (Alg. 1, 2) on the joint MMDP.
-
-This is the yardstick for the learners of Section 5.3: the best the agents can do together, and
-what happens when each follows its own shortest path without regard for the other.
-"""
+"""The gridworld of Fig. 9 solved exactly, configured and run: dynamic programming (Alg. 1, 2) on
+the joint MMDP, and the episodes of the optimal policy and of agents that each follow their own
+shortest path without regard for the other."""
 
 from dataclasses import dataclass
 
 import numpy as np
 
-from glamas import claims, memory
-from glamas import checks
-from glamas.experiments.registry import Experiment, register
-from glamas.gridworld import GridMap, dp, draw, load_map, rules
+from glamas import checks, memory
+from glamas.gridworld import GridMap, dp, load_map, rules
 
 
 @dataclass(frozen=True)
@@ -98,53 +94,3 @@ def run(config: GridworldOptimumConfig, seed: int = 0, workers=None, progress=No
         sweeps=by_values.iterations,
         improvements=by_policies.iterations,
     )
-
-
-def measure(result: GridworldOptimumResult) -> dict:
-    """Steps, returns, collisions and bumps of the optimal episode; collisions of the selfish one."""
-    optimal, selfish = result.optimal, result.selfish
-    metrics = {f"optimal_steps_agent_{i + 1}": int(s) for i, s in enumerate(optimal.steps_to_goal)}
-    metrics.update({f"optimal_return_agent_{i + 1}": float(r) for i, r in enumerate(optimal.returns)})
-    metrics.update(
-        optimal_finished=optimal.finished,
-        optimal_makespan=int(optimal.steps_to_goal.max()),
-        optimal_total_steps=int(optimal.steps_to_goal.sum()),
-        optimal_collisions=optimal.collisions,
-        optimal_bumps=int(optimal.bumps.sum()),
-        selfish_collisions=selfish.collisions,
-        selfish_finished=selfish.finished,
-        start_value=result.start_value,
-        value_gap=result.value_gap,
-        policy_iteration_total_steps=int(result.policy_iteration_episode.steps_to_goal.sum()),
-    )
-    return metrics
-
-
-WAITS = {"optimal": "waits: bumps into a wall", "selfish": "stays: bounced back by a collision"}
-"""Why an agent stays in a cell in each episode (the optimum's yielding agent walks into a wall
-once; the selfish agents keep colliding at the passage)."""
-
-
-def plot_episode(ax, result: GridworldOptimumResult, which: str = "optimal"):
-    """The map of Fig. 9 with the agents' paths in the 'optimal' or the 'selfish' episode, the
-    step at which each agent enters each cell, and a ring where an agent stays put."""
-    episodes = {"optimal": result.optimal, "selfish": result.selfish}
-    if which not in episodes:
-        raise ValueError(f"which must be one of {sorted(episodes)}, got {which!r}")
-    draw.draw_map(ax, result.gridmap)
-    draw.draw_paths(ax, result.gridmap, episodes[which].cells, numbered=True, wait_label=WAITS[which])
-    steps = ", ".join("-" if s < 0 else str(s) for s in episodes[which].steps_to_goal)
-    ax.set_title(f"{which}\nsteps to goal: {steps}; collisions: {episodes[which].collisions}", fontsize=9)
-    ax.legend(loc="upper center", bbox_to_anchor=(0.5, 0.0), ncols=2, fontsize=8, frameon=False)
-
-
-def claim_rows(result: GridworldOptimumResult) -> list[dict]:
-    """The claims about the map (data/chapter/gridworld_optimum.json) with computed verdicts."""
-    return claims.verdicts(claims.load("gridworld_optimum"), measure(result))
-
-
-EXPERIMENT = register(Experiment("gridworld_optimum", GridworldOptimumConfig, run,
-                                 lambda runs, iterations: GridworldOptimumConfig(), 1, 1, GridworldOptimumResult,
-                                 claim_rows=lambda result, config: claim_rows(result), figures=("fig9_optimum",),
-                                 stored=False))
-"""The exact optimum of Fig. 9's map: computed in a second whenever it is needed, never stored."""
