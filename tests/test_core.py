@@ -1,15 +1,26 @@
-"""Seeding, parallel runs, result files, figure CLI and byte-reproducible figures."""
+"""Seeding, parallel runs, result files, figure CLI, byte-reproducible figures, and the experiments'
+packages: their faces, and no matplotlib where nothing is drawn."""
 
 import dataclasses
+import importlib
+import inspect
 import json
 import os
+import pkgutil
+import subprocess
+import sys
 
 import numpy as np
 import pytest
 from numba import njit
 
+import glamas.experiments
 from glamas import cli, curves, figures, parallel, plotting, provenance, results, rng
 from glamas.experiments import registry
+
+EXPERIMENT_PACKAGES = sorted(module.name for module in pkgutil.iter_modules(glamas.experiments.__path__)
+                             if module.ispkg)
+"""The experiments' packages (each with its experiment, analysis and plots modules), found without importing them."""
 
 
 @njit(cache=True, nogil=True)
@@ -221,3 +232,28 @@ def test_mean_and_band_stays_within_the_runs():
     mean, low, high = curves.mean_and_band(counts)
     assert mean.tolist() == [3.0, 1.0]
     assert 0.0 <= low[0] < mean[0] < high[0] <= 9.0 and low[1] == high[1] == 1.0
+
+
+def test_running_and_measuring_the_experiments_imports_no_matplotlib():
+    """Each experiment's face, experiment and analysis modules, the registry and the ledger import no
+    matplotlib (checked in a fresh interpreter): it comes with the first drawing function asked for."""
+    modules = ["glamas.experiments.registry", "glamas.ledger"] + [
+        f"glamas.experiments.{name}.{job}" for name in EXPERIMENT_PACKAGES for job in ("experiment", "analysis")]
+    code = (f"import importlib, sys\nfor name in {modules!r}: importlib.import_module(name)\n"
+            "print(sorted(name for name in sys.modules if name.split('.')[0] == 'matplotlib'))")
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+    assert done.returncode == 0, done.stderr[-500:]
+    assert done.stdout.strip() == "[]"
+
+
+@pytest.mark.parametrize("name", EXPERIMENT_PACKAGES)
+def test_a_face_hands_on_its_names_and_every_drawing_function_of_its_plots(name):
+    face = importlib.import_module(f"glamas.experiments.{name}")
+    plots = importlib.import_module(f"glamas.experiments.{name}.plots")
+    drawings = {function for function, value in vars(plots).items()
+                if inspect.isfunction(value) and value.__module__ == plots.__name__ and not function.startswith("_")}
+    assert set(face.PLOTS) == drawings and set(face.PLOTS) <= set(face.__all__)
+    assert all(getattr(face, function) is getattr(plots, function) for function in face.PLOTS)
+    assert [missing for missing in face.__all__ if not hasattr(face, missing)] == []
+    with pytest.raises(AttributeError, match="no attribute 'plot_nothing'"):
+        face.plot_nothing
