@@ -1,1 +1,2 @@
-"""Experiment definitions: a config, a run, an analysis and the plots of each of the chapter's experiments."""
+"""The chapter's experiments and the studies beyond it, one package each (its experiment, analysis and
+plots modules), and the registry that lists them."""

@@ -1,10 +1,10 @@
 """Every experiment by name: what the figure scripts, the ledger, ``make reproduce``, ``make verify``
 and the memory check need to know of one, declared once by the experiment itself.
 
-An experiment module ends with one ``register(Experiment(...))``; :func:`experiments` imports every
-module of :mod:`glamas.experiments` and returns what registered, so that nothing else lists the
-experiments. This module is data only: it imports no experiment and no plotting, so that the
-experiments stand below the figures and the command line that use them.
+The face of an experiment's package (its ``__init__``) makes one ``register(Experiment(...))``;
+:func:`experiments` imports every module of :mod:`glamas.experiments` and returns what registered,
+so that nothing else lists the experiments. This module is data only: it imports no experiment and
+no plotting, so that the experiments stand below the figures and the command line that use them.
 """
 
 import dataclasses
