@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 from numba import njit
 
-from glamas import cli, figures, parallel, plotting, provenance, results, rng
+from glamas import cli, errors, figures, parallel, plotting, provenance, results, rng
 from glamas.experiments import registry
 
 
@@ -199,7 +199,7 @@ def test_a_figure_that_runs_no_experiment_uses_only_out(tmp_path, capsys):
 def test_a_drawing_error_saves_no_figure_and_is_one_line(tmp_path, capsys):
     with pytest.raises(SystemExit) as stopped:
         with figures.fixed_figure("f", "A map.", ["--out", str(tmp_path)]):
-            raise ValueError("no such\nmap")
+            raise errors.UserError("no such\nmap")
     assert stopped.value.code == 2 and capsys.readouterr().err == "error: no such map\n"
     assert list(tmp_path.iterdir()) == []
 

@@ -11,6 +11,8 @@ import os
 import tempfile
 from pathlib import Path
 
+from glamas.errors import UserError
+
 
 @contextlib.contextmanager
 def locked(directory):
@@ -51,17 +53,17 @@ def remove_leftovers(path) -> None:
 
 
 def check_writable_directory(directory, option: str) -> None:
-    """Raise ValueError unless ``directory`` is (or can be created as) a directory this process
+    """Raise UserError unless ``directory`` is (or can be created as) a directory this process
     can write to; ``option`` names it in the message (e.g. '--out')."""
     directory = Path(directory)
     if directory.exists() and not directory.is_dir():
-        raise ValueError(f"{option} {directory} exists and is not a directory; give a directory path")
+        raise UserError(f"{option} {directory} exists and is not a directory; give a directory path")
     try:
         directory.mkdir(parents=True, exist_ok=True)
         with tempfile.TemporaryFile(dir=directory):
             pass
     except OSError as error:
-        raise ValueError(f"{option} {directory} is not a writable directory ({error.strerror}); "
+        raise UserError(f"{option} {directory} is not a writable directory ({error.strerror}); "
                          "give a directory you can write to") from None
 
 

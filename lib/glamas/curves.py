@@ -4,6 +4,8 @@ episodes on the second): the final value, the mean over the last FINAL_FRACTION 
 
 import numpy as np
 
+from glamas.errors import UserError
+
 FINAL_FRACTION = 0.1
 """The "final" value of a curve is its mean over the last 10 % of the episodes (or iterations)."""
 CONVERGENCE_TOLERANCE = 0.05
@@ -90,7 +92,7 @@ def convergence_ratio(curves: np.ndarray, baseline: np.ndarray, episodes: np.nda
     replacement on their own (the learners' runs have streams of their own, so no run of one is
     the pair of a run of the other). A baseline converged at episode 0 counts as 1."""
     if definition not in DEFINITIONS:
-        raise ValueError(f"definition must be one of {DEFINITIONS}, got {definition!r}")
+        raise UserError(f"definition must be one of {DEFINITIONS}, got {definition!r}")
     draws = np.random.default_rng(seed)
     picks_a = draws.integers(0, curves.shape[0], (BOOTSTRAP_DRAWS, curves.shape[0]))
     picks_b = draws.integers(0, baseline.shape[0], (BOOTSTRAP_DRAWS, baseline.shape[0]))

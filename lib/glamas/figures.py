@@ -20,7 +20,7 @@ import contextlib
 import matplotlib
 import matplotlib.pyplot as plt
 
-from glamas import cli, plotting, results
+from glamas import cli, errors, plotting, results
 from glamas.experiments.registry import Experiment
 
 
@@ -31,7 +31,7 @@ def figure(experiment: Experiment, name: str, description: str, argv=None, size:
     is the script's docstring), loads or runs the experiment (:func:`load_or_run`), yields
     ``(axes, result, config)`` to draw on (the axes of :func:`glamas.plotting.new_figure` for
     ``size`` in inches, ``nrows`` by ``ncols``), then saves the figure to --out."""
-    with cli.user_errors_reported():
+    with errors.reported():
         args, config = parse(description, experiment, argv, min_runs)
         result = load_or_run(args, experiment, config)
         with _saved(name, args.out, size, nrows, ncols) as axes:
@@ -75,7 +75,7 @@ def fixed_figure(name: str, description: str, argv=None, size: tuple = (6.0, 4.0
                  ncols: int = 1):
     """Figure ``name`` of no experiment (it depends on no run, no seed): yields the axes to draw
     on, then saves it to --out, the only one of the shared options it uses."""
-    with cli.user_errors_reported():
+    with errors.reported():
         args = cli.parse(cli.figure_parser(_summary(description)), argv)
         with _saved(name, args.out, size, nrows, ncols) as axes:
             yield axes

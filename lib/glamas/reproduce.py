@@ -22,14 +22,12 @@ with one line before any script runs.
 import argparse
 import fnmatch
 import importlib.util
-import sys
 from pathlib import Path
 
-from glamas import atomic, cli, parallel
+from glamas import atomic, errors, parallel
+from glamas.errors import UserError
 from glamas.experiments import registry
-from glamas.paths import DATA, REPO
-
-SCRIPTS = REPO / "paper_figures"
+from glamas.paths import DATA, SCRIPTS
 
 
 REUSED_BYTES = 128 * 2 ** 20
@@ -67,10 +65,10 @@ def fresh_layout() -> dict:
 
 def fresh_directories(text: str) -> tuple:
     """``--fresh DIR`` checked, then emptied of what glamas wrote there: ``(DIR/figures,
-    DIR/results)``. Every check comes before the first deletion, so that a refusal (ValueError)
+    DIR/results)``. Every check comes before the first deletion, so that a refusal (UserError)
     deletes nothing; a file glamas did not write is never deleted, but refused."""
     if not text.strip():
-        raise ValueError("--fresh is empty (make's OUT or VERIFY set to nothing?); nothing was deleted: "
+        raise UserError("--fresh is empty (make's OUT or VERIFY set to nothing?); nothing was deleted: "
                          "give the directory to recompute into, e.g. out/reproduce")
     directory = Path(text)
     layout = fresh_layout()
@@ -83,7 +81,7 @@ def fresh_directories(text: str) -> tuple:
 
 
 def _refuse_committed(place: Path, text: str) -> None:
-    """Raise ValueError if ``place`` (its symbolic links followed) is, lies inside or holds a
+    """Raise UserError if ``place`` (its symbolic links followed) is, lies inside or holds a
     directory of :data:`COMMITTED`; ``text`` is the --fresh given."""
     resolved = place.resolve()
     for committed in (path.resolve() for path in COMMITTED):
@@ -91,7 +89,7 @@ def _refuse_committed(place: Path, text: str) -> None:
                     else "holds" if resolved in committed.parents else None)
         if relation:
             subject = text if place == Path(text) else f"{text}: {place}"
-            raise ValueError(f"--fresh {subject} {relation} the repository's {committed.name}/ (committed files); "
+            raise UserError(f"--fresh {subject} {relation} the repository's {committed.name}/ (committed files); "
                              "nothing was deleted: give a directory outside data/ and paper_figures/, "
                              "e.g. out/reproduce")
 
@@ -99,11 +97,11 @@ def _refuse_committed(place: Path, text: str) -> None:
 def _written_by_glamas(directory: Path, layout: dict, text: str) -> list:
     """The files of ``directory``'s subdirectories in ``layout``, each a file glamas writes there or
     a temporary file of one (:func:`glamas.atomic.write`; :func:`glamas.atomic.locked` locks the
-    directory itself, so there is no lock file); ValueError naming the first other entry."""
+    directory itself, so there is no lock file); UserError naming the first other entry."""
     if not directory.exists():
         return []
     if not directory.is_dir():
-        raise ValueError(f"--fresh {text} exists and is not a directory; nothing was deleted: "
+        raise UserError(f"--fresh {text} exists and is not a directory; nothing was deleted: "
                          "give a directory path")
     found = []
     for entry in sorted(directory.iterdir()):
@@ -118,9 +116,9 @@ def _written_by_glamas(directory: Path, layout: dict, text: str) -> list:
     return found
 
 
-def _foreign(path: Path, text: str) -> ValueError:
+def _foreign(path: Path, text: str) -> UserError:
     """The refusal of --fresh ``text`` for holding ``path``, which glamas did not write."""
-    return ValueError(f"--fresh {text} holds {path}, which glamas did not write; nothing was deleted: "
+    return UserError(f"--fresh {text} holds {path}, which glamas did not write; nothing was deleted: "
                       "move it away or give another directory")
 
 
@@ -140,7 +138,7 @@ def main(argv=None) -> int:
     args = parser.parse_args(argv)
     if args.fresh is not None and (args.out or args.results):
         parser.error("--fresh DIR chooses --out and --results: give either --fresh or --out/--results")
-    with cli.user_errors_reported():  # checked once here, before any script runs
+    with errors.reported():  # checked once here, before any script runs
         if args.fresh is not None:
             args.out, args.results = fresh_directories(args.fresh)
         for flag, directory in (("--out", args.out), ("--results", args.results)):
@@ -154,4 +152,4 @@ def main(argv=None) -> int:
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    errors.run(main)

@@ -18,6 +18,7 @@ from glamas import claims as chapter
 from glamas.curves import (DEFINITIONS, convergence_episode, convergence_episodes, convergence_grid,
                            convergence_ratio, earlier_share, final, grid_verdict, interval_verdict,
                            level_episode)
+from glamas.errors import UserError
 from glamas.experiments.registry import Experiment, register
 from glamas.gridworld import GridMap, dp, load_map, rules
 from glamas.learners import episode as ep
@@ -53,11 +54,11 @@ class GridworldConfig(LearningSettings):
         checks.whole_numbers(self, {"episodes": 1, "runs": 1, "bins": 1})
         learners = tuple(self.learners)
         if not learners or len(set(learners)) != len(learners) or not set(learners) <= set(LEARNERS):
-            raise ValueError(f"learners must be distinct names from {LEARNERS}, got {self.learners!r}")
+            raise UserError(f"learners must be distinct names from {LEARNERS}, got {self.learners!r}")
         object.__setattr__(self, "learners", learners)
         gridmap = self.gridmap()
         if gridmap.n_agents != 2:
-            raise ValueError(f"the learners are written for two agents; map {self.map_file!r} has {gridmap.n_agents}")
+            raise UserError(f"the learners are written for two agents; map {self.map_file!r} has {gridmap.n_agents}")
 
     def gridmap(self) -> GridMap:
         """The map: ``map_file`` as a path, or as a name in data/maps."""

@@ -10,6 +10,7 @@ import numpy as np
 
 from glamas import claims, memory
 from glamas import checks
+from glamas.errors import UserError
 from glamas.experiments.registry import Experiment, register
 from glamas.gridworld import GridMap, dp, draw, load_map, rules
 from glamas.paths import MAPS
@@ -35,15 +36,15 @@ class GridworldOptimumConfig:
         checks.field_types(self)
         if not (MAPS / f"{self.map_name}.txt").is_file():
             known = sorted(p.stem for p in MAPS.glob("*.txt"))
-            raise ValueError(f"map_name {self.map_name!r} is not a map in {MAPS}; known maps: {known}")
+            raise UserError(f"map_name {self.map_name!r} is not a map in {MAPS}; known maps: {known}")
         if not isinstance(self.gamma, float) or not 0.0 < self.gamma < 1.0:
-            raise ValueError(f"gamma must be a float in (0, 1), got {self.gamma!r}")
+            raise UserError(f"gamma must be a float in (0, 1), got {self.gamma!r}")
         if not isinstance(self.epsilon, float) or not self.epsilon > 0.0:
-            raise ValueError(f"epsilon must be a float > 0, got {self.epsilon!r}")
+            raise UserError(f"epsilon must be a float > 0, got {self.epsilon!r}")
         if self.bounce not in rules.BOUNCE_MODES:
-            raise ValueError(f"bounce must be one of {sorted(rules.BOUNCE_MODES)}, got {self.bounce!r}")
+            raise UserError(f"bounce must be one of {sorted(rules.BOUNCE_MODES)}, got {self.bounce!r}")
         if not isinstance(self.selfish_steps, int) or self.selfish_steps < 1:
-            raise ValueError(f"selfish_steps must be a positive integer, got {self.selfish_steps!r}")
+            raise UserError(f"selfish_steps must be a positive integer, got {self.selfish_steps!r}")
 
     def memory_bytes(self) -> int:
         """Bytes of glamas.gridworld.dp's tables per joint state and action: next state, reward,
@@ -129,7 +130,7 @@ def plot_episode(ax, result: GridworldOptimumResult, which: str = "optimal"):
     step at which each agent enters each cell, and a ring where an agent stays put."""
     episodes = {"optimal": result.optimal, "selfish": result.selfish}
     if which not in episodes:
-        raise ValueError(f"which must be one of {sorted(episodes)}, got {which!r}")
+        raise UserError(f"which must be one of {sorted(episodes)}, got {which!r}")
     draw.draw_map(ax, result.gridmap)
     draw.draw_paths(ax, result.gridmap, episodes[which].cells, numbered=True, wait_label=WAITS[which])
     steps = ", ".join("-" if s < 0 else str(s) for s in episodes[which].steps_to_goal)

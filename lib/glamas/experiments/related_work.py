@@ -15,6 +15,7 @@ import numpy as np
 
 from glamas import claims as chapter
 from glamas import parallel
+from glamas.errors import UserError
 from glamas.experiments.registry import Experiment, register
 from glamas.experiments import gridworld as gw
 from glamas.gridworld import GridMap, rules
@@ -45,7 +46,7 @@ class RelatedWorkConfig(RelatedSettings):
         super().__post_init__()
         learners = tuple(self.learners)
         if len(set(learners)) != len(learners) or not set(learners) <= set(registry.beyond_the_chapter()):
-            raise ValueError(f"learners must be distinct names from {registry.beyond_the_chapter()}, "
+            raise UserError(f"learners must be distinct names from {registry.beyond_the_chapter()}, "
                              f"got {self.learners!r}")
         object.__setattr__(self, "learners", learners)
         # two agents: GridworldConfig already rejects other maps

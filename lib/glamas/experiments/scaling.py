@@ -28,6 +28,7 @@ import numpy as np
 from glamas import checks, memory, parallel
 from glamas import claims as chapter
 from glamas.curves import convergence_episode, final
+from glamas.errors import UserError
 from glamas.experiments.registry import Experiment, register
 from glamas.gridworld import GridMap, load_map
 from glamas.learners import episode as ep
@@ -101,27 +102,27 @@ class ScalingConfig(RelatedSettings):
         super().__post_init__()
         checks.whole_numbers(self, {"episodes": 1, "runs": 1, "bin_size": 1})
         if self.episodes % self.bin_size:
-            raise ValueError(f"bin_size ({self.bin_size}) must divide episodes ({self.episodes}); "
+            raise UserError(f"bin_size ({self.bin_size}) must divide episodes ({self.episodes}); "
                              "choose a bin size such as 100 that divides the episode count")
         agents = tuple(self.agents) if isinstance(self.agents, (tuple, list)) else None
         if (not agents or len(set(agents)) != len(agents)
                 or not all(isinstance(n, int) and 2 <= n <= MAX_AGENTS for n in agents)):
-            raise ValueError(f"agents must be distinct whole numbers from 2 to {MAX_AGENTS}, got {self.agents!r}")
+            raise UserError(f"agents must be distinct whole numbers from 2 to {MAX_AGENTS}, got {self.agents!r}")
         object.__setattr__(self, "agents", tuple(sorted(agents)))
         methods = tuple(self.methods) if isinstance(self.methods, (tuple, list)) else ()
         if not methods or len(set(methods)) != len(methods) or not set(methods) <= set(known_methods()):
-            raise ValueError(f"methods must be distinct names from {known_methods()}, got {self.methods!r}")
+            raise UserError(f"methods must be distinct names from {known_methods()}, got {self.methods!r}")
         object.__setattr__(self, "methods", methods)
         if isinstance(self.rule_distance, bool) or not isinstance(self.rule_distance, int) or self.rule_distance < 0:
-            raise ValueError(f"rule_distance must be a whole number >= 0, got {self.rule_distance!r}")
+            raise UserError(f"rule_distance must be a whole number >= 0, got {self.rule_distance!r}")
         if not (isinstance(self.memory_budget_gib, (int, float)) and self.memory_budget_gib > 0):
-            raise ValueError(f"memory_budget_gib must be a number > 0, got {self.memory_budget_gib!r}")
+            raise UserError(f"memory_budget_gib must be a number > 0, got {self.memory_budget_gib!r}")
         if "{n}" not in self.map_pattern:
-            raise ValueError(f"map_pattern must contain '{{n}}' for the number of agents, got {self.map_pattern!r}")
+            raise UserError(f"map_pattern must contain '{{n}}' for the number of agents, got {self.map_pattern!r}")
         for n in self.agents:
             gridmap = self.gridmap(n)
             if gridmap.n_agents != n:
-                raise ValueError(f"map {gridmap.name!r} has {gridmap.n_agents} agents, the study expects {n}: "
+                raise UserError(f"map {gridmap.name!r} has {gridmap.n_agents} agents, the study expects {n}: "
                                  f"give each map file exactly N starts 1..N")
 
     def gridmap(self, n: int) -> GridMap:
@@ -385,7 +386,7 @@ def pivot_table(result: ScalingResult, metric: str) -> str:
     """One final measurement per method (rows) and N (columns), '-' where the method did not run;
     'capped_runs' counts the runs in which some of the final 10 % of the episodes hit the step cap."""
     if metric not in PIVOT_METRICS:
-        raise ValueError(f"metric must be one of {sorted(PIVOT_METRICS)}, got {metric!r}")
+        raise UserError(f"metric must be one of {sorted(PIVOT_METRICS)}, got {metric!r}")
     m = measure(result)
     lines = [f"{metric:22s}" + "".join(f"{f'N = {n}':>9s}" for n in result.agents)]
     for k, method in enumerate(result.names()):
@@ -479,7 +480,7 @@ def plot_final(ax, result: ScalingResult, metric: str, legend: bool = True):
     still outside 5 % of its final steps in the last block never settled; it is drawn as an open
     triangle above the end of the runs, not as a number of episodes."""
     if metric not in _METRIC_LABELS:
-        raise ValueError(f"metric must be one of {sorted(_METRIC_LABELS)}, got {metric!r}")
+        raise UserError(f"metric must be one of {sorted(_METRIC_LABELS)}, got {metric!r}")
     names = result.names()
     never_settled = False
     for k, method in enumerate(names):
@@ -537,7 +538,7 @@ CURVE_LABELS = {"steps": "steps to goal (agent mean)", "reward": "reward (agent 
 def plot_curves(ax, result: ScalingResult, n: int, metric: str = "steps", legend: bool = True):
     """Learning curves (mean and 95 % band over runs) of every method that ran with ``n`` agents."""
     if n not in result.agents:
-        raise ValueError(f"no results for N = {n}; the study has N in {result.agents.tolist()}")
+        raise UserError(f"no results for N = {n}; the study has N in {result.agents.tolist()}")
     j = list(result.agents).index(n)
     for k, method in enumerate(result.names()):
         if result.ran[k, j]:

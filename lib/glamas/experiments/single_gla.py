@@ -15,6 +15,7 @@ from numba import njit
 
 from glamas import checks, claims, gla, lineworld, memory, parallel
 from glamas.curves import BOOTSTRAP_DRAWS, final_per_run
+from glamas.errors import UserError
 from glamas.experiments.registry import Experiment, register
 from glamas.learners import single_gla as learner
 from glamas.plotting import legend_below, plot_mean_band
@@ -68,10 +69,10 @@ class SingleGLAConfig:
         checks.field_types(self)
         checks.whole_numbers(self, {"iterations": 1, "runs": 1, "record_points": 1, "eval_grid": 1})
         if self.record_points > self.iterations:
-            raise ValueError(f"record_points ({self.record_points}) cannot exceed iterations "
+            raise UserError(f"record_points ({self.record_points}) cannot exceed iterations "
                              f"({self.iterations}); lower record_points or raise iterations")
         if not isinstance(self.init_scale, (int, float)) or not 0 <= self.init_scale <= self.L:
-            raise ValueError(f"init_scale must be a number in [0, L={self.L}], got {self.init_scale!r}")
+            raise UserError(f"init_scale must be a number in [0, L={self.L}], got {self.init_scale!r}")
         lineworld.encoding_code(self.context)
         lineworld.region3_code(self.region3_reward)
         self.gla_params()  # validates learning_rate, temperature, K, L and bounding
@@ -399,7 +400,7 @@ def box_L(box: str, encoding: str, fig5_L: float) -> float:
     times the encoding's input range (:data:`INPUT_RANGE`: joint 1, absolute and deictic 2), the
     rule 2observe's box follows (a box that scales with the largest input)."""
     if box not in BOX_READINGS:
-        raise ValueError(f"box must be one of {list(BOX_READINGS)}, got {box!r}")
+        raise UserError(f"box must be one of {list(BOX_READINGS)}, got {box!r}")
     return {"fig5": fig5_L, "two": 2.0, "input_range": fig5_L * INPUT_RANGE[encoding]}[box]
 
 
@@ -683,7 +684,7 @@ def plot_learned_lines(ax, result: SingleGLAResult, run_index: int, grid: int = 
     """Fig. 5b: each agent's learned line (u_L - u_R).x = 0 (joint context) and the most
     probable joint action in each cell of the partition the two lines make."""
     if result.config.context != "joint":
-        raise ValueError(f"learned lines are drawn in the (x1, x2) plane: they need the joint "
+        raise UserError(f"learned lines are drawn in the (x1, x2) plane: they need the joint "
                          f"context, this result used {result.config.context!r}")
     u = result.params[run_index]
     x1, x2 = lineworld.state_grid(grid)
@@ -736,7 +737,7 @@ def learned_line(result: SingleGLAResult, run_index: int, agent: int) -> tuple[f
     x2 = slope x1 + intercept, for the joint context; the agent prefers L above it when the x2
     weight is positive."""
     if result.config.context != "joint":
-        raise ValueError(f"learned lines live in the (x1, x2) plane: they need the joint context, "
+        raise UserError(f"learned lines live in the (x1, x2) plane: they need the joint context, "
                          f"this result used {result.config.context!r}")
     hu = _bounded(result.params[run_index, agent], result.config)
     w = hu[0] - hu[1]

@@ -20,6 +20,7 @@ from pathlib import Path
 
 import numpy as np
 
+from glamas.errors import UserError
 from glamas.gridworld.rules import E, N, N_ACTIONS, S, W
 from glamas.paths import MAPS
 
@@ -28,7 +29,7 @@ _CELL_SYMBOLS = "free '.', goal 'G', blocked '#' or an agent's start '1'-'9'"
 _STEPS = {N: (-1, 0), E: (0, 1), S: (1, 0), W: (0, -1)}
 
 
-class MapError(ValueError):
+class MapError(UserError):
     """A map file that does not follow the format of :mod:`glamas.gridworld.maps`."""
 
 
@@ -63,13 +64,13 @@ class GridMap:
     def cell(self, row: int, col: int) -> int:
         """The number of the cell at (row, col)."""
         if not (0 <= row < self.n_rows and 0 <= col < self.n_cols):
-            raise ValueError(f"({row}, {col}) is outside the {self.n_rows}x{self.n_cols} map {self.name!r}")
+            raise UserError(f"({row}, {col}) is outside the {self.n_rows}x{self.n_cols} map {self.name!r}")
         return row * self.n_cols + col
 
     def row_col(self, cell: int) -> tuple[int, int]:
         """(row, col) of a cell number."""
         if not 0 <= cell < self.n_cells:
-            raise ValueError(f"cell {cell} is outside the map {self.name!r}, which has cells 0..{self.n_cells - 1}")
+            raise UserError(f"cell {cell} is outside the map {self.name!r}, which has cells 0..{self.n_cells - 1}")
         return divmod(int(cell), self.n_cols)
 
     def open_neighbours(self, cell: int) -> set[int]:
