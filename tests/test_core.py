@@ -193,7 +193,7 @@ def test_a_figure_that_runs_no_experiment_uses_only_out(tmp_path, capsys):
     assert sorted(p.name for p in tmp_path.iterdir()) == ["f.pdf", "f.png", "file"]
     help_text = " ".join(cli.figure_parser("A map.").format_help().split())
     assert "It runs no experiment: only --out changes what it writes." in help_text
-    assert help_text.count(cli.NO_EXPERIMENT) == 9  # every option but --out (and --help)
+    assert help_text.count(cli.NO_EXPERIMENT) == 10  # every option but --out (and --help)
 
 
 def test_a_drawing_error_saves_no_figure_and_is_one_line(tmp_path, capsys):

@@ -8,8 +8,10 @@ damaged, missing or edited; nothing of the repository itself is touched."""
 import ast
 import os
 import shutil
+import struct
 import subprocess
 import sys
+import zipfile
 
 import pytest
 
@@ -158,3 +160,56 @@ def test_advice_is_for_committed_files_only(tmp_path):
     assert committed.advice(REPO / "paper_figures" / "output" / "fig9.png") == (
         "draw it again with `python paper_figures/fig9.py`, or restore the committed one with "
         "`git checkout -- paper_figures/output/fig9.png`")
+
+
+# --- damaged results and make figures ---------------------------------------------------------------
+
+FAST = ("--runs", "2", "--iterations", "100", "--backend", "threads", "--workers", "1")
+
+
+def _damage_member(path, member: str) -> None:
+    """Flip a byte in the middle of the compressed data of ``member`` of the archive ``path``: its
+    header (configuration, provenance) stays readable, the member fails its checksum."""
+    data = bytearray(path.read_bytes())
+    with zipfile.ZipFile(path) as archive:
+        info = archive.getinfo(member)
+    name_length, extra_length = struct.unpack("<HH", data[info.header_offset + 26:info.header_offset + 30])
+    data[info.header_offset + 30 + name_length + extra_length + info.compress_size // 2] ^= 0xFF
+    path.write_bytes(bytes(data))
+
+
+def test_a_damaged_result_is_named_and_kept_unless_rerun_replaces_it(tmp_path):
+    script = str(REPO / "paper_figures" / "fig7b.py")
+    where = ("--out", str(tmp_path), "--results", str(tmp_path))
+    assert subprocess.run([sys.executable, script, *FAST, *where], capture_output=True, timeout=TIME_LIMIT).returncode == 0
+    stored = tmp_path / "and_network.npz"
+    _damage_member(stored, "params.npy")
+    damaged = stored.read_bytes()
+    for figure in ("fig7b.png", "fig7b.pdf"):
+        (tmp_path / figure).unlink()
+    done = subprocess.run([sys.executable, script, *FAST, *where], capture_output=True, text=True, timeout=TIME_LIMIT)
+    line = _one_error_line(done)
+    assert f"{stored} is not a readable glamas result file" in line and "--rerun or --force to replace it" in line
+    assert stored.read_bytes() == damaged and not (tmp_path / "fig7b.png").exists()
+    rerun = subprocess.run([sys.executable, script, *FAST, *where, "--rerun"], capture_output=True, text=True,
+                           timeout=TIME_LIMIT)
+    assert rerun.returncode == 0, rerun.stderr
+    assert stored.read_bytes() != damaged and (tmp_path / "fig7b.png").exists()
+
+
+def test_make_figures_computes_nothing_and_names_the_script_of_a_missing_result(clone):
+    (clone / "data" / "results" / "single_gla.npz").unlink()
+    before = sorted(path.name for path in (clone / "data" / "results").iterdir())
+    done = _command(clone, "-m", "glamas.reproduce", "--all")
+    assert _one_error_line(done) == (
+        f"error: no result file at {clone / 'data' / 'results' / 'single_gla.npz'}; recompute it with "
+        "`python paper_figures/fig5.py --rerun`, or restore the committed one with "
+        "`git checkout -- data/results/single_gla.npz`")
+    assert sorted(path.name for path in (clone / "data" / "results").iterdir()) == before
+
+
+def test_no_compute_refuses_to_be_combined_with_rerun_or_force():
+    for flag in ("--rerun", "--force"):
+        done = subprocess.run([sys.executable, str(REPO / "paper_figures" / "fig5.py"), "--no-compute", flag],
+                              capture_output=True, text=True, timeout=TIME_LIMIT)
+        assert done.returncode == 2 and "--no-compute never runs the experiment" in done.stderr

@@ -57,8 +57,8 @@ _seed = _whole_number_in(0, MAX_SEED, "must be 0 or more")
 
 def figure_parser(description: str, *, runs: int | None = None, iterations: int | None = None, seed: int = 0):
     """An argument parser with --runs, --iterations, --seed, --workers, --backend, --scheduler,
-    --out, --results, --force and --rerun, at the paper-scale defaults ``runs``, ``iterations``
-    and ``seed``.
+    --out, --results, --force, --rerun and --no-compute, at the paper-scale defaults ``runs``,
+    ``iterations`` and ``seed``.
 
     ``runs`` None: a figure that runs no experiment (a map, a table of settings). It takes the same
     options, so that every figure script takes one command line (``make reproduce``, ``make
@@ -91,7 +91,10 @@ def figure_parser(description: str, *, runs: int | None = None, iterations: int 
                 f"--runs/--iterations/--seed, else {SCRATCH_RESULTS.relative_to(REPO)})")
     option("--force", action="store_true", help="replace a result file that another configuration made")
     option("--rerun", action="store_true",
-           help="run the experiment even if --results holds a result of this configuration")
+           help="run the experiment even if --results holds a result of this configuration (or an unreadable file)")
+    option("--no-compute", action="store_true",
+           help="never run the experiment: draw from the result file in --results, and fail naming the script "
+                "that computes it when it is missing (make figures)")
     return parser
 
 
@@ -109,11 +112,13 @@ def parse(parser: argparse.ArgumentParser, argv=None) -> argparse.Namespace:
         _check_directories(parser, args, ("out",))
         return args
     _check_workers(parser, args.workers)
+    if args.no_compute and (args.rerun or args.force):
+        parser.error("--no-compute never runs the experiment: drop --rerun and --force, or --no-compute")
     try:
         args.workers = parallel.backend(args.backend, args.workers, args.scheduler)
         if isinstance(args.workers, parallel.Dask):
             parallel.connect(args.workers).close()  # an unreachable scheduler fails here, not mid-way
-    except (ValueError, parallel.BackendError) as error:
+    except UserError as error:
         parser.error(str(error))
     _choose_directories(parser, args)
     _check_directories(parser, args, ("out", "results"))
@@ -151,9 +156,10 @@ def _choose_directories(parser, args) -> None:
 
 def check_before_run(args: argparse.Namespace, name: str, config, copies: int = 1) -> None:
     """What a run of ``copies`` times ``config`` needs, checked before it computes: its result
-    file ``name`` can take the result (unless --force), and its arrays fit in memory."""
+    file ``name`` can take the result (unless --force; --rerun replaces an unreadable one), and its
+    arrays fit in memory."""
     if not args.force:
-        results.check_writable(args.results / f"{name}.npz", config, seed=args.seed)
+        results.check_writable(args.results / f"{name}.npz", config, seed=args.seed, replace_unreadable=args.rerun)
     memory.check(config, copies)
 
 

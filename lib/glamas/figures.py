@@ -54,19 +54,24 @@ def load_or_run(args, experiment: Experiment, config):
     (unless --rerun or --force), otherwise run (:func:`glamas.cli.run_experiment`) and saved there.
 
     Figures drawn from one experiment share its result file instead of running it again. A file
-    of this configuration made with another map or library version is refused as stale (--rerun);
-    one of another configuration is refused before the run (unless --force replaces it).
+    of this configuration made with another map or library version is refused as stale (--rerun),
+    an unreadable one as unreadable (--rerun or --force replaces it); one of another configuration
+    is refused before the run (unless --force replaces it). With --no-compute (``make figures``)
+    nothing runs: a missing file is refused too, its message naming the script that computes it.
     """
     path = experiment.file(args.results)
+    if args.no_compute:
+        return experiment.load(args.results, config, args.seed)
     if path.exists() and not (args.rerun or args.force):
         try:
             return experiment.load(args.results, config, args.seed)
-        except results.StaleResultError:
+        except (results.StaleResultError, results.UnreadableResultError):
             raise
         except results.ResultFileError:
-            pass  # another configuration's or unreadable: run_experiment refuses it before running
+            pass  # another configuration's: run_experiment refuses it before running
     result = cli.run_experiment(args, experiment.name, config, experiment.run, experiment.copies)
-    results.save(path, config, experiment.arrays(result), seed=args.seed, overwrite=args.force)
+    results.save(path, config, experiment.arrays(result), seed=args.seed, overwrite=args.force,
+                 replace_unreadable=args.rerun)
     return result
 
 

@@ -1,14 +1,16 @@
 """Run figure scripts of ``paper_figures/`` one after the other in one process: what ``make
 figures``, ``make reproduce`` and ``make verify`` do.
 
-``python -m glamas.reproduce [--all] [--out DIR] [--results DIR] [--fresh DIR]`` calls the ``main`` of each
-figure script of the chapter's experiments (with ``--all``: of every experiment, the studies beyond
-the chapter included; :func:`glamas.experiments.registry.figure_scripts`), in order, handing each the given --out and --results. With a --results directory that
-holds no result, the first script of each experiment recomputes it and the scripts drawing other
-figures of that experiment read what it just saved; without --results every script draws from the
-committed results. ``--fresh DIR`` recomputes into ``DIR/figures`` and ``DIR/results``, emptied
-first (:func:`fresh_directories`): what ``make reproduce`` and ``make verify`` run, so that the
-Makefile deletes nothing itself.
+``python -m glamas.reproduce [--all] [--out DIR] [--results DIR] [--fresh DIR]`` calls the ``main``
+of each figure script of the chapter's experiments (with ``--all``: of every experiment, the
+studies beyond the chapter included; :func:`glamas.experiments.registry.figure_scripts`), in order,
+handing each the given --out and --results. With a --results directory that holds no result, the
+first script of each experiment recomputes it and the scripts drawing other figures of that
+experiment read what it just saved; without --results every script draws from the committed
+results and computes nothing (``--no-compute``): a committed result that is missing, stale or
+damaged stops it with one line naming the script that recomputes it. ``--fresh DIR`` recomputes
+into ``DIR/figures`` and ``DIR/results``, emptied first (:func:`fresh_directories`): what ``make
+reproduce`` and ``make verify`` run, so that the Makefile deletes nothing itself.
 
 One process instead of one per script: Python, numba and matplotlib are imported once, the
 worker processes of the runs (:mod:`glamas.parallel`) start once and keep the kernels they loaded
@@ -146,6 +148,8 @@ def main(argv=None) -> int:
                 atomic.check_writable_directory(directory, flag)
     options = [item for flag, value in (("--out", args.out), ("--results", args.results)) if value is not None
                for item in (flag, str(value))]
+    if args.results is None:
+        options.append("--no-compute")  # drawing from the committed results: never recompute one at paper scale
     parallel.reuse_batches(REUSED_BYTES)
     run(registry.figure_scripts(chapter_only=not args.all), options)  # a script's user error exits with status 2
     return 0
