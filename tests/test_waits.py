@@ -3,6 +3,7 @@ naming the holder, a Dask scheduler that refuses the connection fails at once, a
 or worker lost mid-run ends in one BackendError. Only generous upper bounds of the bounded waits
 are timed."""
 
+import os
 import signal
 import socket
 import subprocess
@@ -14,7 +15,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from glamas import atomic, parallel, results
+from glamas import atomic, parallel, results, sources
 from glamas.experiments import gridworld, single_gla
 
 SMALL_LINE = single_gla.SingleGLAConfig(runs=2, iterations=200, record_points=10)
@@ -44,6 +45,31 @@ def test_a_results_directory_locked_too_long_is_named_with_its_holder(tmp_path, 
         holder.kill()
         holder.wait()
     assert list(tmp_path.iterdir()) == []  # nothing written
+
+
+def test_the_kernel_cache_locked_too_long_turns_caching_off_with_one_warning(tmp_path, monkeypatch, capsys):
+    from numba.core.dispatcher import Dispatcher
+
+    package = tmp_path / "pkg"
+    package.mkdir()
+    (package / "kernel.py").write_text("x = 1\n")
+    lock = sources.cache_directory(package) / "glamas-sources.lock"
+    lock.parent.mkdir()
+    lock.touch()
+    monkeypatch.setattr(atomic, "LOCK_WAIT_SECONDS", 1.0)
+    monkeypatch.setattr(Dispatcher, "enable_caching", Dispatcher.enable_caching)  # restored after the test
+    monkeypatch.delenv(sources.CACHE_OFF_VARIABLE, raising=False)
+    holder = _held(lock, "os.O_RDWR")
+    try:
+        assert not sources.prepare_kernel_cache(package)
+    finally:
+        holder.kill()
+        holder.wait()
+        os.environ.pop(sources.CACHE_OFF_VARIABLE, None)  # set with the warning: later processes decide anew
+    warning = capsys.readouterr().err.splitlines()
+    assert len(warning) == 1 and warning[0].startswith("warning: numba's kernel cache is off for this run")
+    assert f"has been locked by process {holder.pid}" in warning[0]
+    assert Dispatcher.enable_caching is sources._no_caching
 
 
 # --- Dask -------------------------------------------------------------------------------------------
