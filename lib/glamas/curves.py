@@ -2,6 +2,8 @@
 episodes on the second): the final value, the mean over the last FINAL_FRACTION of the episodes
 (or iterations), per run or over the runs, and the episode from which a curve has converged."""
 
+import math
+
 import numpy as np
 
 from glamas.errors import UserError
@@ -25,6 +27,12 @@ DEFINITIONS = ("per_run", "run_mean", "shared_level")
 * ``shared_level``: the episode after which the mean curve stays at or below one level for both
   learners, the worse learner's final value plus the tolerance (curves where lower is better).
 """
+
+
+def ratio(numerator: float, denominator: float) -> float:
+    """``numerator / denominator`` of two final values; NaN (undecidable) when the denominator is
+    0, as a final reward can be exactly in a run of a few episodes."""
+    return numerator / denominator if denominator else math.nan
 
 
 def _final_weights(episodes: np.ndarray) -> np.ndarray:

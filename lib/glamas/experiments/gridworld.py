@@ -17,7 +17,7 @@ from glamas import checks, gla, memory, parallel, results
 from glamas import claims as chapter
 from glamas.curves import (DEFINITIONS, convergence_episode, convergence_episodes, convergence_grid,
                            convergence_ratio, earlier_share, final, grid_verdict, interval_verdict,
-                           level_episode)
+                           level_episode, ratio)
 from glamas.errors import UserError
 from glamas.experiments.registry import Experiment, register
 from glamas.gridworld import GridMap, dp, load_map, rules
@@ -206,7 +206,7 @@ def measure(result: GridworldResult) -> dict:
         for base in ("independent", "mmdp"):
             m[f"steps_two_observe_minus_{base}"] = m["steps_two_observe"] - m[f"steps_{base}"]
             m.update(convergence_comparison(result, "two_observe", base))
-        m["reward_two_observe_over_mmdp"] = m["reward_two_observe"] / m["reward_mmdp"]
+        m["reward_two_observe_over_mmdp"] = ratio(m["reward_two_observe"], m["reward_mmdp"])
         m["reward_two_observe_minus_independent"] = m["reward_two_observe"] - m["reward_independent"]
         m["collisions_independent_off_3"] = abs(m["collisions_independent"] - 3.0)
         m["coordinations_two_observe_off_4"] = abs(m["coordinations_two_observe"] - 4.0)
@@ -501,11 +501,13 @@ TAIL_FROM = 100
 def plot_steps(ax, result, optimum=None):
     """Fig. 11a: steps from start to goal, mean of both agents (mean and 95 % band over runs), on
     a log axis with ticks at round values, and the tail (episode 100 on) zoomed on a linear axis
-    in an inset, where the learners' final steps differ by one or two."""
+    in an inset, where the learners' final steps differ by one or two; a run of fewer episodes
+    has no tail, and no inset."""
     _plot_learners(ax, result, result.steps, "steps to goal (mean of the agents)",
                    None if optimum is None else optimum["steps"])
     _round_log_ticks(ax, STEP_TICKS)
-    _plot_step_tail(ax, result, optimum)
+    if result.episodes[-1] >= TAIL_FROM:
+        _plot_step_tail(ax, result, optimum)
 
 
 def _round_log_ticks(ax, ticks):

@@ -15,6 +15,7 @@ import numpy as np
 
 from glamas import claims as chapter
 from glamas import parallel
+from glamas.curves import ratio
 from glamas.errors import UserError
 from glamas.experiments.registry import Experiment, register
 from glamas.experiments import gridworld as gw
@@ -173,7 +174,7 @@ def measure(result: RelatedWorkResult, config: RelatedWorkConfig) -> dict:
         m["marked_within_coordination_distance_cq"] = float((distances <= config.coordination_distance).mean()) if distances.size else 0.0
     for name in set(names) & set(RELATED_LEARNERS):
         if "mmdp" in names:
-            m[f"reward_{name}_over_mmdp"] = m[f"reward_{name}"] / m["reward_mmdp"]
+            m[f"reward_{name}_over_mmdp"] = ratio(m[f"reward_{name}"], m["reward_mmdp"])
             m[f"q_entries_{name}_over_mmdp"] = m[f"q_entries_{name}"] / m["q_entries_mmdp"]
             m.update(gw.convergence_comparison(result, name, "mmdp"))
         if "independent" in names:
