@@ -32,3 +32,31 @@ def test_a_final_mmdp_reward_of_zero_makes_its_ratios_undecidable():
     assert measured["reward_mmdp"] == 0.0
     assert math.isnan(measured["reward_two_observe_over_mmdp"]) and math.isnan(measured["reward_cq_over_mmdp"])
     assert related_work.claim_rows(result, config)
+
+
+def _nine_agents(tmp_path) -> str:
+    """A 6 x 6 room with agents 1-9 along the top and the goal in the far corner: the map pattern."""
+    size = 6
+    cells = [["."] * size for _ in range(size)]
+    for agent in range(9):
+        cells[agent // size][agent % size] = str(agent + 1)
+    cells[-1][-1] = "G"
+    lines = ["+" + "-+" * size]
+    for r, row in enumerate(cells):
+        lines += ["|" + " ".join(row) + "|", "+" + ("-+" if r == size - 1 else " +") * size]
+    (tmp_path / "room_9.txt").write_text("\n".join(lines) + "\n")
+    return str(tmp_path / "room_{n}.txt")
+
+
+def test_nine_agents_skip_the_learners_beyond_the_budget_and_run_the_others(tmp_path):
+    config = scaling.ScalingConfig(agents=(9,), map_pattern=_nine_agents(tmp_path), episodes=100, runs=1)
+    gridmap = config.gridmap(9)
+    settings = config.settings("mmdp")
+    assert registry.get("mmdp").bytes_per_run(settings, gridmap) == 36 ** 9 * 4 ** 9 * 8  # Python ints: exact
+    result = scaling.run(config, workers=parallel.Threads(1))
+    names = result.names()
+    assert not result.ran[names.index("mmdp"), 0] and not result.ran[names.index("joint_state"), 0]
+    assert result.ran[names.index("two_observe"), 0] and result.ran[names.index("independent"), 0]
+    assert result.bytes_needed[names.index("mmdp"), 0] == np.iinfo(np.int64).max  # more than an int64 counts
+    assert result.parameters()[names.index("mmdp"), 0] == pytest.approx(36 ** 9 * 4 ** 9)
+    assert scaling.claim_rows(result)

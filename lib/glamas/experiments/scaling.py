@@ -211,7 +211,7 @@ class ScalingResult:
 
     def q_entries(self) -> np.ndarray:
         """(methods, agents): Q-table entries per run (all agents' tables together)."""
-        return self.table_shapes.prod(axis=2)
+        return self.table_shapes.prod(axis=2, dtype=float)  # exact below 2^53; int64 would wrap for many agents
 
     def parameters(self) -> np.ndarray:
         """(methods, agents): values stored per run: Q entries, GLA parameters, joint values and
@@ -248,10 +248,10 @@ def run(config: ScalingConfig = ScalingConfig(), seed: int = 0, workers=None, pr
         gridmap = config.gridmap(n)
         for k, method in enumerate(config.methods):
             learner, settings = learner_of(method), config.settings(method)
-            shapes[k, j] = learner.table_shape(gridmap.n_cells, n)
+            shapes[k, j] = [_as_int64(size) for size in learner.table_shape(gridmap.n_cells, n)]
             glas[k, j] = learner.gla_parameters(settings, gridmap)
             joints[k, j], samples[k, j] = learner.joint_room(settings, gridmap), learner.reward_samples(settings, gridmap)
-            needed[k, j] = memory_needed(config, method, gridmap)
+            needed[k, j] = _as_int64(memory_needed(config, method, gridmap))
             if needed[k, j] <= budget:
                 batch, outputs = spec.batch(learner, settings, gridmap, schedule, config.runs, seed_of(seed, method, n),
                                             keep_q=False)
@@ -267,6 +267,12 @@ def run(config: ScalingConfig = ScalingConfig(), seed: int = 0, workers=None, pr
     return ScalingResult(config=config, methods=codes, agents=np.array(config.agents, dtype=np.int64), ran=ran,
                          table_shapes=shapes, gla_parameters=glas, joint_entries=joints, reward_samples=samples,
                          bytes_needed=needed, log=log, episodes=schedule.edges[1:])
+
+
+def _as_int64(count: int) -> int:
+    """``count`` as an int64 array can hold it: at most 2^63 - 1. Only the tables of many agents
+    count beyond (an MMDP learner's of 9 agents), and the study skips those, far over any budget."""
+    return min(int(count), np.iinfo(np.int64).max)
 
 
 def load(config: ScalingConfig = ScalingConfig(), seed: int = 0, results_dir: Path = RESULTS) -> ScalingResult:
