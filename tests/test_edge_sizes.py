@@ -60,3 +60,12 @@ def test_nine_agents_skip_the_learners_beyond_the_budget_and_run_the_others(tmp_
     assert result.bytes_needed[names.index("mmdp"), 0] == np.iinfo(np.int64).max  # more than an int64 counts
     assert result.parameters()[names.index("mmdp"), 0] == pytest.approx(36 ** 9 * 4 ** 9)
     assert scaling.claim_rows(result)
+
+
+def test_an_epsilon_too_coarse_for_an_optimum_is_refused():
+    with pytest.raises(ValueError, match=r"epsilon must be a float > 0 and at most 0\.000111 for gamma=0\.9 .*got 100\.0"):
+        gridworld_optimum.GridworldOptimumConfig(epsilon=100.0)
+    coarse = gridworld_optimum.GridworldOptimumConfig(gamma=0.5, epsilon=1e-3)  # within the bound, too coarse at 0.5
+    with pytest.raises(ValueError, match="the policy that policy iteration found with epsilon=0.001 does not bring "
+                                         "every agent to the goal of 'tunnel_to_goal': lower epsilon"):
+        gridworld_optimum.run(coarse)

@@ -269,5 +269,5 @@ def optimal_rollout(gridmap: GridMap, gamma: float, bounce: str = "previous", ep
     mdp = joint_mdp(gridmap, bounce)
     episode = rollout(mdp, value_iteration(mdp, gamma, epsilon).policy)
     if not episode.finished:
-        raise RuntimeError(f"the optimal policy of {gridmap.name!r} does not bring every agent to the goal")
+        raise UserError(f"the optimal policy of {gridmap.name!r} does not bring every agent to the goal")
     return episode
