@@ -18,6 +18,7 @@ from glamas.learners import registry
 FAST = ["--backend", "threads", "--workers", "1"]
 
 
+@pytest.mark.parametrize("script", ["fig11a", "related_steps"])
 def test_the_steps_figures_draw_fewer_episodes_than_their_zoom_starts_at(tmp_path, script):
     assert gridworld.TAIL_FROM > 50
     reproduce.script_main(script)(["--runs", "1", "--iterations", "50", "--out", str(tmp_path),
@@ -69,3 +70,25 @@ def test_an_epsilon_too_coarse_for_an_optimum_is_refused():
     with pytest.raises(ValueError, match="the policy that policy iteration found with epsilon=0.001 does not bring "
                                          "every agent to the goal of 'tunnel_to_goal': lower epsilon"):
         gridworld_optimum.run(coarse)
+
+
+@pytest.mark.parametrize("change, message", [
+    (lambda g: {"starts": np.array([np.flatnonzero(g.is_goal)[0], g.starts[1]])}, "agent 1 starts on a goal"),
+    (lambda g: {"starts": np.array([g.starts[0], g.starts[0]])}, "agents 1 and 2 both start at"),
+    (lambda g: {"starts": np.array([g.starts[0], 99])}, "agent 2's start 99 is outside the cells 0..24"),
+    (lambda g: {"starts": [1, 2]}, "starts must be an array of integer of shape (2,)"),
+    (lambda g: {"is_goal": np.zeros(g.n_cells, bool)}, "has no goal"),
+    (lambda g: {"next_cell": g.next_cell[:5]}, "next_cell must be an array of integer of shape (25, 4)"),
+])
+def test_a_map_built_in_python_is_checked_as_a_map_file_is(change, message):
+    tunnel = tunnel_to_goal()
+    with pytest.raises(MapError, match=f"map 'tunnel_to_goal'.*{re.escape(message)}"):
+        dataclasses.replace(tunnel, **change(tunnel))
+
+
+def test_map_files_and_python_maps_share_one_check(monkeypatch):
+    checked = []
+    monkeypatch.setattr(maps, "check_layout", checked.append)
+    tunnel = tunnel_to_goal()
+    GridMap("by hand", tunnel.n_rows, tunnel.n_cols, tunnel.next_cell, tunnel.is_goal, tunnel.blocked, tunnel.starts)
+    assert [gridmap.name for gridmap in checked] == ["tunnel_to_goal", "by hand"]
