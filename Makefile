@@ -23,7 +23,8 @@ $(EXTRAS): $(READY) requirements-extras.txt
 	touch $@
 
 ## figures: regenerate every paper figure (PNG and PDF) in paper_figures/output from the committed results
-## (every script of paper_figures/, one after the other in one process: glamas.reproduce)
+## (every script of paper_figures/, one after the other in one process: glamas.reproduce). It computes
+## nothing: a missing or damaged committed result stops it with one line naming the script that recomputes it.
 figures: $(READY)
 	$(PY) -m glamas.reproduce --all
 

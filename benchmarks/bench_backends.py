@@ -12,7 +12,7 @@ import time
 
 import numpy as np
 
-from glamas import parallel
+from glamas import errors, parallel
 from glamas.experiments import gridworld
 
 SWEEP = gridworld.GridworldConfig(episodes=4_000, runs=16)
@@ -48,4 +48,4 @@ def main():
 
 
 if __name__ == "__main__":
-    main()
+    errors.run(main)

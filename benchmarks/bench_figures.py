@@ -19,6 +19,7 @@ import time
 from pathlib import Path
 
 from benchmarks import python_lineworld, timing
+from glamas import errors
 from glamas.experiments import and_network, single_gla, state_encoding
 from glamas.paths import REPO
 
@@ -83,4 +84,4 @@ def main():
 
 
 if __name__ == "__main__":
-    main()
+    errors.run(main)

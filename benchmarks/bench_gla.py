@@ -11,7 +11,7 @@ import random
 import time
 
 from benchmarks import python_lineworld, timing
-from glamas import parallel
+from glamas import errors, parallel
 from glamas.experiments.single_gla import SingleGLAConfig, run
 
 SIZES = {"full": (20_000, SingleGLAConfig(runs=8, iterations=100_000)),
@@ -37,4 +37,4 @@ def main():
 
 
 if __name__ == "__main__":
-    main()
+    errors.run(main)

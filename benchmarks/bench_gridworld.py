@@ -19,6 +19,7 @@ import time
 import numpy as np
 
 from benchmarks import c_reference, kernels, python_gridworld, timing
+from glamas import errors
 
 LEARNERS = ("independent", "joint_state", "mmdp", "two_observe")
 SIZES = {"full": (1_000, 20_000, 7), "quick": (100, 2_000, 3)}
@@ -75,4 +76,4 @@ def main():
 
 
 if __name__ == "__main__":
-    main()
+    errors.run(main)

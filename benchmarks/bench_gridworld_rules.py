@@ -12,6 +12,7 @@ import time
 import numpy as np
 
 from benchmarks import kernels, python_gridworld, timing
+from glamas import errors
 from glamas.gridworld import rules, tunnel_to_goal
 
 SIZES = {"full": (2_000_000, 200_000), "quick": (200_000, 20_000)}
@@ -48,4 +49,4 @@ def main():
 
 
 if __name__ == "__main__":
-    main()
+    errors.run(main)

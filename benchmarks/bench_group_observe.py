@@ -10,6 +10,7 @@ after a warm-up call, on one thread and on all threads.
 """
 
 from benchmarks import kernels, timing
+from glamas import errors
 from glamas.experiments.scaling import ScalingConfig
 
 N_AGENTS = 4
@@ -28,4 +29,4 @@ def main():
 
 
 if __name__ == "__main__":
-    main()
+    errors.run(main)

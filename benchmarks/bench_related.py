@@ -11,6 +11,7 @@ after a warm-up call, on one thread and on all threads.
 """
 
 from benchmarks import kernels, timing
+from glamas import errors
 from glamas.learners.settings import LearnerSettings
 
 SIZES = {"full": (2_000, 20_000, 4), "quick": (200, 2_000, 2)}
@@ -31,4 +32,4 @@ def main():
 
 
 if __name__ == "__main__":
-    main()
+    errors.run(main)

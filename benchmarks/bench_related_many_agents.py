@@ -15,6 +15,7 @@ import dataclasses
 
 from benchmarks import kernels, timing
 from benchmarks.bench_related import SOLO_SHARE
+from glamas import errors
 from glamas.experiments.scaling import ScalingConfig
 
 N_AGENTS = 4
@@ -36,4 +37,4 @@ def main():
 
 
 if __name__ == "__main__":
-    main()
+    errors.run(main)

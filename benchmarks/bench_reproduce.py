@@ -19,6 +19,8 @@ import tempfile
 import time
 from pathlib import Path
 
+from glamas import errors
+
 ANNOUNCEMENT = "== paper_figures/"
 AIMS = {False: ("Fig. 5-12", 60), True: ("everything", 180)}
 """What is recomputed, and the aim in seconds of wall time on 2 cores."""
@@ -70,4 +72,4 @@ def _children_cpu() -> float:
 
 
 if __name__ == "__main__":
-    main()
+    errors.run(main)

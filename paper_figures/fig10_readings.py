@@ -1,6 +1,6 @@
 """Fig. 10 readings (beyond the chapter): 2observe under each reading of its lost GLA feedback."""
 
-from glamas import figures
+from glamas import errors, figures
 from glamas.experiments import fig10_readings
 
 
@@ -13,4 +13,4 @@ def main(argv=None):
 
 
 if __name__ == "__main__":
-    main()
+    errors.run(main)

@@ -1,6 +1,6 @@
 """Fig. 12b: coordinations per episode of 2observe (chapter Section 5.3)."""
 
-from glamas import figures
+from glamas import errors, figures
 from glamas.experiments import gridworld
 
 
@@ -10,4 +10,4 @@ def main(argv=None):
 
 
 if __name__ == "__main__":
-    main()
+    errors.run(main)

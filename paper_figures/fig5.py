@@ -1,6 +1,6 @@
 """Fig. 5: experiment 1's regions (a) and the lines a typical run of single GLAs learns (b)."""
 
-from glamas import figures
+from glamas import errors, figures
 from glamas.experiments import single_gla
 
 
@@ -15,4 +15,4 @@ def main(argv=None):
 
 
 if __name__ == "__main__":
-    main()
+    errors.run(main)

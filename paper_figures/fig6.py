@@ -5,7 +5,7 @@ reward of the GLA parameters at log-spaced checkpoints, exact on the evaluation 
 the start of learning that the left panel compresses into its first windows.
 """
 
-from glamas import figures
+from glamas import errors, figures
 from glamas.experiments import single_gla, state_encoding
 
 
@@ -16,4 +16,4 @@ def main(argv=None):
 
 
 if __name__ == "__main__":
-    main()
+    errors.run(main)

@@ -1,6 +1,6 @@
 """Fig. 7 (what the chapter only states): fraction of runs stuck in 'R everywhere' as region II's reward rises."""
 
-from glamas import figures
+from glamas import errors, figures
 from glamas.experiments import and_network
 
 
@@ -10,4 +10,4 @@ def main(argv=None):
 
 
 if __name__ == "__main__":
-    main()
+    errors.run(main)

@@ -1,6 +1,6 @@
 """Fig. 7a: the boundaries two typical runs of AND-network agents learn over the parabola."""
 
-from glamas import figures
+from glamas import errors, figures
 from glamas.experiments import and_network
 
 
@@ -22,4 +22,4 @@ def _title(rank: int, runs: int) -> str:
 
 
 if __name__ == "__main__":
-    main()
+    errors.run(main)

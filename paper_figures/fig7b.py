@@ -1,6 +1,6 @@
 """Fig. 7b: probability of the optimal action L in region I for both AND-network agents."""
 
-from glamas import figures
+from glamas import errors, figures
 from glamas.experiments import and_network
 
 
@@ -10,4 +10,4 @@ def main(argv=None):
 
 
 if __name__ == "__main__":
-    main()
+    errors.run(main)

@@ -1,6 +1,6 @@
 """Fig. 9: the gridworld of Section 5.3 (TunnelToGoal)."""
 
-from glamas import figures
+from glamas import errors, figures
 from glamas.gridworld import draw, tunnel_to_goal
 
 
@@ -10,4 +10,4 @@ def main(argv=None):
 
 
 if __name__ == "__main__":
-    main()
+    errors.run(main)

@@ -1,7 +1,7 @@
 """Fig. 9's gridworld solved: the exact joint optimum by dynamic programming (value iteration)
 next to agents that each take their own shortest path (chapter Section 5.3)."""
 
-from glamas import figures
+from glamas import errors, figures
 from glamas.experiments import gridworld_optimum
 
 
@@ -13,4 +13,4 @@ def main(argv=None):
 
 
 if __name__ == "__main__":
-    main()
+    errors.run(main)

@@ -1,7 +1,7 @@
 """Related work on TunnelToGoal: steps on which the agents observe each other, of 2observe, sparse
 tabular MAQ and CQ-learning (Fig. 12b-style comparison, beyond the chapter)."""
 
-from glamas import figures
+from glamas import errors, figures
 from glamas.experiments import related_work
 
 
@@ -12,4 +12,4 @@ def main(argv=None):
 
 
 if __name__ == "__main__":
-    main()
+    errors.run(main)

@@ -1,6 +1,6 @@
 """Related work on TunnelToGoal: reward per episode (as Fig. 11b), sparse tabular MAQ and CQ-learning added."""
 
-from glamas import figures
+from glamas import errors, figures
 from glamas.experiments import gridworld, related_work
 
 
@@ -10,4 +10,4 @@ def main(argv=None):
 
 
 if __name__ == "__main__":
-    main()
+    errors.run(main)

@@ -2,7 +2,7 @@
 number of agents, 2 to 6."""
 
 from glamas import plotting
-from glamas import figures
+from glamas import errors, figures
 from glamas.experiments import scaling
 
 
@@ -15,4 +15,4 @@ def main(argv=None):
 
 
 if __name__ == "__main__":
-    main()
+    errors.run(main)

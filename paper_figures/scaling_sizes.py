@@ -1,7 +1,7 @@
 """Scaling study: Q-table entries and GLA parameters per run for 2 to 6 agents, measured where the
 tables fit the memory budget (Table 1 measured)."""
 
-from glamas import figures
+from glamas import errors, figures
 from glamas.experiments import scaling
 
 
@@ -12,4 +12,4 @@ def main(argv=None):
 
 
 if __name__ == "__main__":
-    main()
+    errors.run(main)

@@ -26,7 +26,7 @@ import numpy as np
 import pytest
 
 import glamas
-from glamas import cli, figures, memory, parallel, plotting, provenance, results, sources
+from glamas import cli, errors, figures, memory, parallel, plotting, provenance, results, sources
 from glamas.experiments import and_network, gridworld, gridworld_optimum, registry, scaling, single_gla
 from glamas.gridworld import MapError, load_map
 from glamas.paths import MAPS, REPO, RESULTS
@@ -436,7 +436,7 @@ def test_figure_scripts_name_the_setting_likely_responsible(tmp_path):
 
 def test_user_errors_become_one_line_and_exit_status_2(capsys):
     with pytest.raises(SystemExit) as stopped:
-        with cli.user_errors_reported():
+        with errors.reported():
             raise results.ResultFileError("the file\nis bad")
     assert stopped.value.code == 2 and capsys.readouterr().err == "error: the file is bad\n"
 

@@ -15,7 +15,7 @@ import pytest
 from numba import njit
 
 import glamas.experiments
-from glamas import cli, curves, figures, parallel, plotting, provenance, results, rng
+from glamas import cli, curves, errors, figures, parallel, plotting, provenance, results, rng
 from glamas.experiments import registry
 
 EXPERIMENT_PACKAGES = sorted(module.name for module in pkgutil.iter_modules(glamas.experiments.__path__)
@@ -204,13 +204,13 @@ def test_a_figure_that_runs_no_experiment_uses_only_out(tmp_path, capsys):
     assert sorted(p.name for p in tmp_path.iterdir()) == ["f.pdf", "f.png", "file"]
     help_text = " ".join(cli.figure_parser("A map.").format_help().split())
     assert "It runs no experiment: only --out changes what it writes." in help_text
-    assert help_text.count(cli.NO_EXPERIMENT) == 9  # every option but --out (and --help)
+    assert help_text.count(cli.NO_EXPERIMENT) == 10  # every option but --out (and --help)
 
 
 def test_a_drawing_error_saves_no_figure_and_is_one_line(tmp_path, capsys):
     with pytest.raises(SystemExit) as stopped:
         with figures.fixed_figure("f", "A map.", ["--out", str(tmp_path)]):
-            raise ValueError("no such\nmap")
+            raise errors.UserError("no such\nmap")
     assert stopped.value.code == 2 and capsys.readouterr().err == "error: no such map\n"
     assert list(tmp_path.iterdir()) == []
 

@@ -3,13 +3,27 @@
 A file is written to a temporary file beside it and renamed over the target, so a reader (or a
 run killed mid-write) never sees half a file. Writers of one directory hold an exclusive lock on
 the directory itself, so that a check of what a file holds and its replacement happen together.
+A writer waits for such a lock at most LOCK_WAIT_SECONDS, then gives up naming who holds it.
 """
 
 import contextlib
 import fcntl
 import os
 import tempfile
+import time
 from pathlib import Path
+
+from glamas.errors import UserError
+
+LOCK_WAIT_SECONDS = 60.0
+"""How long to wait for another process to release a lock: a lock is held for the seconds it
+takes to check and write a file, so one held longer belongs to a process that is stuck or stopped
+(suspended by Ctrl-Z, say), and waiting on would wait for ever."""
+_LOCK_POLL_SECONDS = 0.05
+
+
+class LockTimeoutError(UserError):
+    """A lock another process has held for longer than LOCK_WAIT_SECONDS."""
 
 
 @contextlib.contextmanager
@@ -20,10 +34,43 @@ def locked(directory):
     directory.mkdir(parents=True, exist_ok=True)
     fd = os.open(directory, os.O_RDONLY)
     try:
-        fcntl.flock(fd, fcntl.LOCK_EX)
+        wait_for_lock(fd, f"the directory {directory}")
         yield directory
     finally:
         os.close(fd)
+
+
+def wait_for_lock(fd: int, what: str) -> None:
+    """Take an exclusive lock on the open file ``fd`` (released when it is closed), waiting at
+    most LOCK_WAIT_SECONDS for another holder to release it; :class:`LockTimeoutError` naming
+    ``what`` and the holder (:func:`lock_holder`) after that."""
+    deadline = time.monotonic() + LOCK_WAIT_SECONDS
+    while True:
+        try:
+            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+            return
+        except BlockingIOError:
+            if time.monotonic() > deadline:
+                raise LockTimeoutError(f"{what} has been locked by {lock_holder(fd)} for more than "
+                                       f"{LOCK_WAIT_SECONDS:g} s; let it finish, or stop it and run again") from None
+            time.sleep(_LOCK_POLL_SECONDS)
+
+
+def lock_holder(fd: int) -> str:
+    """Who holds the lock on the open file ``fd``: 'process PID (its command)', read from
+    /proc/locks, or 'another process' where that cannot be known (no /proc; a file system that
+    names the file differently there)."""
+    status = os.fstat(fd)
+    file = f"{os.major(status.st_dev):02x}:{os.minor(status.st_dev):02x}:{status.st_ino}"
+    try:
+        with open("/proc/locks") as locks:
+            # '1: FLOCK  ADVISORY  WRITE PID MAJOR:MINOR:INODE 0 EOF'; a waiter's line has '->' after the number
+            holders = [fields[4] for fields in map(str.split, locks) if len(fields) > 5 and fields[5] == file]
+        with open(f"/proc/{holders[0]}/cmdline", "rb") as cmdline:
+            command = cmdline.read().replace(b"\0", b" ").decode(errors="replace").strip()
+    except (OSError, IndexError):
+        return "another process"
+    return f"process {holders[0]} ({command})"
 
 
 def write(path, write_to) -> Path:
@@ -51,17 +98,17 @@ def remove_leftovers(path) -> None:
 
 
 def check_writable_directory(directory, option: str) -> None:
-    """Raise ValueError unless ``directory`` is (or can be created as) a directory this process
+    """Raise UserError unless ``directory`` is (or can be created as) a directory this process
     can write to; ``option`` names it in the message (e.g. '--out')."""
     directory = Path(directory)
     if directory.exists() and not directory.is_dir():
-        raise ValueError(f"{option} {directory} exists and is not a directory; give a directory path")
+        raise UserError(f"{option} {directory} exists and is not a directory; give a directory path")
     try:
         directory.mkdir(parents=True, exist_ok=True)
         with tempfile.TemporaryFile(dir=directory):
             pass
     except OSError as error:
-        raise ValueError(f"{option} {directory} is not a writable directory ({error.strerror}); "
+        raise UserError(f"{option} {directory} is not a writable directory ({error.strerror}); "
                          "give a directory you can write to") from None
 
 

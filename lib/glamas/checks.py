@@ -8,6 +8,8 @@ import typing
 
 import numpy as np
 
+from glamas.errors import UserError
+
 MAX_COUNT = 2 ** 31 - 1
 """Largest whole-number setting: counts stay far from the kernels' 64-bit integer range (the
 kernels multiply counts such as iterations by points)."""
@@ -19,13 +21,13 @@ def whole_numbers(config, minimums: dict) -> None:
     for name, minimum in minimums.items():
         value = getattr(config, name)
         if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < minimum:
-            raise ValueError(f"{name} must be a whole number >= {minimum}, got {value!r}")
+            raise UserError(f"{name} must be a whole number >= {minimum}, got {value!r}")
         if value > MAX_COUNT:
-            raise ValueError(f"{name} must be at most {MAX_COUNT}, got {value!r}")
+            raise UserError(f"{name} must be at most {MAX_COUNT}, got {value!r}")
 
 
 def field_types(config) -> None:
-    """Raise ValueError naming the field unless every field of a config dataclass has its
+    """Raise UserError naming the field unless every field of a config dataclass has its
     annotated type: int and float a real number (float: finite; whether an int field is whole and
     in range is the config's own check), str a string, a dataclass an instance of it (``X | None``
     also None).
@@ -37,7 +39,7 @@ def field_types(config) -> None:
         value = getattr(config, field.name)
         problem = _type_problem(hints.get(field.name), value)
         if problem:
-            raise ValueError(f"{type(config).__name__}.{field.name} must be {problem}, got {value!r}")
+            raise UserError(f"{type(config).__name__}.{field.name} must be {problem}, got {value!r}")
 
 
 def _type_problem(hint, value) -> str | None:

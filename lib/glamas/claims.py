@@ -12,6 +12,7 @@ import math
 import operator
 from dataclasses import dataclass, fields
 
+from glamas.errors import UserError
 from glamas.paths import DATA
 
 _OPS = {">": operator.gt, ">=": operator.ge, "<": operator.lt, "<=": operator.le}
@@ -63,22 +64,22 @@ def load(experiment: str) -> list[Claim]:
 
 
 def _claim(entry: dict, experiment: str) -> Claim:
-    """A validated claim from its JSON entry; a ValueError names the claim and the fault."""
+    """A validated claim from its JSON entry; a UserError names the claim and the fault."""
     name = entry.get("id", "<no id>")
     missing = [key for key in _REQUIRED if key not in entry]
     if missing:
-        raise ValueError(f"claim {name!r} of {experiment} lacks {missing}")
+        raise UserError(f"claim {name!r} of {experiment} lacks {missing}")
     unknown = sorted(set(entry) - {f.name for f in fields(Claim)})
     if unknown:
-        raise ValueError(f"claim {name!r} of {experiment} has unknown keys {unknown}")
+        raise UserError(f"claim {name!r} of {experiment} has unknown keys {unknown}")
     claim = Claim(**entry)
     if claim.op not in _OPS:
-        raise ValueError(f"claim {name!r} of {experiment}: op must be one of {sorted(_OPS)}, got {claim.op!r}")
+        raise UserError(f"claim {name!r} of {experiment}: op must be one of {sorted(_OPS)}, got {claim.op!r}")
     if claim.kind not in KINDS:
-        raise ValueError(f"claim {name!r} of {experiment}: kind must be one of {list(KINDS)}, got {claim.kind!r}")
+        raise UserError(f"claim {name!r} of {experiment}: kind must be one of {list(KINDS)}, got {claim.kind!r}")
     for key in ("where", "chapter", "why"):
         if not isinstance(getattr(claim, key), str) or not getattr(claim, key).strip():
-            raise ValueError(f"claim {name!r} of {experiment}: {key} must be a non-empty text")
+            raise UserError(f"claim {name!r} of {experiment}: {key} must be a non-empty text")
     return claim
 
 

@@ -4,7 +4,7 @@ Output policy: a run at the paper-scale defaults (the --runs, --iterations and -
 was made with) writes to ``paper_figures/output`` and ``data/results``; any other run writes to
 ``out/figures`` and ``out/results`` (git-ignored) unless --out or --results say where, so a
 reduced run never replaces the committed outputs. Every user error stops the script before it
-computes with one line ``error: ...`` on stderr and exit status 2 (:func:`user_errors_reported`).
+computes with one line ``error: ...`` on stderr and exit status 2 (:mod:`glamas.errors`).
 """
 
 import argparse
@@ -14,10 +14,10 @@ from pathlib import Path
 
 from glamas import atomic, memory, parallel, results
 from glamas.checks import MAX_COUNT, suspect_settings
-from glamas.gridworld.maps import MapError
-from glamas.paths import REPO, RESULTS
+from glamas.errors import UserError
+from glamas.paths import FIGURES, REPO, RESULTS
 
-DEFAULT_OUT = REPO / "paper_figures" / "output"
+DEFAULT_OUT = FIGURES
 SCRATCH_OUT = REPO / "out" / "figures"
 """Where the figures of a run that is not at the paper-scale defaults go by default."""
 SCRATCH_RESULTS = REPO / "out" / "results"
@@ -27,45 +27,8 @@ PAPER_SCALE_OPTIONS = ("runs", "iterations", "seed")
 MAX_SEED = 2 ** 63 - 1
 WORKERS_PER_CORE = 4
 """More local workers than this per core only add start-up time and memory."""
-EXIT_USAGE = 2
-"""Exit status of a user error (as argparse's)."""
-USER_ERRORS = (ValueError, results.ResultFileError, MapError, MemoryError, parallel.BackendError,
-               parallel.NonFiniteError, OSError)
-"""What the library raises for bad input or a fault outside the program (:func:`user_errors_reported`)."""
 NO_EXPERIMENT = "not used: this figure runs no experiment"
 """The help of every option but --out in the parser of a figure that runs no experiment."""
-
-
-class CommandLineError(SystemExit):
-    """A user error, already reported on stderr: exit status 2; ``str()`` is the message."""
-
-    def __init__(self, message: str):
-        super().__init__(EXIT_USAGE)
-        self.message = message
-
-    def __str__(self) -> str:
-        return self.message
-
-
-@contextlib.contextmanager
-def user_errors_reported():
-    """A user error inside becomes one line ``error: ...`` on stderr and exit status 2
-    (:class:`CommandLineError`), instead of a traceback."""
-    try:
-        yield
-    except USER_ERRORS as error:
-        message = one_line(error)
-        print(f"error: {message}", file=sys.stderr)
-        raise CommandLineError(message) from None
-
-
-def one_line(error: BaseException) -> str:
-    """The message of ``error`` on one line (an OSError with the file it concerns)."""
-    if isinstance(error, OSError) and error.strerror:
-        text = f"{error.strerror}: {error.filename}" if error.filename else error.strerror
-    else:
-        text = str(error) or type(error).__name__
-    return " ".join(text.split())
 
 
 def _whole_number(text: str) -> int:
@@ -94,8 +57,8 @@ _seed = _whole_number_in(0, MAX_SEED, "must be 0 or more")
 
 def figure_parser(description: str, *, runs: int | None = None, iterations: int | None = None, seed: int = 0):
     """An argument parser with --runs, --iterations, --seed, --workers, --backend, --scheduler,
-    --out, --results, --force and --rerun, at the paper-scale defaults ``runs``, ``iterations``
-    and ``seed``.
+    --out, --results, --force, --rerun and --no-compute, at the paper-scale defaults ``runs``,
+    ``iterations`` and ``seed``.
 
     ``runs`` None: a figure that runs no experiment (a map, a table of settings). It takes the same
     options, so that every figure script takes one command line (``make reproduce``, ``make
@@ -128,7 +91,10 @@ def figure_parser(description: str, *, runs: int | None = None, iterations: int 
                 f"--runs/--iterations/--seed, else {SCRATCH_RESULTS.relative_to(REPO)})")
     option("--force", action="store_true", help="replace a result file that another configuration made")
     option("--rerun", action="store_true",
-           help="run the experiment even if --results holds a result of this configuration")
+           help="run the experiment even if --results holds a result of this configuration (or an unreadable file)")
+    option("--no-compute", action="store_true",
+           help="never run the experiment: draw from the result file in --results, and fail naming the script "
+                "that computes it when it is missing (make figures)")
     return parser
 
 
@@ -146,11 +112,13 @@ def parse(parser: argparse.ArgumentParser, argv=None) -> argparse.Namespace:
         _check_directories(parser, args, ("out",))
         return args
     _check_workers(parser, args.workers)
+    if args.no_compute and (args.rerun or args.force):
+        parser.error("--no-compute never runs the experiment: drop --rerun and --force, or --no-compute")
     try:
         args.workers = parallel.backend(args.backend, args.workers, args.scheduler)
         if isinstance(args.workers, parallel.Dask):
             parallel.connect(args.workers).close()  # an unreachable scheduler fails here, not mid-way
-    except (ValueError, parallel.BackendError) as error:
+    except UserError as error:
         parser.error(str(error))
     _choose_directories(parser, args)
     _check_directories(parser, args, ("out", "results"))
@@ -161,7 +129,7 @@ def _check_directories(parser, args, options) -> None:
     for option in options:
         try:
             atomic.check_writable_directory(getattr(args, option), f"--{option}")
-        except ValueError as error:
+        except UserError as error:
             parser.error(str(error))
 
 
@@ -188,9 +156,10 @@ def _choose_directories(parser, args) -> None:
 
 def check_before_run(args: argparse.Namespace, name: str, config, copies: int = 1) -> None:
     """What a run of ``copies`` times ``config`` needs, checked before it computes: its result
-    file ``name`` can take the result (unless --force), and its arrays fit in memory."""
+    file ``name`` can take the result (unless --force; --rerun replaces an unreadable one), and its
+    arrays fit in memory."""
     if not args.force:
-        results.check_writable(args.results / f"{name}.npz", config, seed=args.seed)
+        results.check_writable(args.results / f"{name}.npz", config, seed=args.seed, replace_unreadable=args.rerun)
     memory.check(config, copies)
 
 

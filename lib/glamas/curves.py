@@ -3,7 +3,11 @@ episodes on the second): the mean over the runs with its bootstrap band, the fin
 over the last FINAL_FRACTION of the episodes (or iterations), per run or over the runs, and the
 episode from which a curve has converged."""
 
+import math
+
 import numpy as np
+
+from glamas.errors import UserError
 
 FINAL_FRACTION = 0.1
 """The "final" value of a curve is its mean over the last 10 % of the episodes (or iterations)."""
@@ -26,6 +30,12 @@ DEFINITIONS = ("per_run", "run_mean", "shared_level")
 * ``shared_level``: the episode after which the mean curve stays at or below one level for both
   learners, the worse learner's final value plus the tolerance (curves where lower is better).
 """
+
+
+def ratio(numerator: float, denominator: float) -> float:
+    """``numerator / denominator`` of two final values; NaN (undecidable) when the denominator is
+    0, as a final reward can be exactly in a run of a few episodes."""
+    return numerator / denominator if denominator else math.nan
 
 
 def _final_weights(episodes: np.ndarray) -> np.ndarray:
@@ -106,7 +116,7 @@ def convergence_ratio(curves: np.ndarray, baseline: np.ndarray, episodes: np.nda
     replacement on their own (the learners' runs have streams of their own, so no run of one is
     the pair of a run of the other). A baseline converged at episode 0 counts as 1."""
     if definition not in DEFINITIONS:
-        raise ValueError(f"definition must be one of {DEFINITIONS}, got {definition!r}")
+        raise UserError(f"definition must be one of {DEFINITIONS}, got {definition!r}")
     draws = np.random.default_rng(seed)
     picks_a = draws.integers(0, curves.shape[0], (BOOTSTRAP_DRAWS, curves.shape[0]))
     picks_b = draws.integers(0, baseline.shape[0], (BOOTSTRAP_DRAWS, baseline.shape[0]))

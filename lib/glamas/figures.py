@@ -20,7 +20,7 @@ import contextlib
 import matplotlib
 import matplotlib.pyplot as plt
 
-from glamas import cli, plotting, results
+from glamas import cli, errors, plotting, results
 from glamas.experiments.registry import Experiment
 
 
@@ -31,7 +31,7 @@ def figure(experiment: Experiment, name: str, description: str, argv=None, size:
     is the script's docstring), loads or runs the experiment (:func:`load_or_run`), yields
     ``(axes, result, config)`` to draw on (the axes of :func:`glamas.plotting.new_figure` for
     ``size`` in inches, ``nrows`` by ``ncols``), then saves the figure to --out."""
-    with cli.user_errors_reported():
+    with errors.reported():
         args, config = parse(description, experiment, argv, min_runs)
         result = load_or_run(args, experiment, config)
         with _saved(name, args.out, size, nrows, ncols) as axes:
@@ -54,19 +54,24 @@ def load_or_run(args, experiment: Experiment, config):
     (unless --rerun or --force), otherwise run (:func:`glamas.cli.run_experiment`) and saved there.
 
     Figures drawn from one experiment share its result file instead of running it again. A file
-    of this configuration made with another map or library version is refused as stale (--rerun);
-    one of another configuration is refused before the run (unless --force replaces it).
+    of this configuration made with another map or library version is refused as stale (--rerun),
+    an unreadable one as unreadable (--rerun or --force replaces it); one of another configuration
+    is refused before the run (unless --force replaces it). With --no-compute (``make figures``)
+    nothing runs: a missing file is refused too, its message naming the script that computes it.
     """
     path = experiment.file(args.results)
+    if args.no_compute:
+        return experiment.load(args.results, config, args.seed)
     if path.exists() and not (args.rerun or args.force):
         try:
             return experiment.load(args.results, config, args.seed)
-        except results.StaleResultError:
+        except (results.StaleResultError, results.UnreadableResultError):
             raise
         except results.ResultFileError:
-            pass  # another configuration's or unreadable: run_experiment refuses it before running
+            pass  # another configuration's: run_experiment refuses it before running
     result = cli.run_experiment(args, experiment.name, config, experiment.run, experiment.copies)
-    results.save(path, config, experiment.arrays(result), seed=args.seed, overwrite=args.force)
+    results.save(path, config, experiment.arrays(result), seed=args.seed, overwrite=args.force,
+                 replace_unreadable=args.rerun)
     return result
 
 
@@ -75,7 +80,7 @@ def fixed_figure(name: str, description: str, argv=None, size: tuple = (6.0, 4.0
                  ncols: int = 1):
     """Figure ``name`` of no experiment (it depends on no run, no seed): yields the axes to draw
     on, then saves it to --out, the only one of the shared options it uses."""
-    with cli.user_errors_reported():
+    with errors.reported():
         args = cli.parse(cli.figure_parser(_summary(description)), argv)
         with _saved(name, args.out, size, nrows, ncols) as axes:
             yield axes

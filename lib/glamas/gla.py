@@ -16,6 +16,7 @@ import numpy as np
 from numba import njit
 
 from glamas import rng
+from glamas.errors import UserError
 
 BOUND_CLIP = 0
 BOUND_PRINTED = 1
@@ -42,9 +43,9 @@ class GLAParams:
         for name in ("learning_rate", "temperature", "K", "L"):
             value = getattr(self, name)
             if not isinstance(value, (int, float)) or not np.isfinite(value) or value <= 0:
-                raise ValueError(f"GLA {name} must be a finite number > 0, got {value!r}")
+                raise UserError(f"GLA {name} must be a finite number > 0, got {value!r}")
         if self.bounding not in BOUNDING_MODES:
-            raise ValueError(
+            raise UserError(
                 f"GLA bounding must be one of {sorted(BOUNDING_MODES)}, got {self.bounding!r}"
             )
 
@@ -142,20 +143,20 @@ class GLA:
         if not isinstance(params, GLAParams):
             raise TypeError(f"params must be a GLAParams, got {type(params).__name__}")
         if not isinstance(n_actions, (int, np.integer)) or n_actions < 2:
-            raise ValueError(f"a GLA needs n_actions >= 2, got {n_actions!r}")
+            raise UserError(f"a GLA needs n_actions >= 2, got {n_actions!r}")
         if not isinstance(n_inputs, (int, np.integer)) or n_inputs < 1:
-            raise ValueError(f"a GLA needs n_inputs >= 1, got {n_inputs!r}")
+            raise UserError(f"a GLA needs n_inputs >= 1, got {n_inputs!r}")
         shape = (int(n_actions), int(n_inputs))
         self.u = np.zeros(shape) if u is None else np.array(u, dtype=np.float64)
         if self.u.shape != shape:
-            raise ValueError(f"u must have shape {shape} (actions x inputs), got {self.u.shape}")
+            raise UserError(f"u must have shape {shape} (actions x inputs), got {self.u.shape}")
         self.params = params
         self._probs = np.empty(shape[0])
 
     def _context(self, x) -> np.ndarray:
         x = np.asarray(x, dtype=np.float64)
         if x.shape != (self.u.shape[1],):
-            raise ValueError(f"context must have shape ({self.u.shape[1]},), got {x.shape}")
+            raise UserError(f"context must have shape ({self.u.shape[1]},), got {x.shape}")
         return x
 
     def probabilities(self, x) -> np.ndarray:
@@ -172,7 +173,7 @@ class GLA:
     def update(self, x, action: int, beta: float) -> None:
         """Eq. 13 for the action taken in context x and its feedback beta."""
         if not 0 <= action < self.u.shape[0]:
-            raise ValueError(f"action must be in [0, {self.u.shape[0]}), got {action!r}")
+            raise UserError(f"action must be in [0, {self.u.shape[0]}), got {action!r}")
         p, x = self.params, self._context(x)
         boltzmann(self.u, x, p.temperature, p.L, p.bounding_code, self._probs)
         update(self.u, x, action, float(beta), p.learning_rate, p.temperature, p.K, p.L,
@@ -201,15 +202,15 @@ class GLANetwork:
     def __post_init__(self):
         n_units = len(self.unit_actions)
         if self.n_context < 1 or n_units < 1 or min(self.unit_actions) < 2:
-            raise ValueError("a GLA network needs n_context >= 1 and units with >= 2 actions each")
+            raise UserError("a GLA network needs n_context >= 1 and units with >= 2 actions each")
         wiring = np.zeros((n_units, n_units), dtype=bool) if not self.wiring else np.array(self.wiring, dtype=bool)
         if wiring.shape != (n_units, n_units) or np.triu(wiring).any():
-            raise ValueError(
+            raise UserError(
                 f"wiring must be {n_units}x{n_units} and strictly lower-triangular "
                 "(a unit may only read earlier units: the feed-forward condition)"
             )
         if len(self.output_table) != int(np.prod(self.unit_actions)):
-            raise ValueError(
+            raise UserError(
                 f"output_table needs one entry per joint unit action: {int(np.prod(self.unit_actions))}, "
                 f"got {len(self.output_table)}"
             )

@@ -8,10 +8,10 @@ gives its rows from the result file the figure scripts wrote (its configuration 
 
 import argparse
 import math
-import sys
 from pathlib import Path
 
-from glamas import claims
+from glamas import claims, errors
+from glamas.errors import UserError
 from glamas.experiments import registry
 from glamas.experiments.registry import Experiment
 from glamas.paths import REPO, RESULTS
@@ -28,11 +28,10 @@ LEDGER_LINK = LEDGER.relative_to(README.parent).as_posix()
 VERDICTS = (claims.REPRODUCED, claims.NOT_REPRODUCED, claims.UNDECIDABLE)
 
 
-def claim_rows(experiment: Experiment, results_dir: Path = RESULTS) -> list[dict]:
-    """The claim rows of ``experiment`` from its paper-scale result and SEED in ``results_dir``, its
-    configuration checked (computed instead, for an experiment whose result is not stored)."""
-    config = experiment.paper_scale()
-    return experiment.claim_rows(experiment.load(results_dir, config, SEED), config)
+def paper_result(experiment: Experiment, results_dir: Path = RESULTS):
+    """The paper-scale result of ``experiment`` and SEED in ``results_dir``, its configuration
+    checked (computed instead, for an experiment whose result is not stored)."""
+    return experiment.load(results_dir, experiment.paper_scale(), SEED)
 
 
 def with_claims() -> dict:
@@ -51,9 +50,12 @@ def markdown(*experiments: str, results_dir: Path = RESULTS) -> str:
     unknown = [name for name in names if name not in known]
     if unknown:
         raise KeyError(f"no experiment with claims named {unknown}; known: {list(known)}")
+    # Every result read before any claim is judged: a missing, stale or damaged file stops the
+    # ledger at once, not after the judging of the experiments before it.
+    read = [(name, paper_result(known[name], results_dir)) for name in names]
     lines = [_HEADER]
-    for name in names:
-        lines.extend(_row(name, row) for row in claim_rows(known[name], results_dir))
+    for name, result in read:
+        lines.extend(_row(name, row) for row in known[name].claim_rows(result, known[name].paper_scale()))
     return "\n".join(lines)
 
 
@@ -91,23 +93,30 @@ def verdict_count(ledger: str) -> str:
 
 def readme_with(count: str, text: str) -> str:
     """``text`` (README.md) with the part between the verdict markers replaced by ``count``."""
-    if text.count(START) != 1 or text.count(END) != 1 or text.index(START) > text.index(END):
-        raise ValueError(f"README.md must hold one {START} ... {END} pair")
+    check_markers(text)
     head, rest = text.split(START)
     return f"{head}{START}\n{count}\n{END}{rest.split(END, 1)[1]}"
 
 
+def check_markers(text: str) -> None:
+    """Raise UserError unless ``text`` (README.md) holds the verdict markers once each, in order."""
+    if text.count(START) != 1 or text.count(END) != 1 or text.index(START) > text.index(END):
+        raise UserError(f"README.md must hold one {START} ... {END} pair, in this order, around the count "
+                        "of verdicts; put the two lines back (git diff README.md shows what changed)")
+
+
 def main(argv=None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser = argparse.ArgumentParser(prog="python -m glamas.ledger", description=__doc__.splitlines()[0])
     mode = parser.add_mutually_exclusive_group()
     mode.add_argument("--write", action="store_true", help="write docs/ledger.md and README.md's count of verdicts")
     mode.add_argument("--check", action="store_true", help="exit 1 if docs/ledger.md or README.md's count is stale")
     args = parser.parse_args(argv)
-    ledger = markdown()
     if not (args.write or args.check):
-        print(ledger)
+        print(markdown())
         return 0
     text = README.read_text()
+    check_markers(text)  # before the seconds of reading every result and judging every claim
+    ledger = markdown()
     wanted = {LEDGER: page(ledger), README: readme_with(verdict_count(ledger), text)}
     if args.check:
         stale = [path for path, content in wanted.items() if not path.is_file() or path.read_text() != content]
@@ -123,4 +132,4 @@ def main(argv=None) -> int:
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    errors.run(main)

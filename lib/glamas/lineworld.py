@@ -10,6 +10,7 @@ import numpy as np
 from numba import njit
 
 from glamas import rng
+from glamas.errors import UserError
 
 LEFT = 0
 RIGHT = 1
@@ -115,14 +116,14 @@ def context(encoding, agent, x1, x2, out):
 def region3_code(name: str) -> int:
     """The compiled code of a reading of region 3's reward, with a clear error for unknown names."""
     if name not in REGION3_REWARDS:
-        raise ValueError(f"region3_reward must be one of {sorted(REGION3_REWARDS)}, got {name!r}")
+        raise UserError(f"region3_reward must be one of {sorted(REGION3_REWARDS)}, got {name!r}")
     return REGION3_REWARDS[name]
 
 
 def encoding_code(name: str) -> int:
     """The compiled code of a context encoding name, with a clear error for unknown names."""
     if name not in ENCODINGS:
-        raise ValueError(f"context must be one of {sorted(ENCODINGS)}, got {name!r}")
+        raise UserError(f"context must be one of {sorted(ENCODINGS)}, got {name!r}")
     return ENCODINGS[name]
 
 

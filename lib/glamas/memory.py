@@ -8,12 +8,14 @@ on an allocation (or filling the memory) later.
 
 import os
 
+from glamas.errors import UserError
+
 BYTES_PER_VALUE = 8  # float64 and int64 arrays
 WORKING_COPIES = 2
 """The runner fills a copy of each job's slice of the outputs before writing it back."""
 
 
-class MemoryEstimateError(MemoryError):
+class MemoryEstimateError(UserError, MemoryError):
     """A run whose arrays would not fit in the memory available."""
 
 

@@ -1,4 +1,5 @@
-"""Where the repository keeps its data (chapter parameters, claims, maps, reference results)."""
+"""Where the repository keeps its data (chapter parameters, claims, maps, reference results) and
+its figures."""
 
 from pathlib import Path
 
@@ -6,3 +7,7 @@ REPO = Path(__file__).resolve().parents[2]
 DATA = REPO / "data"
 RESULTS = DATA / "results"
 MAPS = DATA / "maps"
+SCRIPTS = REPO / "paper_figures"
+"""The figure scripts, one per figure."""
+FIGURES = SCRIPTS / "output"
+"""The committed figures the scripts draw at their paper-scale defaults."""

@@ -1,14 +1,16 @@
 """Run figure scripts of ``paper_figures/`` one after the other in one process: what ``make
 figures``, ``make reproduce`` and ``make verify`` do.
 
-``python -m glamas.reproduce [--all] [--out DIR] [--results DIR] [--fresh DIR]`` calls the ``main`` of each
-figure script of the chapter's experiments (with ``--all``: of every experiment, the studies beyond
-the chapter included; :func:`glamas.experiments.registry.figure_scripts`), in order, handing each the given --out and --results. With a --results directory that
-holds no result, the first script of each experiment recomputes it and the scripts drawing other
-figures of that experiment read what it just saved; without --results every script draws from the
-committed results. ``--fresh DIR`` recomputes into ``DIR/figures`` and ``DIR/results``, emptied
-first (:func:`fresh_directories`): what ``make reproduce`` and ``make verify`` run, so that the
-Makefile deletes nothing itself.
+``python -m glamas.reproduce [--all] [--out DIR] [--results DIR] [--fresh DIR]`` calls the ``main``
+of each figure script of the chapter's experiments (with ``--all``: of every experiment, the
+studies beyond the chapter included; :func:`glamas.experiments.registry.figure_scripts`), in order,
+handing each the given --out and --results. With a --results directory that holds no result, the
+first script of each experiment recomputes it and the scripts drawing other figures of that
+experiment read what it just saved; without --results every script draws from the committed
+results and computes nothing (``--no-compute``): a committed result that is missing, stale or
+damaged stops it with one line naming the script that recomputes it. ``--fresh DIR`` recomputes
+into ``DIR/figures`` and ``DIR/results``, emptied first (:func:`fresh_directories`): what ``make
+reproduce`` and ``make verify`` run, so that the Makefile deletes nothing itself.
 
 One process instead of one per script: Python, numba and matplotlib are imported once, the
 worker processes of the runs (:mod:`glamas.parallel`) start once and keep the kernels they loaded
@@ -22,14 +24,12 @@ with one line before any script runs.
 import argparse
 import fnmatch
 import importlib.util
-import sys
 from pathlib import Path
 
-from glamas import atomic, cli, parallel
+from glamas import atomic, errors, parallel
+from glamas.errors import UserError
 from glamas.experiments import registry
-from glamas.paths import DATA, REPO
-
-SCRIPTS = REPO / "paper_figures"
+from glamas.paths import DATA, SCRIPTS
 
 
 REUSED_BYTES = 128 * 2 ** 20
@@ -67,10 +67,10 @@ def fresh_layout() -> dict:
 
 def fresh_directories(text: str) -> tuple:
     """``--fresh DIR`` checked, then emptied of what glamas wrote there: ``(DIR/figures,
-    DIR/results)``. Every check comes before the first deletion, so that a refusal (ValueError)
+    DIR/results)``. Every check comes before the first deletion, so that a refusal (UserError)
     deletes nothing; a file glamas did not write is never deleted, but refused."""
     if not text.strip():
-        raise ValueError("--fresh is empty (make's OUT or VERIFY set to nothing?); nothing was deleted: "
+        raise UserError("--fresh is empty (make's OUT or VERIFY set to nothing?); nothing was deleted: "
                          "give the directory to recompute into, e.g. out/reproduce")
     directory = Path(text)
     layout = fresh_layout()
@@ -83,7 +83,7 @@ def fresh_directories(text: str) -> tuple:
 
 
 def _refuse_committed(place: Path, text: str) -> None:
-    """Raise ValueError if ``place`` (its symbolic links followed) is, lies inside or holds a
+    """Raise UserError if ``place`` (its symbolic links followed) is, lies inside or holds a
     directory of :data:`COMMITTED`; ``text`` is the --fresh given."""
     resolved = place.resolve()
     for committed in (path.resolve() for path in COMMITTED):
@@ -91,7 +91,7 @@ def _refuse_committed(place: Path, text: str) -> None:
                     else "holds" if resolved in committed.parents else None)
         if relation:
             subject = text if place == Path(text) else f"{text}: {place}"
-            raise ValueError(f"--fresh {subject} {relation} the repository's {committed.name}/ (committed files); "
+            raise UserError(f"--fresh {subject} {relation} the repository's {committed.name}/ (committed files); "
                              "nothing was deleted: give a directory outside data/ and paper_figures/, "
                              "e.g. out/reproduce")
 
@@ -99,11 +99,11 @@ def _refuse_committed(place: Path, text: str) -> None:
 def _written_by_glamas(directory: Path, layout: dict, text: str) -> list:
     """The files of ``directory``'s subdirectories in ``layout``, each a file glamas writes there or
     a temporary file of one (:func:`glamas.atomic.write`; :func:`glamas.atomic.locked` locks the
-    directory itself, so there is no lock file); ValueError naming the first other entry."""
+    directory itself, so there is no lock file); UserError naming the first other entry."""
     if not directory.exists():
         return []
     if not directory.is_dir():
-        raise ValueError(f"--fresh {text} exists and is not a directory; nothing was deleted: "
+        raise UserError(f"--fresh {text} exists and is not a directory; nothing was deleted: "
                          "give a directory path")
     found = []
     for entry in sorted(directory.iterdir()):
@@ -118,9 +118,9 @@ def _written_by_glamas(directory: Path, layout: dict, text: str) -> list:
     return found
 
 
-def _foreign(path: Path, text: str) -> ValueError:
+def _foreign(path: Path, text: str) -> UserError:
     """The refusal of --fresh ``text`` for holding ``path``, which glamas did not write."""
-    return ValueError(f"--fresh {text} holds {path}, which glamas did not write; nothing was deleted: "
+    return UserError(f"--fresh {text} holds {path}, which glamas did not write; nothing was deleted: "
                       "move it away or give another directory")
 
 
@@ -140,7 +140,7 @@ def main(argv=None) -> int:
     args = parser.parse_args(argv)
     if args.fresh is not None and (args.out or args.results):
         parser.error("--fresh DIR chooses --out and --results: give either --fresh or --out/--results")
-    with cli.user_errors_reported():  # checked once here, before any script runs
+    with errors.reported():  # checked once here, before any script runs
         if args.fresh is not None:
             args.out, args.results = fresh_directories(args.fresh)
         for flag, directory in (("--out", args.out), ("--results", args.results)):
@@ -148,10 +148,12 @@ def main(argv=None) -> int:
                 atomic.check_writable_directory(directory, flag)
     options = [item for flag, value in (("--out", args.out), ("--results", args.results)) if value is not None
                for item in (flag, str(value))]
+    if args.results is None:
+        options.append("--no-compute")  # drawing from the committed results: never recompute one at paper scale
     parallel.reuse_batches(REUSED_BYTES)
     run(registry.figure_scripts(chapter_only=not args.all), options)  # a script's user error exits with status 2
     return 0
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    errors.run(main)

@@ -16,7 +16,8 @@ from pathlib import Path
 
 import numpy as np
 
-from glamas import atomic, provenance
+from glamas import atomic, committed, provenance
+from glamas.errors import UserError
 
 FORMAT = 1
 _CONFIG_KEY = "__config__"
@@ -26,12 +27,16 @@ _RESERVED = (_CONFIG_KEY, _PROVENANCE_KEY)
 _UNREADABLE = (OSError, ValueError, KeyError, EOFError, zipfile.BadZipFile, zlib.error, NotImplementedError)
 
 
-class ResultFileError(Exception):
+class ResultFileError(UserError):
     """A result file is missing, unreadable, or was made by another configuration."""
 
 
 class StaleResultError(ResultFileError):
     """A result file of the same configuration, made with other map files or library sources."""
+
+
+class UnreadableResultError(ResultFileError):
+    """A file that is not a readable glamas result file: damaged, truncated or foreign."""
 
 
 def config_json(config, seed: int | None = None) -> str:
@@ -41,27 +46,30 @@ def config_json(config, seed: int | None = None) -> str:
     return json.dumps(body, sort_keys=True)
 
 
-def save(path, config, arrays: dict, *, seed: int | None = None, overwrite: bool = False) -> Path:
+def save(path, config, arrays: dict, *, seed: int | None = None, overwrite: bool = False,
+         replace_unreadable: bool = False) -> Path:
     """Write ``arrays`` with ``config`` (and the master ``seed``) to ``path`` atomically.
 
-    An existing file made by a different configuration is kept and an error raised, unless
-    ``overwrite`` is set; the check is made under the directory's lock, just before the write.
+    An existing file made by a different configuration, or unreadable, is kept and an error
+    raised, unless ``overwrite`` is set (or, for an unreadable file, ``replace_unreadable``); the
+    check is made under the directory's lock, just before the write.
     """
     path = Path(path)
     reserved = sorted(set(_RESERVED) & set(arrays))
     if reserved:
-        raise ValueError(f"{reserved} are reserved for the configuration and its provenance")
+        raise UserError(f"{reserved} are reserved for the configuration and its provenance")
     header = {_CONFIG_KEY: np.array(config_json(config, seed)),
               _PROVENANCE_KEY: np.array(json.dumps(provenance.record(config), sort_keys=True))}
     with atomic.locked(path.parent):
         if not overwrite:
-            check_writable(path, config, seed=seed)
+            check_writable(path, config, seed=seed, replace_unreadable=replace_unreadable)
         atomic.write(path, lambda handle: np.savez_compressed(handle, **header, **arrays))
     return path
 
 
-def check_writable(path, config, *, seed: int | None = None) -> None:
-    """Raise unless ``path`` is absent or already holds results of ``config``.
+def check_writable(path, config, *, seed: int | None = None, replace_unreadable: bool = False) -> None:
+    """Raise unless ``path`` is absent or already holds results of ``config`` (or, with
+    ``replace_unreadable``, is unreadable).
 
     Call it before a long computation so that a refusal comes before the work, not after it.
     """
@@ -69,14 +77,15 @@ def check_writable(path, config, *, seed: int | None = None) -> None:
     if not path.exists():
         return
     try:
-        existing = _read_text(path, _CONFIG_KEY)
-    except ResultFileError as error:
-        raise ResultFileError(f"{error}; it was not overwritten (--force replaces it)") from None
+        existing = _read_text(path, _CONFIG_KEY, kept=True)
+    except UnreadableResultError:
+        if replace_unreadable:
+            return
+        raise
     if existing != config_json(config, seed):
         raise ResultFileError(
-            f"{path} holds results of a different configuration and was not overwritten; remove "
-            "it, choose another results directory, or force the overwrite (--force)"
-        )
+            f"{path} holds results of a different configuration and was not overwritten; " + _advice(
+                path, "remove it, choose another results directory, or force the overwrite (--force)", "--force"))
 
 
 def load(path, config, *, seed: int | None = None) -> dict:
@@ -84,14 +93,13 @@ def load(path, config, *, seed: int | None = None) -> dict:
     with the map files and library sources there are now."""
     path = Path(path)
     if not path.exists():
-        raise ResultFileError(f"no result file at {path}; run the experiment to create it")
+        raise ResultFileError(f"no result file at {path}; " + _advice(path, "run the experiment to create it"))
     stored = _read_text(path, _CONFIG_KEY)
     expected = config_json(config, seed)
     if stored != expected:
-        raise ResultFileError(
-            f"{path} is stale: it was made by another configuration "
-            f"({_difference(stored, expected)}); run the experiment again to refresh it"
-        )
+        raise ResultFileError(f"{path} is stale: it was made by another configuration "
+                              f"({_difference(stored, expected)}); "
+                              + _advice(path, "run the experiment again to refresh it", "--force"))
     _check_provenance(path, config)
     try:
         with np.load(path, allow_pickle=False) as archive:
@@ -105,26 +113,37 @@ def _check_provenance(path: Path, config) -> None:
         stored = json.loads(_read_text(path, _PROVENANCE_KEY))
     except ResultFileError:
         raise StaleResultError(f"{path} records neither the maps nor the glamas version it was made "
-                               "with (an older glamas made it); run the experiment again to refresh it (--rerun)") from None
+                               "with (an older glamas made it); " + _advice(path, _REFRESH)) from None
     changed = provenance.mismatch(stored, provenance.record(config))
     if changed:
-        raise StaleResultError(f"{path} is stale: {changed}; run the experiment again to refresh it (--rerun)")
+        raise StaleResultError(f"{path} is stale: {changed}; " + _advice(path, _REFRESH))
 
 
-def _read_text(path: Path, key: str) -> str:
+def _read_text(path: Path, key: str, kept: bool = False) -> str:
     try:
         with np.load(path, allow_pickle=False) as archive:
             if key not in archive.files:
                 raise KeyError(key)
             return str(archive[key])
     except _UNREADABLE as error:
-        raise _unreadable(path, error) from None
+        raise _unreadable(path, error, kept) from None
 
 
-def _unreadable(path: Path, error: Exception) -> ResultFileError:
+def _unreadable(path: Path, error: Exception, kept: bool = False) -> UnreadableResultError:
+    """The error for ``path``, unreadable as ``error`` says; ``kept``: say that it was not overwritten."""
     reason = str(error).splitlines()[0] if str(error) else type(error).__name__
-    return ResultFileError(f"{path} is not a readable glamas result file ({reason}); "
-                           "delete it and run the experiment again")
+    return UnreadableResultError(
+        f"{path} is not a readable glamas result file ({reason}){' and was not overwritten' if kept else ''}; "
+        + _advice(path, "run again with --rerun or --force to replace it, or delete it"))
+
+
+_REFRESH = "run the experiment again to refresh it (--rerun)"
+
+
+def _advice(path: Path, usual: str, option: str = "--rerun") -> str:
+    """What a message about result file ``path`` advises: ``usual``, or for a committed file its
+    figure script run with ``option``, or git checkout (:mod:`glamas.committed`)."""
+    return committed.advice(path, option) or usual
 
 
 def _difference(stored: str, expected: str) -> str:

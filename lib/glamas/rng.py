@@ -11,6 +11,8 @@ the kernels: ``uniform`` and ``integer`` by numba (``inline="always"``), the gen
 import numpy as np
 from numba import njit
 
+from glamas.errors import UserError
+
 _U64 = np.uint64
 _TO_UNIT = 1.0 / 9007199254740992.0  # 2**-53: turns 53 random bits into [0, 1)
 
@@ -18,14 +20,14 @@ _TO_UNIT = 1.0 / 9007199254740992.0  # 2**-53: turns 53 random bits into [0, 1)
 def check_seed(seed) -> None:
     """Reject a seed that is not a non-negative integer."""
     if not isinstance(seed, (int, np.integer)) or seed < 0:
-        raise ValueError(f"seed must be a non-negative integer, got {seed!r}")
+        raise UserError(f"seed must be a non-negative integer, got {seed!r}")
 
 
 def run_states(seed: int, n_runs: int) -> np.ndarray:
     """One generator state per run, shape (n_runs, 4), from ``SeedSequence(seed).spawn``."""
     check_seed(seed)
     if not isinstance(n_runs, (int, np.integer)) or n_runs < 1:
-        raise ValueError(f"n_runs must be a positive integer, got {n_runs!r}")
+        raise UserError(f"n_runs must be a positive integer, got {n_runs!r}")
     children = np.random.SeedSequence(int(seed)).spawn(int(n_runs))
     return np.stack([child.generate_state(4, np.uint64) for child in children])
 
@@ -39,7 +41,7 @@ def chunk_states(seed: int, start: int, stop: int) -> np.ndarray:
     """
     check_seed(seed)
     if not (isinstance(start, (int, np.integer)) and isinstance(stop, (int, np.integer)) and 0 <= start < stop):
-        raise ValueError(f"runs must be whole numbers with 0 <= start < stop, got start={start!r}, stop={stop!r}")
+        raise UserError(f"runs must be whole numbers with 0 <= start < stop, got start={start!r}, stop={stop!r}")
     return np.stack([np.random.SeedSequence(int(seed), spawn_key=(int(r),)).generate_state(4, np.uint64)
                      for r in range(start, stop)])
 

@@ -1,23 +1,40 @@
-"""The library's source hash, and the compiled-kernel cache kept in step with it.
+"""The library's source hash, and numba's compiled-kernel cache kept in step with it.
 
 numba's on-disk cache (``cache=True``) keys a kernel on its own file only: after an edit to a
 function it calls in *another* file, it would serve the old machine code. :func:`refresh_kernel_cache`
-keeps a stamp file with the hash of every ``lib/glamas/**/*.py`` beside the cache
-(``lib/glamas/__pycache__``, or numba's directory for the package under ``NUMBA_CACHE_DIR``);
-when the sources no longer match it, the cached kernels (``*.nbi`` index and ``*.nbc`` data files)
-are deleted and the stamp rewritten. glamas calls it on import, under a file lock, so that worker
-processes importing at once do it once.
+keeps a stamp file with the hash of every ``lib/glamas/**/*.py`` beside the cache; when the sources
+no longer match it, the cached kernels (``*.nbi`` index and ``*.nbc`` data files) are deleted and
+the stamp rewritten, under a file lock, so that worker processes importing at once do it once.
+
+Which cache: numba caches a function in the first of its locators (``numba.core.caching``) whose
+directory it can write: with NUMBA_CACHE_DIR set, the directory it names after the source's
+directory (UserProvidedCacheLocator), else the source's ``__pycache__`` (InTreeCacheLocator).
+When that one cannot be written, numba falls back to a user-wide directory (UserWideCacheLocator;
+ZipCacheLocator uses it too) where no stamp of glamas would keep it fresh; IPythonCacheLocator is
+for functions typed into a notebook, not the package's. So on import (:func:`prepare_kernel_cache`)
+glamas refreshes the directory numba chooses first, and where it cannot write that directory (or
+take its lock in time, or NUMBA_CACHE_LOCATOR_CLASSES changes numba's choice), it turns numba's
+caching off for the process, with one warning line: kernels then compile in every process, but
+never come from a stale cache, and numba never falls back.
 """
 
-import fcntl
 import hashlib
 import os
+import sys
+import tempfile
 from pathlib import Path
+
+from numba.core import config as numba_config
+
+from glamas import atomic, errors
 
 PACKAGE = Path(os.path.abspath(os.path.dirname(__file__)))  # as numba names the cached files' sources
 STAMP_NAME = "glamas-sources.sha256"
 _LOCK_NAME = "glamas-sources.lock"
 _CACHE_SUFFIXES = (".nbi", ".nbc")
+CACHE_OFF_VARIABLE = "GLAMAS_KERNEL_CACHE_OFF"
+"""Set in the environment by the process that turned caching off and said so: its worker
+processes, which inherit the environment and decide the same, do not say it again."""
 
 
 def source_files(package: Path = PACKAGE) -> list[Path]:
@@ -36,18 +53,34 @@ def source_hash(package: Path = PACKAGE) -> str:
     return digest.hexdigest()
 
 
+def prepare_kernel_cache(package: Path = PACKAGE) -> bool:
+    """What glamas does on import, before any kernel is loaded: :func:`refresh_kernel_cache`, or,
+    where it cannot, numba's caching turned off for this process (:func:`turn_caching_off`).
+    Returns whether the cache is on."""
+    try:
+        refresh_kernel_cache(package)
+    except (OSError, errors.UserError) as error:
+        turn_caching_off(errors.one_line(error))
+        return False
+    return True
+
+
 def refresh_kernel_cache(package: Path = PACKAGE) -> bool:
     """Delete numba's cached kernels of ``package`` if its sources changed since the stamp was
-    written; returns whether it did. A cache directory that cannot be written (an installed,
-    read-only copy) is left alone."""
+    written; returns whether it did. Raises OSError where numba's first choice of a cache cannot be
+    written, :class:`glamas.atomic.LockTimeoutError` when another process holds the lock too long,
+    and UserError when NUMBA_CACHE_LOCATOR_CLASSES makes numba's choice unknown."""
+    locators = _numba_config().CACHE_LOCATOR_CLASSES
+    if locators:
+        raise errors.UserError(f"NUMBA_CACHE_LOCATOR_CLASSES={locators} chooses where numba caches, which "
+                               "glamas cannot keep in step with its sources")
+    for directory in cache_directories(package):
+        ensure_writable(directory)
     home = cache_directory(package)
+    lock = os.open(home / _LOCK_NAME, os.O_RDWR | os.O_CREAT, 0o666)
     try:
-        home.mkdir(parents=True, exist_ok=True)
-        lock = os.open(home / _LOCK_NAME, os.O_RDWR | os.O_CREAT, 0o666)
-    except OSError:
-        return False
-    try:
-        fcntl.flock(lock, fcntl.LOCK_EX)  # one importer checks and deletes; the others then find the new stamp
+        # one importer checks and deletes; the others then find the new stamp
+        atomic.wait_for_lock(lock, f"glamas's kernel cache in {home}")
         return _refresh_locked(package, home / STAMP_NAME)
     finally:
         os.close(lock)  # releases the lock
@@ -68,17 +101,53 @@ def _refresh_locked(package: Path, stamp: Path) -> bool:
     return True
 
 
+def ensure_writable(directory: Path) -> None:
+    """Create ``directory`` and write a file there, as numba does before it chooses a cache
+    directory (``_CacheLocator.ensure_cache_path``); OSError where numba would fall back."""
+    directory.mkdir(parents=True, exist_ok=True)
+    tempfile.TemporaryFile(dir=directory).close()
+
+
+def turn_caching_off(reason: str) -> None:
+    """Make numba's ``cache=True`` a no-op in this process (the functions decorated from now on
+    compile in memory only), and say so on stderr once per run (:data:`CACHE_OFF_VARIABLE`)."""
+    from numba.core.dispatcher import Dispatcher
+
+    Dispatcher.enable_caching = _no_caching
+    if os.environ.get(CACHE_OFF_VARIABLE) is None:
+        print(f"warning: numba's kernel cache is off for this run, so kernels compile in every process: glamas "
+              f"cannot keep it in step with its sources ({reason}); set NUMBA_CACHE_DIR to a directory you can "
+              "write to", file=sys.stderr)
+        os.environ[CACHE_OFF_VARIABLE] = "1"
+
+
+def _no_caching(dispatcher) -> None:
+    """numba's ``Dispatcher.enable_caching`` when caching is off: the dispatcher keeps its NullCache."""
+
+
 def cache_directory(directory: Path) -> Path:
-    """Where numba caches the kernels of the sources in ``directory``: its ``__pycache__``, or
-    under ``NUMBA_CACHE_DIR`` the subdirectory numba names after the directory and its path's SHA-1."""
-    root = os.environ.get("NUMBA_CACHE_DIR")
+    """Where numba first chooses to cache the kernels of the sources in ``directory``: its
+    ``__pycache__``, or under NUMBA_CACHE_DIR the subdirectory numba names after the directory and
+    its path's SHA-1."""
+    root = _numba_config().CACHE_DIR
     if not root:
         return directory / "__pycache__"
     return Path(root) / f"{directory.name}_{hashlib.sha1(str(directory).encode()).hexdigest()}"
 
 
+def cache_directories(package: Path = PACKAGE) -> list[Path]:
+    """:func:`cache_directory` of every directory of the package's sources."""
+    return sorted(cache_directory(directory) for directory in {path.parent for path in source_files(package)})
+
+
+def _numba_config():
+    """numba's configuration as its compiler sees it: re-read from the environment (and
+    .numba_config.yaml) first, as the compiler does before each compilation."""
+    numba_config.reload_config()
+    return numba_config
+
+
 def cached_kernels(package: Path = PACKAGE) -> list[Path]:
     """numba's cache files (index and data) of the package's sources."""
-    directories = {cache_directory(path.parent) for path in source_files(package)}
-    return [path for directory in directories if directory.is_dir() for path in directory.iterdir()
+    return [path for directory in cache_directories(package) if directory.is_dir() for path in directory.iterdir()
             if path.suffix in _CACHE_SUFFIXES]

@@ -13,22 +13,19 @@ on any difference, 2 on bad usage (the usage and one line ``error: ...`` on stde
 """
 
 import argparse
-import sys
 import zipfile
 import zlib
 from pathlib import Path
 
 import numpy as np
 
-from glamas.paths import REPO, RESULTS
+from glamas import errors
+from glamas.committed import figure_advice, result_advice, shown
+from glamas.paths import FIGURES, RESULTS
 
-FIGURES = REPO / "paper_figures" / "output"
 _PROVENANCE = "__provenance__"
 _UNREADABLE = (OSError, ValueError, KeyError, EOFError, zipfile.BadZipFile, zlib.error, NotImplementedError)
 """What a missing, damaged, truncated or foreign archive raises while it is read."""
-_ADVICE = {"committed": "restore it with git checkout, or recompute it with the figure script that draws from it",
-           "recomputed": "recompute it (make verify)"}
-"""What fixes an unreadable file of each side."""
 
 
 class UnreadableFile(Exception):
@@ -49,9 +46,9 @@ def _compare(recomputed: Path, committed: Path, compare) -> list[str]:
     for name in sorted(ours | theirs):
         label = f"{recomputed.name}/{name}"
         if name not in ours:
-            found.append(f"{label}: committed ({_shown(committed)}) but not recomputed")
+            found.append(f"{label}: committed ({shown(committed)}) but not recomputed")
         elif name not in theirs:
-            found.append(f"{label}: recomputed but not committed (no {_shown(committed / name)})")
+            found.append(f"{label}: recomputed but not committed (no {shown(committed / name)})")
         else:
             try:
                 found += [f"{label}: {text}" for text in compare(recomputed / name, committed / name)]
@@ -63,11 +60,6 @@ def _compare(recomputed: Path, committed: Path, compare) -> list[str]:
 def _names(directory: Path) -> set:
     """The names of the entries of ``directory`` (none if it does not exist)."""
     return {path.name for path in directory.iterdir()} if directory.is_dir() else set()
-
-
-def _shown(path: Path) -> str:
-    """``path`` relative to the repository when it is inside it (as a reader would type it)."""
-    return str(path.relative_to(REPO)) if path.is_relative_to(REPO) else str(path)
 
 
 def result_differences(recomputed: Path, committed: Path) -> list[str]:
@@ -104,8 +96,15 @@ def _bytes(path: Path, side: str) -> bytes:
 
 def _unreadable(path: Path, side: str, error: Exception) -> UnreadableFile:
     reason = " ".join(str(error).split()) or type(error).__name__
-    return UnreadableFile(f"the {side} file {_shown(path)} is unreadable ({reason}); "
-                          f"{_ADVICE[side]}")
+    return UnreadableFile(f"the {side} file {shown(path)} is unreadable ({reason}); {_fix(path, side)}")
+
+
+def _fix(path: Path, side: str) -> str:
+    """What makes the unreadable file ``path`` of ``side`` readable again: for a committed one the
+    figure script that recomputes it, or git checkout (:mod:`glamas.committed`)."""
+    if side == "recomputed":
+        return "recompute it (make verify)"
+    return result_advice(path.name) if path.suffix == ".npz" else figure_advice(path.name)
 
 
 def _equal(x: np.ndarray, y: np.ndarray) -> bool:
@@ -132,4 +131,4 @@ def main(argv=None) -> int:
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    errors.run(main)

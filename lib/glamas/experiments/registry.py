@@ -16,6 +16,7 @@ from pathlib import Path
 from typing import Callable
 
 from glamas import results
+from glamas.errors import UserError
 
 REGISTRY: dict = {}
 """The registered experiments by name, in the order they registered."""
@@ -97,7 +98,7 @@ def register(experiment: Experiment) -> Experiment:
     refused; the same module registering it again (a reload) replaces it."""
     known = REGISTRY.get(experiment.name)
     if known is not None and known.run.__module__ != experiment.run.__module__:
-        raise ValueError(f"an experiment named {experiment.name!r} is registered already; choose another name")
+        raise UserError(f"an experiment named {experiment.name!r} is registered already; choose another name")
     REGISTRY[experiment.name] = experiment
     return experiment
 

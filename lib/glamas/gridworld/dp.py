@@ -15,6 +15,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 from numba import njit
 
+from glamas.errors import UserError
 from glamas.gridworld import rules
 from glamas.gridworld.joint import joint_index, split_index
 from glamas.gridworld.maps import GridMap
@@ -102,10 +103,10 @@ class Rollout:
 def joint_mdp(gridmap: GridMap, bounce: str = "previous") -> JointMDP:
     """Tabulate the joint MMDP of ``gridmap`` (n_cells**n_agents states, 4**n_agents joint actions)."""
     if bounce not in rules.BOUNCE_MODES:
-        raise ValueError(f"bounce must be one of {sorted(rules.BOUNCE_MODES)}, got {bounce!r}")
+        raise UserError(f"bounce must be one of {sorted(rules.BOUNCE_MODES)}, got {bounce!r}")
     n_states = gridmap.n_cells ** gridmap.n_agents
     if n_states * N_ACTIONS ** gridmap.n_agents > 50_000_000:
-        raise ValueError(f"the joint MMDP of {gridmap.name!r} has {n_states} states x "
+        raise UserError(f"the joint MMDP of {gridmap.name!r} has {n_states} states x "
                          f"{N_ACTIONS ** gridmap.n_agents} joint actions: too large to tabulate; use fewer agents")
     shape = (n_states, N_ACTIONS ** gridmap.n_agents)
     tables = dict(next_state=np.empty(shape, np.int64), reward=np.empty(shape),
@@ -162,9 +163,9 @@ def _is_valid(cells, is_goal, blocked):
 
 def _check_gamma_epsilon(gamma, epsilon):
     if not isinstance(gamma, (int, float)) or not 0.0 < gamma < 1.0:
-        raise ValueError(f"gamma must be a discount factor in (0, 1), got {gamma!r}")
+        raise UserError(f"gamma must be a discount factor in (0, 1), got {gamma!r}")
     if not isinstance(epsilon, (int, float)) or not epsilon > 0.0:
-        raise ValueError(f"epsilon must be a number > 0, got {epsilon!r}")
+        raise UserError(f"epsilon must be a number > 0, got {epsilon!r}")
 
 
 def q_values(mdp: JointMDP, values: np.ndarray, gamma: float) -> np.ndarray:
@@ -268,5 +269,5 @@ def optimal_rollout(gridmap: GridMap, gamma: float, bounce: str = "previous", ep
     mdp = joint_mdp(gridmap, bounce)
     episode = rollout(mdp, value_iteration(mdp, gamma, epsilon).policy)
     if not episode.finished:
-        raise RuntimeError(f"the optimal policy of {gridmap.name!r} does not bring every agent to the goal")
+        raise UserError(f"the optimal policy of {gridmap.name!r} does not bring every agent to the goal")
     return episode

@@ -11,6 +11,7 @@ learners use both.
 
 import numpy as np
 
+from glamas.errors import UserError
 from glamas.gridworld import rules
 from glamas.gridworld.maps import GridMap
 
@@ -24,9 +25,9 @@ class GridworldEnv:
 
     def __init__(self, gridmap: GridMap, bounce: str = "previous", max_steps: int = 1000):
         if bounce not in rules.BOUNCE_MODES:
-            raise ValueError(f"bounce must be one of {sorted(rules.BOUNCE_MODES)}, got {bounce!r}")
+            raise UserError(f"bounce must be one of {sorted(rules.BOUNCE_MODES)}, got {bounce!r}")
         if not isinstance(max_steps, (int, np.integer)) or max_steps < 1:
-            raise ValueError(f"max_steps must be a positive integer, got {max_steps!r}")
+            raise UserError(f"max_steps must be a positive integer, got {max_steps!r}")
         self.gridmap = gridmap
         self.bounce = bounce
         self._world = rules.world(gridmap, bounce)
@@ -83,14 +84,14 @@ class GridworldEnv:
             raise TypeError(f"actions must be a dict agent name -> action, got {type(actions).__name__}")
         unknown = sorted(set(actions) - set(self.agents))
         if unknown:
-            raise ValueError(f"actions for agents that are not live: {unknown}; live agents: {self.agents}")
+            raise UserError(f"actions for agents that are not live: {unknown}; live agents: {self.agents}")
         missing = sorted(set(self.agents) - set(actions))
         if missing:
-            raise ValueError(f"no action for live agents {missing}: give every agent in env.agents an action")
+            raise UserError(f"no action for live agents {missing}: give every agent in env.agents an action")
         for name, action in actions.items():
             if isinstance(action, (bool, np.bool_)) or not isinstance(action, (int, np.integer)) \
                     or not 0 <= action < rules.N_ACTIONS:
-                raise ValueError(f"action of {name} must be 0 (N), 1 (E), 2 (S) or 3 (W), got {action!r}")
+                raise UserError(f"action of {name} must be 0 (N), 1 (E), 2 (S) or 3 (W), got {action!r}")
 
     def _observations(self, names=None):
         positions = [self.gridmap.row_col(int(c)) for c in self._cells]

@@ -12,6 +12,9 @@ A map of R rows and C columns is drawn like a maze in 2R+1 lines of 2C+1 charact
 Cells are numbered row by row, ``cell = row * n_cols + col``; row 0 is the top line. A start
 symbol stands in place of the cell symbol, so a start is always a free cell (never the goal or a
 blocked cell). Walls are symmetric by construction: one character separates two cells.
+
+Every :class:`GridMap`, read from a file or built in Python, is checked by one function,
+:func:`check_layout`, when it is made.
 """
 
 import hashlib
@@ -21,6 +24,7 @@ from pathlib import Path
 
 import numpy as np
 
+from glamas.errors import UserError
 from glamas.gridworld.rules import E, N, N_ACTIONS, S, W
 from glamas.paths import MAPS
 
@@ -29,7 +33,7 @@ _CELL_SYMBOLS = "free '.', goal 'G', blocked '#' or an agent's start '1'-'9'"
 _STEPS = {N: (-1, 0), E: (0, 1), S: (1, 0), W: (0, -1)}
 
 
-class MapError(ValueError):
+class MapError(UserError):
     """A map file that does not follow the format of :mod:`glamas.gridworld.maps`."""
 
 
@@ -53,6 +57,9 @@ class GridMap:
     starts: np.ndarray
     """int64 (n_agents,): the start cell of agent 1, 2, ..."""
 
+    def __post_init__(self):
+        check_layout(self)
+
     @property
     def n_cells(self) -> int:
         return self.n_rows * self.n_cols
@@ -64,13 +71,13 @@ class GridMap:
     def cell(self, row: int, col: int) -> int:
         """The number of the cell at (row, col)."""
         if not (0 <= row < self.n_rows and 0 <= col < self.n_cols):
-            raise ValueError(f"({row}, {col}) is outside the {self.n_rows}x{self.n_cols} map {self.name!r}")
+            raise UserError(f"({row}, {col}) is outside the {self.n_rows}x{self.n_cols} map {self.name!r}")
         return row * self.n_cols + col
 
     def row_col(self, cell: int) -> tuple[int, int]:
         """(row, col) of a cell number."""
         if not 0 <= cell < self.n_cells:
-            raise ValueError(f"cell {cell} is outside the map {self.name!r}, which has cells 0..{self.n_cells - 1}")
+            raise UserError(f"cell {cell} is outside the map {self.name!r}, which has cells 0..{self.n_cells - 1}")
         return divmod(int(cell), self.n_cols)
 
     def open_neighbours(self, cell: int) -> set[int]:
@@ -163,14 +170,10 @@ def _parse(text: str, name: str) -> GridMap:
     flat = [s for row in symbols for s in row]
     is_goal = np.array([s == GOAL for s in flat])
     blocked = np.array([s == BLOCKED for s in flat])
-    if not is_goal.any():
-        raise MapError(f"map {name!r} has no goal: mark at least one cell 'G'")
     starts = _starts(flat, n_cols, name)
-    gridmap = GridMap(name, n_rows, n_cols, next_cell, is_goal, blocked, starts)
     for array in (next_cell, is_goal, blocked, starts):
         array.setflags(write=False)
-    _check_goal_reachable(gridmap)
-    return gridmap
+    return GridMap(name, n_rows, n_cols, next_cell, is_goal, blocked, starts)
 
 
 def _where(line: int, col: int) -> str:
@@ -245,6 +248,47 @@ def _starts(flat, n_cols, name):
 def _cell_where(cell, n_cols):
     r, c = divmod(cell, n_cols)
     return _where(2 * r + 1, 2 * c + 1)
+
+
+def check_layout(gridmap: GridMap) -> None:
+    """Raise MapError unless ``gridmap`` is a world the rules can play: tables of its size, a goal,
+    every agent starting on a cell of its own that is neither blocked nor a goal (an agent in a goal
+    is done before it acts), and a goal reachable from every start."""
+    name, n_rows, n_cols = gridmap.name, gridmap.n_rows, gridmap.n_cols
+    if not all(isinstance(n, (int, np.integer)) and not isinstance(n, bool) and n >= 1 for n in (n_rows, n_cols)):
+        raise MapError(f"map {name!r}: n_rows and n_cols must be whole numbers >= 1, got {n_rows!r} and {n_cols!r}")
+    cells = gridmap.n_cells
+    for field, shape, kind in (("next_cell", (cells, N_ACTIONS), np.integer), ("is_goal", (cells,), np.bool_),
+                               ("blocked", (cells,), np.bool_), ("starts", (np.size(gridmap.starts),), np.integer)):
+        array = getattr(gridmap, field)
+        if not (isinstance(array, np.ndarray) and np.issubdtype(array.dtype, kind) and array.shape == shape):
+            raise MapError(f"map {name!r}: {field} must be an array of {kind.__name__} of shape {shape} for its "
+                           f"{n_rows}x{n_cols} cells, got {array!r}")
+    if ((gridmap.next_cell < 0) | (gridmap.next_cell >= gridmap.n_cells)).any():
+        raise MapError(f"map {name!r}: next_cell leads outside the cells 0..{gridmap.n_cells - 1}")
+    if not gridmap.is_goal.any():
+        raise MapError(f"map {name!r} has no goal: mark at least one cell 'G'")
+    _check_starts(gridmap)
+    _check_goal_reachable(gridmap)
+
+
+def _check_starts(gridmap: GridMap) -> None:
+    starts = [int(start) for start in gridmap.starts]
+    if not starts:
+        raise MapError(f"map {gridmap.name!r} has no start: mark agent 1's start cell '1'")
+    for agent, start in enumerate(starts, 1):
+        if not 0 <= start < gridmap.n_cells:
+            raise MapError(f"map {gridmap.name!r}: agent {agent}'s start {start} is outside the cells "
+                           f"0..{gridmap.n_cells - 1}")
+        where = _cell_where(start, gridmap.n_cols)
+        if gridmap.is_goal[start]:
+            raise MapError(f"map {gridmap.name!r}: agent {agent} starts on a goal at {where}, where it is done "
+                           "before it acts; start it on a free cell")
+        if gridmap.blocked[start]:
+            raise MapError(f"map {gridmap.name!r}: agent {agent} starts on a blocked cell at {where}")
+        if starts.index(start) != agent - 1:
+            raise MapError(f"map {gridmap.name!r}: agents {starts.index(start) + 1} and {agent} both start at {where}; "
+                           "each agent starts on a cell of its own")
 
 
 def _check_goal_reachable(gridmap: GridMap):

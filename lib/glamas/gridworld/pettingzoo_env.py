@@ -25,6 +25,7 @@ except ImportError as error:
         "pip install -e '.[pettingzoo]' in the glamas repository (or: pip install -r requirements-extras.txt)"
     ) from error
 
+from glamas.errors import UserError
 from glamas.gridworld.env import GridworldEnv
 from glamas.gridworld.maps import GridMap, load_map, tunnel_to_goal
 from glamas.gridworld.rules import N_ACTIONS
@@ -44,7 +45,7 @@ class GridworldParallelEnv(ParallelEnv):
     def __init__(self, gridmap: GridMap | None = None, bounce: str = "previous", max_steps: int = 1000,
                  render_mode: str | None = None):
         if render_mode not in (None, *self.metadata["render_modes"]):
-            raise ValueError(f"render_mode must be None or one of {self.metadata['render_modes']}, got {render_mode!r}")
+            raise UserError(f"render_mode must be None or one of {self.metadata['render_modes']}, got {render_mode!r}")
         self._game = GridworldEnv(_as_map(gridmap), bounce, max_steps)
         self.gridmap = self._game.gridmap
         self.render_mode = render_mode
@@ -74,7 +75,7 @@ class GridworldParallelEnv(ParallelEnv):
 
     def _seed_spaces(self, seed) -> None:
         if isinstance(seed, (bool, np.bool_)) or not isinstance(seed, (int, np.integer)) or seed < 0:
-            raise ValueError(f"seed must be None or a whole number >= 0, got {seed!r}")
+            raise UserError(f"seed must be None or a whole number >= 0, got {seed!r}")
         children = iter(np.random.SeedSequence(int(seed)).spawn(2 * len(self.possible_agents)))
         for name in self.possible_agents:
             for space in (self._action_spaces[name], self._observation_spaces[name]):
@@ -92,7 +93,7 @@ class GridworldParallelEnv(ParallelEnv):
 
     def render(self):
         if self.render_mode is None:
-            raise ValueError("render() needs render_mode='ansi' when the environment is made")
+            raise UserError("render() needs render_mode='ansi' when the environment is made")
         return map_text(self.gridmap, self._game.cells)
 
     def _flatten(self, observations: dict) -> dict:

@@ -37,6 +37,7 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
+from glamas.errors import UserError
 from glamas.gridworld import GridMap, rules
 from glamas.learners import episode as ep
 from glamas.learners.independent import table_shape
@@ -132,7 +133,7 @@ def t_critical_values(max_df: int, significance: float) -> np.ndarray:
     degrees of freedom (index = df; infinite at df 0, where there is no test), by bisection
     (computed once per process for each (max_df, significance))."""
     if not 0.0 < significance < 1.0:
-        raise ValueError(f"the significance level must be in (0, 1), got {significance!r}")
+        raise UserError(f"the significance level must be in (0, 1), got {significance!r}")
     return np.array(_t_critical_values(max_df, significance))
 
 

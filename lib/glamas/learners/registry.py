@@ -11,6 +11,7 @@ comes from its name, so registering it changes nobody else's.
 
 import zlib
 
+from glamas.errors import UserError
 from glamas.learners import cq, independent, joint_state, mmdp, sparse_maq, two_observe
 from glamas.learners.spec import Learner
 
@@ -26,11 +27,11 @@ NAME_SLOTS = 2 ** 20
 def register(learner: Learner) -> Learner:
     """Make ``learner`` known by its name (a name registered again is replaced)."""
     if learner.family not in SEED_OFFSETS:
-        raise ValueError(f"a learner's family must be one of {sorted(SEED_OFFSETS)}, got {learner.family!r}")
+        raise UserError(f"a learner's family must be one of {sorted(SEED_OFFSETS)}, got {learner.family!r}")
     taken = {_slot(other.name): other.name for other in LEARNERS.values()
              if other.family == "other" and other.name != learner.name}
     if learner.family == "other" and _slot(learner.name) in taken:
-        raise ValueError(f"learner {learner.name!r} would draw the seeds of {taken[_slot(learner.name)]!r}; "
+        raise UserError(f"learner {learner.name!r} would draw the seeds of {taken[_slot(learner.name)]!r}; "
                          "choose another name")
     LEARNERS[learner.name] = learner
     return learner
@@ -44,7 +45,7 @@ def unregister(name: str) -> None:
 def get(name: str) -> Learner:
     """The learner registered as ``name``."""
     if name not in LEARNERS:
-        raise ValueError(f"no learner {name!r}; the learners are {', '.join(LEARNERS)}")
+        raise UserError(f"no learner {name!r}; the learners are {', '.join(LEARNERS)}")
     return LEARNERS[name]
 
 

@@ -15,6 +15,7 @@ import numpy as np
 
 from glamas import gla
 from glamas import checks
+from glamas.errors import UserError
 from glamas.gridworld import BOUNCE_MODES
 from glamas.learners import two_observe
 
@@ -75,24 +76,24 @@ class LearningSettings:
         for name in ("q_learning_rate", "exploit_prob", "discount"):
             _check_unit(self, name)
         if not np.isfinite(self.q_initial):
-            raise ValueError(f"q_initial must be a finite number, got {self.q_initial!r}")
+            raise UserError(f"q_initial must be a finite number, got {self.q_initial!r}")
         if self.bounce not in BOUNCE_MODES:
-            raise ValueError(f"bounce must be one of {sorted(BOUNCE_MODES)}, got {self.bounce!r}")
+            raise UserError(f"bounce must be one of {sorted(BOUNCE_MODES)}, got {self.bounce!r}")
         self.gla_params()  # validates the GLA settings with glamas.gla's messages
         if not (isinstance(self.gla_init_range, (int, float)) and 0 <= self.gla_init_range <= self.gla_L):
-            raise ValueError(f"gla_init_range must be in [0, gla_L={self.gla_L}], got {self.gla_init_range!r}")
+            raise UserError(f"gla_init_range must be in [0, gla_L={self.gla_L}], got {self.gla_init_range!r}")
         table = np.array(self.gla_feedback, dtype=float) if _is_table(self.gla_feedback) else None
         if table is None or table.shape != (2, 2) or not np.isfinite(table).all():
-            raise ValueError("gla_feedback must be a 2x2 table of numbers, rows = (act alone, "
+            raise UserError("gla_feedback must be a 2x2 table of numbers, rows = (act alone, "
                              f"coordinate), columns = (no need, need); got {self.gla_feedback!r}")
         object.__setattr__(self, "gla_feedback", tuple(tuple(float(v) for v in row) for row in table))
         if not (isinstance(self.coordination_penalty_per_cell, (int, float)) and self.coordination_penalty_per_cell >= 0):
-            raise ValueError("coordination_penalty_per_cell must be a number >= 0, "
+            raise UserError("coordination_penalty_per_cell must be a number >= 0, "
                              f"got {self.coordination_penalty_per_cell!r}")
         if self.gla_need not in two_observe.NEEDS:
-            raise ValueError(f"gla_need must be one of {sorted(two_observe.NEEDS)}, got {self.gla_need!r}")
+            raise UserError(f"gla_need must be one of {sorted(two_observe.NEEDS)}, got {self.gla_need!r}")
         if self.gla_delta_scale not in two_observe.DELTA_SCALES:
-            raise ValueError(f"gla_delta_scale must be one of {sorted(two_observe.DELTA_SCALES)}, "
+            raise UserError(f"gla_delta_scale must be one of {sorted(two_observe.DELTA_SCALES)}, "
                              f"got {self.gla_delta_scale!r}")
         if self.rule_distance is not None:
             checks.whole_numbers(self, {"rule_distance": 0})
@@ -105,7 +106,7 @@ class LearningSettings:
 def _check_unit(config, name):
     value = getattr(config, name)
     if not isinstance(value, (int, float)) or not 0 < value <= 1:
-        raise ValueError(f"{name} must be a number in (0, 1], got {value!r}")
+        raise UserError(f"{name} must be a number in (0, 1], got {value!r}")
 
 
 def _is_table(value) -> bool:
@@ -135,7 +136,7 @@ class RelatedSettings:
         checks.field_types(self)
         checks.whole_numbers(self, {"coordination_distance": 1, "cq_window": 2, "cq_solo_episodes": 1})
         if not (isinstance(self.cq_significance, float) and 0.0 < self.cq_significance < 1.0):
-            raise ValueError(f"cq_significance must be a number in (0, 1) such as 0.05, got {self.cq_significance!r}")
+            raise UserError(f"cq_significance must be a number in (0, 1) such as 0.05, got {self.cq_significance!r}")
 
 
 @dataclass(frozen=True)

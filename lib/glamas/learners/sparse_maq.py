@@ -37,6 +37,7 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
+from glamas.errors import UserError
 from glamas.gridworld import GridMap, rules
 from glamas.learners import episode as ep
 from glamas.learners.independent import lone_step, table_shape
@@ -64,7 +65,7 @@ def coordination_index(gridmap, distance: int) -> np.ndarray:
     the two agents act alone. Coordination states: two distinct cells, neither the goal nor
     blocked, at Manhattan distance <= ``distance``; rows numbered in (a, b) order."""
     if isinstance(distance, bool) or not isinstance(distance, (int, np.integer)) or distance < 1:
-        raise ValueError(f"the coordination distance must be a whole number >= 1, got {distance!r}")
+        raise UserError(f"the coordination distance must be a whole number >= 1, got {distance!r}")
     n = gridmap.n_cells
     usable = ~(gridmap.is_goal | gridmap.blocked)
     index = np.full(n * n, -1, dtype=np.int64)

@@ -14,6 +14,7 @@ and ``state`` the run's generator state. :func:`train` runs any learner this way
 loops over learners without knowing any of them; :mod:`glamas.learners.registry` lists them.
 """
 
+import math
 from dataclasses import dataclass
 from typing import Callable
 
@@ -92,7 +93,7 @@ class Learner:
 
     def bytes_per_run(self, settings, gridmap: GridMap) -> int:
         """Bytes one run's tables take: Q tables, joint values and reward samples (float64) and the rest."""
-        values = (np.prod(self.table_shape(gridmap.n_cells, gridmap.n_agents), dtype=np.int64)
+        values = (math.prod(self.table_shape(gridmap.n_cells, gridmap.n_agents))  # Python ints: no overflow
                   + self.joint_room(settings, gridmap) + self.reward_samples(settings, gridmap))
         return int(values) * BYTES_PER_VALUE + self.extra_bytes(settings, gridmap)
 

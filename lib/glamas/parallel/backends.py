@@ -10,16 +10,18 @@ import importlib
 import os
 from dataclasses import dataclass
 
+from glamas.errors import UserError
+
 BACKENDS = ("threads", "processes", "dask")
 DASK_INSTALL = "pip install -e '.[dask]' in the glamas repository (or: pip install -r requirements-extras.txt)"
 
 
 def _check_count(backend: str, workers) -> None:
     if workers is not None and (isinstance(workers, bool) or not isinstance(workers, int) or workers < 1):
-        raise ValueError(f"{backend}(workers=...) must be a whole number >= 1 or None, got {workers!r}")
+        raise UserError(f"{backend}(workers=...) must be a whole number >= 1 or None, got {workers!r}")
 
 
-class BackendError(RuntimeError):
+class BackendError(UserError, RuntimeError):
     """A backend that cannot run: its optional extra is missing, its scheduler is unreachable, or
     its workers are gone."""
 
@@ -62,10 +64,10 @@ class Dask:
 
     def __post_init__(self):
         if not isinstance(self.scheduler, str) or not self.scheduler.strip():
-            raise ValueError(f"Dask(scheduler=...) must be the scheduler's address such as "
+            raise UserError(f"Dask(scheduler=...) must be the scheduler's address such as "
                              f"'tcp://HOST:8786', got {self.scheduler!r}")
         if isinstance(self.timeout, bool) or not isinstance(self.timeout, (int, float)) or not self.timeout > 0:
-            raise ValueError(f"Dask(timeout=...) must be a positive number of seconds, got {self.timeout!r}")
+            raise UserError(f"Dask(timeout=...) must be a positive number of seconds, got {self.timeout!r}")
 
 
 def backend(name: str | None = None, workers: int | None = None, scheduler: str | None = None,
@@ -78,18 +80,18 @@ def backend(name: str | None = None, workers: int | None = None, scheduler: str 
     if name is None:
         name = "processes" if scheduler is None else "dask"
     if name not in BACKENDS:
-        raise ValueError(f"backend must be one of {', '.join(BACKENDS)}, got {name!r}")
+        raise UserError(f"backend must be one of {', '.join(BACKENDS)}, got {name!r}")
     if name == "dask":
         if scheduler is None:
-            raise ValueError("the dask backend needs the scheduler's address: --scheduler ADDRESS "
+            raise UserError("the dask backend needs the scheduler's address: --scheduler ADDRESS "
                              "(start a scheduler with `dask scheduler`, it prints the address)")
         if workers is not None:
-            raise ValueError("--workers does not apply to the dask backend: the cluster's workers "
+            raise UserError("--workers does not apply to the dask backend: the cluster's workers "
                              "(`dask worker ADDRESS`) set how many jobs run at once")
         require_dask()
         return Dask(scheduler, timeout)
     if scheduler is not None:
-        raise ValueError(f"--scheduler means the dask backend, not {name!r}: drop --backend {name} "
+        raise UserError(f"--scheduler means the dask backend, not {name!r}: drop --backend {name} "
                          "or the --scheduler address")
     return Threads(workers) if name == "threads" else Processes(workers)
 
@@ -99,7 +101,7 @@ def as_backend(workers):
     if workers is None or (isinstance(workers, int) and not isinstance(workers, bool)):
         return Processes(workers)
     if not isinstance(workers, (Processes, Threads, Dask)):
-        raise ValueError(f"workers must be a process count, None (one per core) or a backend "
+        raise UserError(f"workers must be a process count, None (one per core) or a backend "
                          f"(glamas.parallel.Processes, Threads or Dask), got {workers!r}")
     return workers
 

@@ -11,11 +11,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from glamas.errors import UserError
 from glamas.parallel.backends import Dask, cores
 from glamas.rng import check_seed
 
 
-class NonFiniteError(FloatingPointError):
+class NonFiniteError(UserError, FloatingPointError):
     """A run produced NaN or infinite values: a setting drove the learning out of range."""
 
 
@@ -61,7 +62,7 @@ class Scratch:
 def check_batch(batch: Batch) -> None:
     check_seed(batch.seed)
     if any(out.ndim < 2 for out in batch.outputs):
-        raise ValueError("every output needs an axis of runs and an array per run (ndim >= 2), got shapes "
+        raise UserError("every output needs an axis of runs and an array per run (ndim >= 2), got shapes "
                          f"{[out.shape for out in batch.outputs]}")
 
 

@@ -1,9 +1,11 @@
 """Jobs on a Dask distributed cluster: reaching its scheduler with a deadline, and failing clearly
-when its workers are lost or absent (optional extra ``dask``)."""
+when its scheduler or workers are lost or absent (optional extra ``dask``)."""
 
 import asyncio
+import contextlib
+import logging
 import time
-from concurrent.futures import ThreadPoolExecutor
+from concurrent.futures import CancelledError, ThreadPoolExecutor
 
 from glamas.parallel.backends import BackendError, Dask, require_dask
 from glamas.parallel.job import batch_chunk, run_chunk
@@ -23,6 +25,8 @@ def connect(backend: Dask):
         with ThreadPoolExecutor(1) as thread:  # its own event loop: the caller may be running one (Jupyter)
             thread.submit(asyncio.run, _probe(distributed, backend)).result()
         return distributed.Client(backend.scheduler, timeout=backend.timeout, set_as_default=False)
+    except ConnectionRefusedError:
+        raise BackendError(f"{failure} (connection refused: nothing listens there); {advice}") from None
     except (OSError, TimeoutError, asyncio.TimeoutError) as error:
         raise BackendError(f"{failure} ({str(error) or 'no answer'}); {advice}") from None
     except ValueError as error:
@@ -34,6 +38,7 @@ async def _probe(distributed, backend: Dask) -> None:
     """Ask the address for its identity, with a deadline: distributed's own client waits without
     one for a server that accepts the connection but never answers as a scheduler would."""
     async def identity():
+        await _listening(distributed, backend.scheduler)
         comm = await distributed.comm.connect(backend.scheduler, timeout=backend.timeout)
         try:
             await comm.write({"op": "identity"})
@@ -46,9 +51,21 @@ async def _probe(distributed, backend: Dask) -> None:
         raise OSError(f"the server there answered, but not as a Dask scheduler ({str(reply)[:80]})")
 
 
+async def _listening(distributed, address: str) -> None:
+    """Open and close a TCP connection to ``address``: ConnectionRefusedError at once when nothing
+    listens there, where distributed's connect would retry until its timeout. An address without
+    host and port (``inproc://``) or a malformed one is left to distributed's connect."""
+    try:
+        host, port = distributed.comm.get_address_host_port(address)
+    except ValueError:
+        return
+    _, writer = await asyncio.open_connection(host, port)
+    writer.close()
+
+
 def run_on_dask(backend: Dask, jobs: list):
     distributed = require_dask()
-    with connect(backend) as client:
+    with _client_log_quiet(), connect(backend) as client:
         futures = [client.submit(batch_chunk, k, run_chunk, *job, pure=False) for k, *job in jobs]
         finished = distributed.as_completed(futures, loop=client.loop)
         without_workers = None  # since when the cluster has had no worker
@@ -58,7 +75,20 @@ def run_on_dask(backend: Dask, jobs: list):
                 without_workers = _check_workers(client, backend, without_workers, finished.count())
                 time.sleep(POLL_SECONDS)
             for future in batch:
-                yield _result(distributed, future)
+                yield _result(distributed, future, backend)
+
+
+@contextlib.contextmanager
+def _client_log_quiet():
+    """distributed's client logs the traceback of each failed attempt to reach a lost scheduler;
+    the run's BackendError says what happened, in one line."""
+    logger = logging.getLogger("distributed.client")
+    level = logger.level
+    logger.setLevel(logging.CRITICAL)
+    try:
+        yield
+    finally:
+        logger.setLevel(level)
 
 
 def _check_workers(client, backend: Dask, without_workers, n_pending: int):
@@ -74,9 +104,13 @@ def _check_workers(client, backend: Dask, without_workers, n_pending: int):
     return now if without_workers is None else without_workers
 
 
-def _result(distributed, future):
+def _result(distributed, future, backend: Dask):
     try:
         return future.result()
     except distributed.KilledWorker as error:
         raise BackendError(f"a job was lost with the Dask workers that ran it ({error}); check the "
                            "workers' memory and logs, then run again") from None
+    except CancelledError as error:  # the client cancels every job when it loses the scheduler
+        reason = getattr(error, "reason", None) or "its job was cancelled"
+        raise BackendError(f"the Dask scheduler at {backend.scheduler} was lost mid-run ({reason}); check that "
+                           "it runs and answers, then run again") from None

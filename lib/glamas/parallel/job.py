@@ -6,6 +6,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from glamas.errors import UserError
 from glamas.parallel.batch import Scratch
 from glamas.rng import chunk_states
 
@@ -106,7 +107,7 @@ def kernel_name(kernel) -> str:
     except (ImportError, AttributeError):
         importable = False
     if not importable:
-        raise ValueError(f"the run kernel {name} is not a module-level function of an importable "
+        raise UserError(f"the run kernel {name} is not a module-level function of an importable "
                          "module, so worker processes cannot load it; define it at the top level of a "
                          "module, or use the threads backend")
     return name

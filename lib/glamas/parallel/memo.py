@@ -12,6 +12,7 @@ import hashlib
 
 import numpy as np
 
+from glamas.errors import UserError
 from glamas.parallel.batch import Batch, Scratch
 
 MEMO_BYTES = 0
@@ -27,7 +28,7 @@ def reuse_batches(max_bytes: int) -> None:
     default). glamas.reproduce does, running every figure script in one process."""
     global MEMO_BYTES
     if isinstance(max_bytes, bool) or not isinstance(max_bytes, int) or max_bytes < 0:
-        raise ValueError(f"max_bytes must be a whole number >= 0, got {max_bytes!r}")
+        raise UserError(f"max_bytes must be a whole number >= 0, got {max_bytes!r}")
     MEMO_BYTES = max_bytes
     while _kept and _kept_bytes() > MEMO_BYTES:
         _kept.popitem(last=False)

@@ -4,6 +4,7 @@ the backend that ``workers`` names, their outputs checked and written back."""
 import numpy as np
 from tqdm import tqdm  # not tqdm.auto: it warns in notebooks without ipywidgets
 
+from glamas.errors import UserError
 from glamas.parallel import dask, local, memo
 from glamas.parallel.backends import Dask, Processes, Threads, as_backend, cores
 from glamas.parallel.batch import Batch, check_batch, check_finite, jobs_of
@@ -34,7 +35,7 @@ def run_many(batches: list, *, workers=None, progress: str | None = None, chunk:
     for batch in batches:
         check_batch(batch)
     if chunk is not None and (isinstance(chunk, bool) or not isinstance(chunk, int) or chunk < 1):
-        raise ValueError(f"chunk must be a whole number of runs >= 1 or None, got {chunk!r}")
+        raise UserError(f"chunk must be a whole number of runs >= 1 or None, got {chunk!r}")
     keys = [memo.key_of(batch) for batch in batches]
     to_run = [k for k, key in enumerate(keys) if not memo.recall(key, batches[k])]
     jobs = jobs_of(batches, to_run, workers, chunk)

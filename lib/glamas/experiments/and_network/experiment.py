@@ -17,6 +17,7 @@ from numba import njit
 from glamas import checks, gla, lineworld, memory, parallel
 from glamas.learners import and_network as learner
 from glamas.learners.and_network import CONTEXT_LENGTH, NETWORK, left_probability
+from glamas.errors import UserError
 
 
 @dataclass(frozen=True)
@@ -75,23 +76,23 @@ class ANDNetworkConfig:
         checks.whole_numbers(self, {"iterations": 1, "runs": 1, "record_points": 1, "probe_points": 1,
                                     "eval_grid": 1, "stream": 0})
         if self.record_points > self.iterations:
-            raise ValueError(f"record_points ({self.record_points}) cannot exceed iterations "
+            raise UserError(f"record_points ({self.record_points}) cannot exceed iterations "
                              f"({self.iterations}); lower record_points or raise iterations")
         for name in ("reward_inside", "reward_outside", "reward_other", "stuck_threshold"):
             value = getattr(self, name)
             if not isinstance(value, (int, float)) or not 0 <= value <= 1:
-                raise ValueError(f"{name} must be in [0, 1] (GLA feedback is in [0, 1]), got {value!r}")
+                raise UserError(f"{name} must be in [0, 1] (GLA feedback is in [0, 1]), got {value!r}")
         for name in ("parabola_curvature", "parabola_offset"):
             if not isinstance(getattr(self, name), (int, float)) or not np.isfinite(getattr(self, name)):
-                raise ValueError(f"{name} must be a finite number, got {getattr(self, name)!r}")
+                raise UserError(f"{name} must be a finite number, got {getattr(self, name)!r}")
         if self.parabola_curvature < 0:
-            raise ValueError(f"parabola_curvature must be >= 0 so that region I is convex, "
+            raise UserError(f"parabola_curvature must be >= 0 so that region I is convex, "
                              f"got {self.parabola_curvature!r}")
         if self.parabola_offset >= 1:
-            raise ValueError(f"parabola_offset must be < 1 so that region I meets the square, "
+            raise UserError(f"parabola_offset must be < 1 so that region I meets the square, "
                              f"got {self.parabola_offset!r}")
         if not isinstance(self.init_scale, (int, float)) or not 0 <= self.init_scale <= self.L:
-            raise ValueError(f"init_scale must be a number in [0, L={self.L}], got {self.init_scale!r}")
+            raise UserError(f"init_scale must be a number in [0, L={self.L}], got {self.init_scale!r}")
         self.gla_params()  # validates learning_rate, temperature, K, L and bounding
 
     def gla_params(self) -> gla.GLAParams:
@@ -220,7 +221,7 @@ def sweep(config: ANDNetworkConfig, rewards_outside=DEFAULT_SWEEP, seed: int = 0
     then rerun the highest reward's runs from the same initial parameters on stream RERUN_STREAM."""
     values = np.array(rewards_outside, dtype=np.float64)
     if values.ndim != 1 or values.size < 2:
-        raise ValueError(f"rewards_outside needs at least two values, got {rewards_outside!r}")
+        raise UserError(f"rewards_outside needs at least two values, got {rewards_outside!r}")
     configs = [replace(config, reward_outside=float(value)) for value in values]
     configs.append(replace(configs[-1], stream=RERUN_STREAM))
     memory.check(config, copies=len(configs))  # every reward's arrays are held at once

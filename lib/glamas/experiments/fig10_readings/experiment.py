@@ -13,6 +13,7 @@ import numpy as np
 
 from glamas import parallel
 from glamas.experiments.gridworld import experiment as gw_experiment
+from glamas.errors import UserError
 
 
 READINGS = {
@@ -48,10 +49,10 @@ class ReadingsConfig:
 
     def __post_init__(self):
         if not isinstance(self.gridworld, gw_experiment.GridworldConfig) or self.gridworld.learners != ("two_observe",):
-            raise ValueError("gridworld must be a GridworldConfig with learners=('two_observe',)")
+            raise UserError("gridworld must be a GridworldConfig with learners=('two_observe',)")
         readings = tuple(self.readings)
         if not readings or len(set(readings)) != len(readings) or not set(readings) <= set(READINGS):
-            raise ValueError(f"readings must be distinct names from {list(READINGS)}, got {self.readings!r}")
+            raise UserError(f"readings must be distinct names from {list(READINGS)}, got {self.readings!r}")
         object.__setattr__(self, "readings", readings)
 
     def memory_bytes(self) -> int:

@@ -9,7 +9,7 @@ import numpy as np
 
 from glamas import claims as chapter
 from glamas import gla
-from glamas.curves import (DEFINITIONS, convergence_episode, convergence_episodes, convergence_grid,
+from glamas.curves import (DEFINITIONS, ratio, convergence_episode, convergence_episodes, convergence_grid,
                            convergence_ratio, earlier_share, final, grid_verdict, interval_verdict,
                            level_episode)
 from glamas.experiments.gridworld.experiment import GridworldConfig, GridworldResult
@@ -45,7 +45,7 @@ def measure(result: GridworldResult) -> dict:
         for base in ("independent", "mmdp"):
             m[f"steps_two_observe_minus_{base}"] = m["steps_two_observe"] - m[f"steps_{base}"]
             m.update(convergence_comparison(result, "two_observe", base))
-        m["reward_two_observe_over_mmdp"] = m["reward_two_observe"] / m["reward_mmdp"]
+        m["reward_two_observe_over_mmdp"] = ratio(m["reward_two_observe"], m["reward_mmdp"])
         m["reward_two_observe_minus_independent"] = m["reward_two_observe"] - m["reward_independent"]
         m["collisions_independent_off_3"] = abs(m["collisions_independent"] - 3.0)
         m["coordinations_two_observe_off_4"] = abs(m["coordinations_two_observe"] - 4.0)

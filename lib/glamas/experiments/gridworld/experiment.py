@@ -12,6 +12,7 @@ from glamas.gridworld import GridMap, load_map
 from glamas.learners import episode as ep
 from glamas.learners import registry, spec, two_observe
 from glamas.learners.settings import LearningSettings
+from glamas.errors import UserError
 
 
 LEARNERS = registry.family("chapter")
@@ -41,11 +42,11 @@ class GridworldConfig(LearningSettings):
         checks.whole_numbers(self, {"episodes": 1, "runs": 1, "bins": 1})
         learners = tuple(self.learners)
         if not learners or len(set(learners)) != len(learners) or not set(learners) <= set(LEARNERS):
-            raise ValueError(f"learners must be distinct names from {LEARNERS}, got {self.learners!r}")
+            raise UserError(f"learners must be distinct names from {LEARNERS}, got {self.learners!r}")
         object.__setattr__(self, "learners", learners)
         gridmap = self.gridmap()
         if gridmap.n_agents != 2:
-            raise ValueError(f"the learners are written for two agents; map {self.map_file!r} has {gridmap.n_agents}")
+            raise UserError(f"the learners are written for two agents; map {self.map_file!r} has {gridmap.n_agents}")
 
     def gridmap(self) -> GridMap:
         """The map: ``map_file`` as a name in data/maps or a path (:func:`glamas.gridworld.load_map`)."""

@@ -53,11 +53,13 @@ TAIL_FROM = 100
 def plot_steps(ax, result, optimum=None):
     """Fig. 11a: steps from start to goal, mean of both agents (mean and 95 % band over runs), on
     a log axis with ticks at round values, and the tail (episode 100 on) zoomed on a linear axis
-    in an inset, where the learners' final steps differ by one or two."""
+    in an inset, where the learners' final steps differ by one or two; a run of fewer episodes
+    has no tail, and no inset."""
     _plot_learners(ax, result, result.steps, "steps to goal (mean of the agents)",
                    None if optimum is None else optimum["steps"])
     _round_log_ticks(ax, STEP_TICKS)
-    _plot_step_tail(ax, result, optimum)
+    if result.episodes[-1] >= TAIL_FROM:
+        _plot_step_tail(ax, result, optimum)
 
 
 def _round_log_ticks(ax, ticks):

@@ -8,6 +8,7 @@ import numpy as np
 
 from glamas import checks, memory
 from glamas.gridworld import GridMap, dp, load_map, rules
+from glamas.errors import UserError
 
 
 @dataclass(frozen=True)
@@ -20,7 +21,7 @@ class GridworldOptimumConfig:
     """Discount factor of the DP; the chapter gives none. 0.9 makes a yielding agent bump once
     (-1) rather than detour two steps; from about 0.99 the detour wins (see the notebook)."""
     epsilon: float = 1e-9
-    """Alg. 2 stops when the largest change of V is below this (Sec. 2.2)."""
+    """Alg. 2 stops when the largest change of V is below this (Sec. 2.2); at most :func:`max_epsilon`."""
     bounce: str = "previous"
     """Where collided agents go: 'previous' cell or 'start' cell ("bounced back to their original position")."""
     selfish_steps: int = 20
@@ -30,13 +31,14 @@ class GridworldOptimumConfig:
         checks.field_types(self)
         self.gridmap()  # a map that is not there or is malformed is refused here (MapError)
         if not isinstance(self.gamma, float) or not 0.0 < self.gamma < 1.0:
-            raise ValueError(f"gamma must be a float in (0, 1), got {self.gamma!r}")
-        if not isinstance(self.epsilon, float) or not self.epsilon > 0.0:
-            raise ValueError(f"epsilon must be a float > 0, got {self.epsilon!r}")
+            raise UserError(f"gamma must be a float in (0, 1), got {self.gamma!r}")
+        if not isinstance(self.epsilon, float) or not 0.0 < self.epsilon <= max_epsilon(self.gamma):
+            raise UserError(f"epsilon must be a float > 0 and at most {max_epsilon(self.gamma):.3g} for gamma="
+                            f"{self.gamma:g} (V then ends within {VALUE_ERROR:g} of its optimum), got {self.epsilon!r}")
         if self.bounce not in rules.BOUNCE_MODES:
-            raise ValueError(f"bounce must be one of {sorted(rules.BOUNCE_MODES)}, got {self.bounce!r}")
+            raise UserError(f"bounce must be one of {sorted(rules.BOUNCE_MODES)}, got {self.bounce!r}")
         if not isinstance(self.selfish_steps, int) or self.selfish_steps < 1:
-            raise ValueError(f"selfish_steps must be a positive integer, got {self.selfish_steps!r}")
+            raise UserError(f"selfish_steps must be a positive integer, got {self.selfish_steps!r}")
 
     def gridmap(self) -> GridMap:
         """The map: ``map_name`` as a name in data/maps or a path (:func:`glamas.gridworld.load_map`)."""
@@ -74,6 +76,18 @@ class GridworldOptimumResult:
     """Policy improvements policy iteration needed."""
 
 
+VALUE_ERROR = 1e-3
+"""The most that value iteration's stopping rule may leave V off its optimum: a thousandth of the
+smallest reward (a bump's -1). A looser epsilon (1, 100) stops the sweeps before the values tell
+the agents' moves apart, and the "optimal" policy found then need not reach the goal."""
+
+
+def max_epsilon(gamma: float) -> float:
+    """The largest epsilon for discount ``gamma``: stopping when V changes by less than epsilon
+    leaves V within epsilon gamma / (1 - gamma) of its optimum (Sec. 2.2), at most VALUE_ERROR."""
+    return VALUE_ERROR * (1.0 - gamma) / gamma
+
+
 def run(config: GridworldOptimumConfig, seed: int = 0, workers=None, progress=None) -> GridworldOptimumResult:
     """Solve the joint MMDP with both DP algorithms and roll out the optimal and the selfish policies.
 
@@ -84,13 +98,18 @@ def run(config: GridworldOptimumConfig, seed: int = 0, workers=None, progress=No
     mdp = dp.joint_mdp(gridmap, config.bounce)
     by_values = dp.value_iteration(mdp, config.gamma, config.epsilon)
     by_policies = dp.policy_iteration(mdp, config.gamma, config.epsilon)
+    optimal, by_policy_iteration = dp.rollout(mdp, by_values.policy), dp.rollout(mdp, by_policies.policy)
+    for algorithm, episode in (("value", optimal), ("policy", by_policy_iteration)):
+        if not episode.finished:  # an epsilon within the bound, still too coarse for this gamma and map
+            raise UserError(f"the policy that {algorithm} iteration found with epsilon={config.epsilon:g} does not bring "
+                            f"every agent to the goal of {config.map_name!r}: lower epsilon")
     return GridworldOptimumResult(
         gridmap=gridmap,
-        optimal=dp.rollout(mdp, by_values.policy),
+        optimal=optimal,
         selfish=dp.rollout(mdp, dp.selfish_policy(mdp, config.gamma), config.selfish_steps),
         start_value=float(by_values.values[mdp.start_state]),
         value_gap=float(np.abs(by_values.values - by_policies.values).max()),
-        policy_iteration_episode=dp.rollout(mdp, by_policies.policy),
+        policy_iteration_episode=by_policy_iteration,
         sweeps=by_values.iterations,
         improvements=by_policies.iterations,
     )

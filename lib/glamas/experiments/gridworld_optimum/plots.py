@@ -3,6 +3,7 @@ given matplotlib Axes."""
 
 from glamas.experiments.gridworld_optimum.experiment import GridworldOptimumResult
 from glamas.gridworld import draw
+from glamas.errors import UserError
 
 
 WAITS = {"optimal": "waits: bumps into a wall", "selfish": "stays: bounced back by a collision"}
@@ -15,7 +16,7 @@ def plot_episode(ax, result: GridworldOptimumResult, which: str = "optimal"):
     step at which each agent enters each cell, and a ring where an agent stays put."""
     episodes = {"optimal": result.optimal, "selfish": result.selfish}
     if which not in episodes:
-        raise ValueError(f"which must be one of {sorted(episodes)}, got {which!r}")
+        raise UserError(f"which must be one of {sorted(episodes)}, got {which!r}")
     draw.draw_map(ax, result.gridmap)
     draw.draw_paths(ax, result.gridmap, episodes[which].cells, numbered=True, wait_label=WAITS[which])
     steps = ", ".join("-" if s < 0 else str(s) for s in episodes[which].steps_to_goal)

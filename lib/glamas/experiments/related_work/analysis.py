@@ -5,7 +5,7 @@ the claims of ``data/chapter/related_work.json`` are about."""
 import numpy as np
 
 from glamas import claims as chapter
-from glamas.curves import final, mean_and_band
+from glamas.curves import final, mean_and_band, ratio
 from glamas.experiments.gridworld import analysis as gw_analysis
 from glamas.experiments.related_work.experiment import RELATED_LEARNERS, RelatedWorkConfig, RelatedWorkResult
 from glamas.gridworld import rules
@@ -41,7 +41,7 @@ def measure(result: RelatedWorkResult, config: RelatedWorkConfig) -> dict:
         m["marked_within_coordination_distance_cq"] = float((distances <= config.coordination_distance).mean()) if distances.size else 0.0
     for name in set(names) & set(RELATED_LEARNERS):
         if "mmdp" in names:
-            m[f"reward_{name}_over_mmdp"] = m[f"reward_{name}"] / m["reward_mmdp"]
+            m[f"reward_{name}_over_mmdp"] = ratio(m[f"reward_{name}"], m["reward_mmdp"])
             m[f"q_entries_{name}_over_mmdp"] = m[f"q_entries_{name}"] / m["q_entries_mmdp"]
             m.update(gw_analysis.convergence_comparison(result, name, "mmdp"))
         if "independent" in names:

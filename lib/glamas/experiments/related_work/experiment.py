@@ -17,6 +17,7 @@ from glamas.experiments.gridworld import experiment as gw_experiment
 from glamas.gridworld import GridMap
 from glamas.learners import cq, registry, spec
 from glamas.learners.settings import LearnerSettings, RelatedSettings, combine
+from glamas.errors import UserError
 
 
 RELATED_LEARNERS = registry.family("related")
@@ -41,7 +42,7 @@ class RelatedWorkConfig(RelatedSettings):
         super().__post_init__()
         learners = tuple(self.learners)
         if len(set(learners)) != len(learners) or not set(learners) <= set(registry.beyond_the_chapter()):
-            raise ValueError(f"learners must be distinct names from {registry.beyond_the_chapter()}, "
+            raise UserError(f"learners must be distinct names from {registry.beyond_the_chapter()}, "
                              f"got {self.learners!r}")
         object.__setattr__(self, "learners", learners)
         # two agents: GridworldConfig already rejects other maps

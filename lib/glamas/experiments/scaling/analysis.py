@@ -9,6 +9,7 @@ import numpy as np
 from glamas import claims as chapter
 from glamas.curves import BAND_DRAWS, convergence_episode, final
 from glamas.experiments.scaling.experiment import RELATED_METHODS, ScalingResult, label
+from glamas.errors import UserError
 
 
 def growth(agents, values) -> dict:
@@ -116,7 +117,7 @@ def pivot_table(result: ScalingResult, metric: str) -> str:
     """One final measurement per method (rows) and N (columns), '-' where the method did not run;
     'capped_runs' counts the runs in which some of the final 10 % of the episodes hit the step cap."""
     if metric not in PIVOT_METRICS:
-        raise ValueError(f"metric must be one of {sorted(PIVOT_METRICS)}, got {metric!r}")
+        raise UserError(f"metric must be one of {sorted(PIVOT_METRICS)}, got {metric!r}")
     m = measure(result)
     lines = [f"{metric:22s}" + "".join(f"{f'N = {n}':>9s}" for n in result.agents)]
     for k, method in enumerate(result.names()):

@@ -28,6 +28,7 @@ from glamas.learners import episode as ep
 from glamas.learners import registry, spec
 from glamas.learners.settings import LearnerSettings, LearningSettings, RelatedSettings, combine
 from glamas.learners.spec import Learner
+from glamas.errors import UserError
 
 
 @dataclass(frozen=True)
@@ -93,27 +94,27 @@ class ScalingConfig(RelatedSettings):
         super().__post_init__()
         checks.whole_numbers(self, {"episodes": 1, "runs": 1, "bin_size": 1})
         if self.episodes % self.bin_size:
-            raise ValueError(f"bin_size ({self.bin_size}) must divide episodes ({self.episodes}); "
+            raise UserError(f"bin_size ({self.bin_size}) must divide episodes ({self.episodes}); "
                              "choose a bin size such as 100 that divides the episode count")
         agents = tuple(self.agents) if isinstance(self.agents, (tuple, list)) else None
         if (not agents or len(set(agents)) != len(agents)
                 or not all(isinstance(n, int) and 2 <= n <= MAX_AGENTS for n in agents)):
-            raise ValueError(f"agents must be distinct whole numbers from 2 to {MAX_AGENTS}, got {self.agents!r}")
+            raise UserError(f"agents must be distinct whole numbers from 2 to {MAX_AGENTS}, got {self.agents!r}")
         object.__setattr__(self, "agents", tuple(sorted(agents)))
         methods = tuple(self.methods) if isinstance(self.methods, (tuple, list)) else ()
         if not methods or len(set(methods)) != len(methods) or not set(methods) <= set(known_methods()):
-            raise ValueError(f"methods must be distinct names from {known_methods()}, got {self.methods!r}")
+            raise UserError(f"methods must be distinct names from {known_methods()}, got {self.methods!r}")
         object.__setattr__(self, "methods", methods)
         if isinstance(self.rule_distance, bool) or not isinstance(self.rule_distance, int) or self.rule_distance < 0:
-            raise ValueError(f"rule_distance must be a whole number >= 0, got {self.rule_distance!r}")
+            raise UserError(f"rule_distance must be a whole number >= 0, got {self.rule_distance!r}")
         if not (isinstance(self.memory_budget_gib, (int, float)) and self.memory_budget_gib > 0):
-            raise ValueError(f"memory_budget_gib must be a number > 0, got {self.memory_budget_gib!r}")
+            raise UserError(f"memory_budget_gib must be a number > 0, got {self.memory_budget_gib!r}")
         if "{n}" not in self.map_pattern:
-            raise ValueError(f"map_pattern must contain '{{n}}' for the number of agents, got {self.map_pattern!r}")
+            raise UserError(f"map_pattern must contain '{{n}}' for the number of agents, got {self.map_pattern!r}")
         for n in self.agents:
             gridmap = self.gridmap(n)
             if gridmap.n_agents != n:
-                raise ValueError(f"map {gridmap.name!r} has {gridmap.n_agents} agents, the study expects {n}: "
+                raise UserError(f"map {gridmap.name!r} has {gridmap.n_agents} agents, the study expects {n}: "
                                  f"give each map file exactly N starts 1..N")
 
     def gridmap(self, n: int) -> GridMap:
@@ -202,7 +203,7 @@ class ScalingResult:
 
     def q_entries(self) -> np.ndarray:
         """(methods, agents): Q-table entries per run (all agents' tables together)."""
-        return self.table_shapes.prod(axis=2)
+        return self.table_shapes.prod(axis=2, dtype=float)  # exact below 2^53; int64 would wrap for many agents
 
     def parameters(self) -> np.ndarray:
         """(methods, agents): values stored per run: Q entries, GLA parameters, joint values and
@@ -217,6 +218,12 @@ def seed_of(seed: int, method: str, n_agents: int) -> int:
     family = learner_of(method).family
     members = RELATED_METHODS if family == "related" else CHAPTER_METHODS
     return registry.master_seed(seed * 16 + n_agents, members, method, family)
+
+
+def _as_int64(count: int) -> int:
+    """``count`` as an int64 array can hold it: at most 2^63 - 1. Only the tables of many agents
+    count beyond (an MMDP learner's of 9 agents), and the study skips those, far over any budget."""
+    return min(int(count), np.iinfo(np.int64).max)
 
 
 def run(config: ScalingConfig = ScalingConfig(), seed: int = 0, workers=None, progress=None) -> ScalingResult:
@@ -239,10 +246,10 @@ def run(config: ScalingConfig = ScalingConfig(), seed: int = 0, workers=None, pr
         gridmap = config.gridmap(n)
         for k, method in enumerate(config.methods):
             learner, settings = learner_of(method), config.settings(method)
-            shapes[k, j] = learner.table_shape(gridmap.n_cells, n)
+            shapes[k, j] = [_as_int64(size) for size in learner.table_shape(gridmap.n_cells, n)]
             glas[k, j] = learner.gla_parameters(settings, gridmap)
             joints[k, j], samples[k, j] = learner.joint_room(settings, gridmap), learner.reward_samples(settings, gridmap)
-            needed[k, j] = memory_needed(config, method, gridmap)
+            needed[k, j] = _as_int64(memory_needed(config, method, gridmap))
             if needed[k, j] <= budget:
                 batch, outputs = spec.batch(learner, settings, gridmap, schedule, config.runs, seed_of(seed, method, n),
                                             keep_q=False)

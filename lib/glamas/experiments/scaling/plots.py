@@ -7,6 +7,7 @@ from glamas.experiments.scaling.analysis import final_with_band
 from glamas.experiments.scaling.experiment import ScalingConfig, ScalingResult, label
 from glamas.learners.spec import BYTES_PER_VALUE
 from glamas.plotting import learner_style, legend_right, plot_mean_band
+from glamas.errors import UserError
 
 
 MACHINE_MEMORY_GIB = 24
@@ -81,7 +82,7 @@ def plot_final(ax, result: ScalingResult, metric: str, legend: bool = True):
     still outside 5 % of its final steps in the last block never settled; it is drawn as an open
     triangle above the end of the runs, not as a number of episodes."""
     if metric not in _METRIC_LABELS:
-        raise ValueError(f"metric must be one of {sorted(_METRIC_LABELS)}, got {metric!r}")
+        raise UserError(f"metric must be one of {sorted(_METRIC_LABELS)}, got {metric!r}")
     names = result.names()
     never_settled = False
     for k, method in enumerate(names):
@@ -128,7 +129,7 @@ CURVE_LABELS = {"steps": "steps to goal (agent mean)", "reward": "reward (agent 
 def plot_curves(ax, result: ScalingResult, n: int, metric: str = "steps", legend: bool = True):
     """Learning curves (mean and 95 % band over runs) of every method that ran with ``n`` agents."""
     if n not in result.agents:
-        raise ValueError(f"no results for N = {n}; the study has N in {result.agents.tolist()}")
+        raise UserError(f"no results for N = {n}; the study has N in {result.agents.tolist()}")
     j = list(result.agents).index(n)
     for k, method in enumerate(result.names()):
         if result.ran[k, j]:

@@ -10,6 +10,7 @@ from numba import njit
 from glamas import claims, gla, lineworld
 from glamas.curves import final_per_run
 from glamas.experiments.single_gla.experiment import SingleGLAConfig, SingleGLAResult
+from glamas.errors import UserError
 
 
 @njit(cache=True)
@@ -296,7 +297,7 @@ def learned_line(result: SingleGLAResult, run_index: int, agent: int) -> tuple[f
     x2 = slope x1 + intercept, for the joint context; the agent prefers L above it when the x2
     weight is positive."""
     if result.config.context != "joint":
-        raise ValueError(f"learned lines live in the (x1, x2) plane: they need the joint context, "
+        raise UserError(f"learned lines live in the (x1, x2) plane: they need the joint context, "
                          f"this result used {result.config.context!r}")
     hu = bounded(result.params[run_index, agent], result.config)
     w = hu[0] - hu[1]

@@ -10,6 +10,7 @@ import numpy as np
 
 from glamas import checks, gla, lineworld, memory, parallel
 from glamas.learners import single_gla as learner
+from glamas.errors import UserError
 
 
 PARAMETERS = 2 * 2 * 3
@@ -54,10 +55,10 @@ class SingleGLAConfig:
         checks.field_types(self)
         checks.whole_numbers(self, {"iterations": 1, "runs": 1, "record_points": 1, "eval_grid": 1})
         if self.record_points > self.iterations:
-            raise ValueError(f"record_points ({self.record_points}) cannot exceed iterations "
+            raise UserError(f"record_points ({self.record_points}) cannot exceed iterations "
                              f"({self.iterations}); lower record_points or raise iterations")
         if not isinstance(self.init_scale, (int, float)) or not 0 <= self.init_scale <= self.L:
-            raise ValueError(f"init_scale must be a number in [0, L={self.L}], got {self.init_scale!r}")
+            raise UserError(f"init_scale must be a number in [0, L={self.L}], got {self.init_scale!r}")
         lineworld.encoding_code(self.context)
         lineworld.region3_code(self.region3_reward)
         self.gla_params()  # validates learning_rate, temperature, K, L and bounding

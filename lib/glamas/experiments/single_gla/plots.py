@@ -7,6 +7,7 @@ from glamas import lineworld
 from glamas.experiments.single_gla.analysis import B_BEST_LINE_OFFSETS, bounded
 from glamas.experiments.single_gla.experiment import SingleGLAResult
 from glamas.plotting import legend_below, plot_mean_band
+from glamas.errors import UserError
 
 
 def plot_regions(ax, region3_reward: str = "move_apart"):
@@ -29,7 +30,7 @@ def plot_learned_lines(ax, result: SingleGLAResult, run_index: int, grid: int = 
     """Fig. 5b: each agent's learned line (u_L - u_R).x = 0 (joint context) and the most
     probable joint action in each cell of the partition the two lines make."""
     if result.config.context != "joint":
-        raise ValueError(f"learned lines are drawn in the (x1, x2) plane: they need the joint "
+        raise UserError(f"learned lines are drawn in the (x1, x2) plane: they need the joint "
                          f"context, this result used {result.config.context!r}")
     u = result.params[run_index]
     x1, x2 = lineworld.state_grid(grid)

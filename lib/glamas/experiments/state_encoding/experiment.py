@@ -8,6 +8,7 @@ import numpy as np
 
 from glamas import checks, memory
 from glamas.experiments.single_gla.experiment import PARAMETERS, SingleGLAConfig, SingleGLAResult, run, scaled
+from glamas.errors import UserError
 
 
 ENCODING_NAMES = ("joint", "absolute", "deictic")
@@ -24,7 +25,7 @@ def box_L(box: str, encoding: str, fig5_L: float) -> float:
     times the encoding's input range (:data:`INPUT_RANGE`: joint 1, absolute and deictic 2), the
     rule 2observe's box follows (a box that scales with the largest input)."""
     if box not in BOX_READINGS:
-        raise ValueError(f"box must be one of {list(BOX_READINGS)}, got {box!r}")
+        raise UserError(f"box must be one of {list(BOX_READINGS)}, got {box!r}")
     return {"fig5": fig5_L, "two": 2.0, "input_range": fig5_L * INPUT_RANGE[encoding]}[box]
 
 

@@ -1,0 +1,62 @@
+"""The committed results (``data/results``) and figures (``paper_figures/output``), and what makes
+each of them again.
+
+A message about a missing, stale or damaged committed file gives this advice rather than a
+generic "--rerun" or "delete it": the figure script that recomputes the file, or ``git checkout``
+of the committed version. Deleting a committed file would only leave git with a change to undo.
+"""
+
+from pathlib import Path
+
+from glamas.paths import FIGURES, REPO, RESULTS, SCRIPTS
+
+RUNS_ITS_EXPERIMENT = "figures.figure("
+"""What the source of a figure script that runs its experiment calls (the others call
+figures.fixed_figure: a map, a table of settings)."""
+
+
+def advice(path, option: str = "--rerun") -> str | None:
+    """How to make ``path`` again when it is a committed result file (:func:`result_advice`) or
+    figure (:func:`figure_advice`); None for any other path."""
+    path = Path(path)
+    directory = path.parent.resolve()
+    if directory == RESULTS.resolve():
+        return result_advice(path.name, option)
+    if directory == FIGURES.resolve():
+        return figure_advice(path.name)
+    return None
+
+
+def result_advice(name: str, option: str = "--rerun") -> str:
+    """How to make the committed result file ``name`` again: the figure script that computes it,
+    run with ``option`` (--rerun; --force for a file of another configuration), or git checkout."""
+    restore = f"restore the committed one with `git checkout -- {shown(RESULTS / name)}`"
+    script = computing_script(name)
+    if script is None:
+        return restore
+    return f"recompute it with `python {shown(SCRIPTS / script)}.py {option}`, or {restore}"
+
+
+def figure_advice(name: str) -> str:
+    """How to make the committed figure ``name`` (``fig11a.png``) again: its script, or git checkout."""
+    restore = f"restore the committed one with `git checkout -- {shown(FIGURES / name)}`"
+    script = SCRIPTS / f"{Path(name).stem}.py"
+    return f"draw it again with `python {shown(script)}`, or {restore}" if script.is_file() else restore
+
+
+def computing_script(result_file: str) -> str | None:
+    """The figure script (its name, ``fig11a``) that computes the result file ``result_file``
+    (``gridworld.npz``): the first of its experiment's scripts that runs the experiment; None for a
+    file of no experiment."""
+    from glamas.experiments import registry  # here: the registry imports glamas.results, which imports this module
+
+    for experiment in registry.experiments():
+        if experiment.stored and experiment.file(RESULTS).name == result_file:
+            return next((name for name in experiment.figures
+                         if RUNS_ITS_EXPERIMENT in (SCRIPTS / f"{name}.py").read_text()), None)
+    return None
+
+
+def shown(path: Path) -> str:
+    """``path`` relative to the repository when it is inside it (as a reader types it there)."""
+    return str(path.relative_to(REPO)) if path.is_relative_to(REPO) else str(path)

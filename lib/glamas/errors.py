@@ -1,0 +1,81 @@
+"""What glamas reports as the user's to fix, and the one way every command reports an error.
+
+A :class:`UserError` is bad input or a fault outside the program (a damaged file, an unwritable
+directory, an unreachable cluster). A command stops on one with one line ``error: ...`` on stderr
+and exit status 2, without a traceback: the traceback would point into glamas while the fix lies
+outside it, and the message says what the fix is. An OSError (a file that cannot be read or
+written) is reported the same way. Anything else is a bug in glamas: it keeps its traceback,
+followed by one line asking for a report.
+
+Every entry point (the figure scripts, ``python -m glamas.reproduce``, ``glamas.verify``,
+``glamas.ledger``, the benchmarks) ends with ``errors.run(main)``.
+"""
+
+import contextlib
+import shlex
+import sys
+import traceback
+
+EXIT_USER_ERROR = 2
+"""Exit status of a user error (argparse's for a bad option)."""
+EXIT_BUG = 70
+"""Exit status of a bug in glamas (sysexits' EX_SOFTWARE): apart from the statuses a command gives
+on purpose, such as glamas.verify's 1 for a difference."""
+
+
+class UserError(ValueError):
+    """Bad input or a fault outside the program: reported as one line without a traceback.
+
+    A ValueError, so that code and tests that catch ValueError for bad input keep catching it."""
+
+
+class Reported(SystemExit):
+    """A user error already reported on stderr: exit status 2; ``str()`` is the message."""
+
+    def __init__(self, message: str):
+        super().__init__(EXIT_USER_ERROR)
+        self.message = message
+
+    def __str__(self) -> str:
+        return self.message
+
+
+@contextlib.contextmanager
+def reported():
+    """A user error (or OSError) inside becomes one line ``error: ...`` on stderr and exit status 2
+    (:class:`Reported`); anything else passes through."""
+    try:
+        yield
+    except (UserError, OSError) as error:
+        message = one_line(error)
+        print(f"error: {message}", file=sys.stderr)
+        raise Reported(message) from None
+
+
+def run(main) -> None:
+    """Call an entry point's ``main()`` and exit with the status it returns (None: 0). A user error
+    exits with status 2 and one line; any other exception prints its traceback, then one line
+    saying that it is a bug in glamas, and exits with EXIT_BUG."""
+    try:
+        with reported():
+            status = main()
+    except Exception:
+        traceback.print_exc()
+        print(bug_report(), file=sys.stderr)
+        sys.exit(EXIT_BUG)
+    sys.exit(status)
+
+
+def bug_report() -> str:
+    """The line that follows the traceback of a bug: what to report, the command included."""
+    return (f"this is a bug in glamas, not in your input: please report it with the traceback above "
+            f"and the command: {shlex.join(sys.orig_argv)}")
+
+
+def one_line(error: BaseException) -> str:
+    """The message of ``error`` on one line (an OSError with the file it concerns)."""
+    if isinstance(error, OSError) and error.strerror:
+        text = f"{error.strerror}: {error.filename}" if error.filename else error.strerror
+    else:
+        text = str(error) or type(error).__name__
+    return " ".join(text.split())
