@@ -11,21 +11,21 @@ after a warm-up call, on one thread and on all threads.
 
 from benchmarks import kernels, timing
 from glamas import errors
-from glamas.experiments.scaling import ScalingConfig
 
 N_AGENTS = 4
-SETTINGS = ScalingConfig().settings("two_observe")  # the scaling study's: the chapter's rates, a 1000-step cap
+MAX_STEPS = 1000
+"""The scaling study's step cap (the chapter's rates and 2observe's settings otherwise)."""
 SIZES = {"full": (300, 3_000, 4), "quick": (30, 300, 2)}
 """Episodes of the Python run, episodes and runs of the compiled ones."""
 
 
 def main():
     reference_episodes, episodes, n_runs = SIZES["quick" if timing.quick(__doc__) else "full"]
-    map_file = f"warehouse_{N_AGENTS}.txt"
+    map_name = f"warehouse_{N_AGENTS}"
     timing.compare_gridworld(
         f"2observe, {N_AGENTS} agents",
-        kernels.Workload("two_observe", reference_episodes, map_file, settings=SETTINGS),
-        kernels.Workload("two_observe", episodes, map_file, block=episodes // 100, settings=SETTINGS), n_runs)
+        kernels.Workload("two_observe", reference_episodes, map_name, max_steps=MAX_STEPS),
+        kernels.Workload("two_observe", episodes, map_name, block=episodes // 100, max_steps=MAX_STEPS), n_runs)
 
 
 if __name__ == "__main__":

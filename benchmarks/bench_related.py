@@ -12,7 +12,7 @@ after a warm-up call, on one thread and on all threads.
 
 from benchmarks import kernels, timing
 from glamas import errors
-from glamas.learners.settings import LearnerSettings
+from glamas.learners import cq
 
 SIZES = {"full": (2_000, 20_000, 4), "quick": (200, 2_000, 2)}
 """Episodes of the Python run, episodes and runs of the compiled ones."""
@@ -21,7 +21,8 @@ SOLO_SHARE = 20
 
 
 def workload(name: str, episodes: int, block: int = 1) -> kernels.Workload:
-    return kernels.Workload(name, episodes, block=block, settings=LearnerSettings(cq_solo_episodes=episodes // SOLO_SHARE))
+    own = cq.Settings(cq_solo_episodes=episodes // SOLO_SHARE) if name == "cq" else None
+    return kernels.Workload(name, episodes, block=block, own=own)
 
 
 def main():

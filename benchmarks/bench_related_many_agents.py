@@ -11,22 +11,21 @@ joint phase (one joint move with its learning; CQ-learning's phase alone is time
 The compiled kernels are timed after a warm-up call, on one thread and on all threads.
 """
 
-import dataclasses
-
 from benchmarks import kernels, timing
 from benchmarks.bench_related import SOLO_SHARE
 from glamas import errors
-from glamas.experiments.scaling import ScalingConfig
+from glamas.learners import cq
 
 N_AGENTS = 4
-SETTINGS = ScalingConfig().settings("cq")  # the scaling study's: the chapter's rates, a 1000-step cap
+MAX_STEPS = 1000
+"""The scaling study's step cap (the chapter's rates and its settings otherwise)."""
 SIZES = {"full": (300, 3_000, 4), "quick": (30, 300, 2)}
 """Episodes of the Python run, episodes and runs of the compiled ones."""
 
 
 def workload(name: str, episodes: int, block: int = 1) -> kernels.Workload:
-    settings = dataclasses.replace(SETTINGS, cq_solo_episodes=episodes // SOLO_SHARE)
-    return kernels.Workload(name, episodes, f"warehouse_{N_AGENTS}.txt", block, settings)
+    own = cq.Settings(cq_solo_episodes=episodes // SOLO_SHARE) if name == "cq" else None
+    return kernels.Workload(name, episodes, f"warehouse_{N_AGENTS}", block, own, max_steps=MAX_STEPS)
 
 
 def main():

@@ -17,6 +17,7 @@ import numpy as np
 
 from benchmarks import kernels
 from glamas.gridworld import BOUNCE_MODES
+from glamas.learners import two_observe
 
 SOURCE = Path(__file__).with_name("reference_gridworld.c")
 LEARNERS = ("independent", "joint_state", "mmdp", "two_observe")
@@ -51,20 +52,22 @@ class Reference:
         thread's CPU time in the C call."""
         if workload.learner not in LEARNERS:
             raise ValueError(f"the C reference has the learners {LEARNERS}, not {workload.learner!r}")
-        g, c = workload.gridmap(), workload.settings
+        g, (q_settings, own) = workload.gridmap(), workload.setup()
         if g.n_agents != 2:
             raise ValueError(f"the C reference is written for two agents, got {g.n_agents}")
         arrays = kernels.new_outputs(workload, 1)
         world_arrays = (np.ascontiguousarray(g.next_cell, np.int64), np.ascontiguousarray(g.is_goal, np.uint8),
                         np.ascontiguousarray(g.starts, np.int64))
-        world = _World(*(a.ctypes.data for a in world_arrays), BOUNCE_MODES[c.bounce], g.n_cells, g.n_cols)
+        world = _World(*(a.ctypes.data for a in world_arrays), BOUNCE_MODES[workload.bounce], g.n_cells, g.n_cols)
         double, state = ctypes.c_double, kernels.run_state(seed)
-        common = (ctypes.byref(world), double(c.q_learning_rate), double(c.discount), double(c.exploit_prob))
-        schedule = (ctypes.c_int64(workload.episodes), _pointer(workload.schedule().edges, np.int64), ctypes.c_int64(c.max_steps))
+        common = (ctypes.byref(world), double(q_settings.q_learning_rate), double(q_settings.discount),
+                  double(q_settings.exploit_prob))
+        schedule = (ctypes.c_int64(workload.episodes), _pointer(workload.schedule().edges, np.int64),
+                    ctypes.c_int64(workload.max_steps))
         q, log = _pointer(arrays["q"][0], np.float64), _pointer(arrays["log"][0], np.float64)
         start = time.thread_time()
         if workload.learner == "two_observe":
-            self._lib.run_two_observe(*common, *self._automata(c), *schedule, q,
+            self._lib.run_two_observe(*common, *self._automata(own, g), *schedule, q,
                                       _pointer(arrays["u"][0], np.float64), _pointer(arrays["need_counts"][0], np.float64),
                                       log, _pointer(state, np.uint64))
         else:
@@ -72,14 +75,15 @@ class Reference:
         return kernels.Outputs(arrays, time.thread_time() - start, workload.block)
 
     @staticmethod
-    def _automata(c) -> tuple:
-        """2observe's GLA settings as the C function takes them."""
+    def _automata(c, gridmap) -> tuple:
+        """2observe's GLA settings (glamas.learners.two_observe.GLASettings) on ``gridmap`` as the
+        C function takes them."""
         wrong = {name: getattr(c, name) for name, value in TWO_OBSERVE_SETTINGS.items() if getattr(c, name) != value}
         if wrong:
             raise ValueError(f"the C reference of 2observe is written for {TWO_OBSERVE_SETTINGS}, got {wrong}")
         table = np.ascontiguousarray(c.gla_feedback, np.float64)
         double = ctypes.c_double
-        return (double(c.gla_learning_rate), double(c.gla_temperature), double(c.gla_K), double(c.gla_L),
+        return (double(c.gla_learning_rate), double(c.gla_temperature), double(c.gla_K), double(two_observe.box(c, gridmap)),
                 double(c.gla_init_range), table.ctypes.data_as(ctypes.c_void_p), double(c.coordination_penalty_per_cell))
 
 

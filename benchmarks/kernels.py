@@ -10,7 +10,8 @@ experiments' do: run ``r`` of ``seed`` draws from :func:`run_state` ``(seed, r)`
 
 import functools
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 from numba import njit
@@ -19,7 +20,7 @@ from glamas import parallel, rng
 from glamas.gridworld import load_map, rules
 from glamas.learners import cq, registry, spec
 from glamas.learners import episode as ep
-from glamas.learners.settings import LearnerSettings
+from glamas.qlearning import QSettings
 
 
 @dataclass(frozen=True)
@@ -29,28 +30,39 @@ class Workload:
     learner: str
     """A learner of glamas.learners.registry."""
     episodes: int
-    """Episodes of the run (CQ-learning: of the joint phase, after ``settings.cq_solo_episodes``)."""
-    map_file: str = "tunnel_to_goal.txt"
-    """A map of data/maps."""
+    """Episodes of the run (CQ-learning: of the joint phase, after its ``cq_solo_episodes``)."""
+    map: str = "tunnel_to_goal"
+    """A map of data/maps (glamas.gridworld.load_map)."""
     block: int = 1
     """Episodes per row of the log (it must divide ``episodes``); 1: a row per episode."""
-    settings: LearnerSettings = field(default_factory=LearnerSettings)
-    """Every learner's settings (the experiments' by default)."""
+    own: Any = None
+    """The learner's own settings (its spec's ``defaults``, the experiments', when None)."""
+    q: QSettings = QSettings()
+    """Q-learning's settings (the experiments')."""
+    bounce: str = "previous"
+    """Where a collided agent goes (glamas.gridworld.rules)."""
+    max_steps: int = 10_000
+    """Step cap per episode (the chapter's experiment's)."""
 
     def __post_init__(self):
-        registry.get(self.learner)  # an unknown name fails here, with the names there are
+        self.setup()  # an unknown learner or settings of another learner fail here
         if self.episodes % self.block:
             raise ValueError(f"block ({self.block}) must divide episodes ({self.episodes})")
 
+    def setup(self) -> spec.Setup:
+        """The learner's Q-learning settings and its own (glamas.learners.spec.Setup)."""
+        return registry.get(self.learner).setup(self.q, self.own)
+
     def gridmap(self):
-        return load_map(self.map_file)
+        return load_map(self.map)
 
     def schedule(self) -> ep.Schedule:
-        return ep.Schedule(self.episodes, ep.uniform_edges(self.episodes, self.block), self.settings.max_steps)
+        return ep.Schedule(self.episodes, ep.uniform_edges(self.episodes, self.block), self.max_steps)
 
     def t_critical(self) -> np.ndarray:
         """CQ-learning's two-sided critical values of Student's t, by degrees of freedom."""
-        return _t_critical(self.settings.cq_window, self.settings.cq_significance)
+        own = self.setup().own
+        return _t_critical(own.cq_window, own.cq_significance)
 
 
 @functools.cache
@@ -87,7 +99,7 @@ def run_state(seed: int, run: int = 0) -> np.ndarray:
 
 def new_outputs(workload: Workload, n_runs: int) -> dict:
     """Fresh outputs of ``n_runs`` runs of the workload's kernel, in the kernel's order."""
-    return spec.allocate(registry.get(workload.learner), workload.settings, workload.gridmap(),
+    return spec.allocate(registry.get(workload.learner), workload.setup(), workload.gridmap(),
                          workload.schedule(), n_runs)
 
 
@@ -95,7 +107,7 @@ def run_compiled(workload: Workload, seed: int = 0, n_runs: int = 1, workers=Non
     """``n_runs`` runs of the workload's compiled kernel: in this thread (``workers`` None, timed
     by its CPU time) or on glamas.parallel ``workers`` (timed by the wall clock)."""
     learner, gridmap = registry.get(workload.learner), workload.gridmap()
-    inputs = spec.kernel_inputs(learner, workload.settings, gridmap, workload.schedule())
+    inputs = spec.kernel_inputs(learner, workload.setup(), gridmap, workload.schedule(), workload.bounce)
     arrays = new_outputs(workload, n_runs)
     if workers is None:
         start = time.thread_time()

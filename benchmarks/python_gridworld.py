@@ -16,6 +16,7 @@ import math
 
 from benchmarks import python_gla
 from glamas.gridworld.rules import BUMP_PENALTY, COLLISION_PENALTY, GOAL_REWARD, N_ACTIONS
+from glamas.learners.two_observe import box
 
 COORDINATE = 1
 """The GLA action "coordinate" of 2observe (0: act alone)."""
@@ -31,6 +32,7 @@ class World:
     agents (rules.step), ``step_two`` for two (rules.step_pair, the learners' two-agent path)."""
 
     def __init__(self, gridmap, bounce="previous"):
+        self.gridmap = gridmap
         self.next_cell = gridmap.next_cell.tolist()
         self.is_goal = gridmap.is_goal.tolist()
         self.usable = (~(gridmap.is_goal | gridmap.blocked)).tolist()
@@ -163,11 +165,12 @@ def gla_feedback(table, penalty_per_cell, choice, need, both, delta):
 class Automata:
     """The agents' GLAs of 2observe with the workload's settings, initialised from ``rnd``."""
 
-    def __init__(self, settings, n_agents, rnd):
+    def __init__(self, settings, gridmap, rnd):
         c, self.rnd = settings, rnd
         self.u = [[[c.gla_init_range * (2.0 * rnd.random() - 1.0) for _ in range(2)] for _ in range(2)]
-                  for _ in range(n_agents)]
-        self.rate, self.temperature, self.K, self.L = c.gla_learning_rate, c.gla_temperature, c.gla_K, c.gla_L
+                  for _ in range(gridmap.n_agents)]
+        self.rate, self.temperature, self.K = c.gla_learning_rate, c.gla_temperature, c.gla_K
+        self.L = box(c, gridmap)
         self.feedback, self.penalty = c.gla_feedback, c.coordination_penalty_per_cell
 
     def act(self, i, x):
@@ -197,8 +200,8 @@ def nearest_others(world, cells, done):
 # --- the learners: each returns the step of one joint move with its learning ------------------------
 
 def independent(world, workload, rnd):
-    c = workload.settings
-    alpha, gamma, exploit = c.q_learning_rate, c.discount, c.exploit_prob
+    q_settings = workload.q
+    alpha, gamma, exploit = q_settings.q_learning_rate, q_settings.discount, q_settings.exploit_prob
     q = tables(2, world.n_cells, N_ACTIONS)
 
     def step(cells, done):
@@ -210,8 +213,8 @@ def independent(world, workload, rnd):
 
 
 def joint_state(world, workload, rnd):
-    c, n_cells = workload.settings, world.n_cells
-    alpha, gamma, exploit = c.q_learning_rate, c.discount, c.exploit_prob
+    q_settings, n_cells = workload.q, world.n_cells
+    alpha, gamma, exploit = q_settings.q_learning_rate, q_settings.discount, q_settings.exploit_prob
     q = tables(2, n_cells ** 2, N_ACTIONS)
 
     def step(cells, done):
@@ -241,8 +244,8 @@ def shared_reward(rewards, reached, finished):
 
 
 def mmdp(world, workload, rnd):
-    c, n_cells = workload.settings, world.n_cells
-    alpha, gamma, exploit = c.q_learning_rate, c.discount, c.exploit_prob
+    q_settings, n_cells = workload.q, world.n_cells
+    alpha, gamma, exploit = q_settings.q_learning_rate, q_settings.discount, q_settings.exploit_prob
     q = [[0.0] * N_ACTIONS ** 2 for _ in range(n_cells ** 2)]
 
     def step(cells, done):
@@ -261,10 +264,10 @@ def two_observe(world, workload, rnd):
     """Alg. 4: two agents as glamas.learners.two_observe.pair_step, more as group_step."""
     if len(world.starts) != 2:
         return two_observe_group(world, workload, rnd)
-    c = workload.settings
-    alpha, gamma, exploit = c.q_learning_rate, c.discount, c.exploit_prob
+    q_settings, c = workload.setup()
+    alpha, gamma, exploit = q_settings.q_learning_rate, q_settings.discount, q_settings.exploit_prob
     q = tables(2, world.n_cells, N_ACTIONS)
-    glas = Automata(c, 2, rnd)
+    glas = Automata(c, world.gridmap, rnd)
     in_range = world.in_range_table()
 
     def step(cells, done):
@@ -313,10 +316,10 @@ def coordinate_group(world, cells, done, choices, preferred, rnd):
 
 def two_observe_group(world, workload, rnd):
     """2observe for N agents (glamas.learners.two_observe.group_step)."""
-    c, n = workload.settings, len(world.starts)
-    alpha, gamma, exploit = c.q_learning_rate, c.discount, c.exploit_prob
+    (q_settings, c), n = workload.setup(), len(world.starts)
+    alpha, gamma, exploit = q_settings.q_learning_rate, q_settings.discount, q_settings.exploit_prob
     q = tables(n, world.n_cells, N_ACTIONS)
-    glas = Automata(c, n, rnd)
+    glas = Automata(c, world.gridmap, rnd)
     in_range = world.in_range_table()
 
     def step(cells, done):
@@ -367,8 +370,9 @@ def match_pairs(world, states, distance, cells, acting):
 
 def sparse_maq(world, workload, rnd):
     """Sparse tabular MAQ with pairwise coordination among any number of agents (sparse_maq.run)."""
-    c, n, distance = workload.settings, len(world.starts), workload.settings.coordination_distance
-    alpha, gamma, exploit = c.q_learning_rate, c.discount, c.exploit_prob
+    (q_settings, c), n = workload.setup(), len(world.starts)
+    distance = c.coordination_distance
+    alpha, gamma, exploit = q_settings.q_learning_rate, q_settings.discount, q_settings.exploit_prob
     q = tables(n, world.n_cells, N_ACTIONS)
     states = set(coordination_states(world, distance))
     q_pairs = {(i, j): {state: [0.0] * N_ACTIONS ** 2 for state in states} for i in range(n) for j in range(i + 1, n)}
@@ -474,13 +478,13 @@ def windows(n_agents, n_cells, size):
 def learn_alone(world, workload, q, baseline, rnd):
     """CQ-learning's first phase: each agent in turn learns alone (the others count as in the goal)
     and fills its baseline reward windows (cq.learn_alone)."""
-    c, n = workload.settings, len(world.starts)
-    alpha, gamma, exploit = c.q_learning_rate, c.discount, c.exploit_prob
+    (q_settings, c), n = workload.setup(), len(world.starts)
+    alpha, gamma, exploit = q_settings.q_learning_rate, q_settings.discount, q_settings.exploit_prob
     actions = [0] * n
     for k in range(n):
-        for _ in range(workload.settings.cq_solo_episodes):
+        for _ in range(c.cq_solo_episodes):
             cells, done, t = list(world.starts), [i != k for i in range(n)], 0
-            while t < c.max_steps and not done[k]:
+            while t < workload.max_steps and not done[k]:
                 s = cells[k]
                 a = actions[k] = epsilon_greedy(q[k][s], exploit, rnd)
                 new, rewards, reached, _ = world.step(cells, done, actions)
@@ -492,12 +496,12 @@ def learn_alone(world, workload, q, baseline, rnd):
 
 def cq(world, workload, rnd):
     """CQ-learning for any number of agents, each observing its nearest other agent (cq.run)."""
-    c, n = workload.settings, len(world.starts)
-    alpha, gamma, exploit = c.q_learning_rate, c.discount, c.exploit_prob
+    (q_settings, c), n = workload.setup(), len(world.starts)
+    alpha, gamma, exploit = q_settings.q_learning_rate, q_settings.discount, q_settings.exploit_prob
     q = tables(n, world.n_cells, N_ACTIONS)
-    baseline = windows(n, world.n_cells, workload.settings.cq_window)
+    baseline = windows(n, world.n_cells, c.cq_window)
     learn_alone(world, workload, q, baseline, rnd)
-    recent = windows(n, world.n_cells, workload.settings.cq_window)
+    recent = windows(n, world.n_cells, c.cq_window)
     t_critical = workload.t_critical().tolist()
     q_joint = [{} for _ in range(n)]  # agent k: marked (own cell, nearest agent's cell) -> 4 values
 
@@ -528,7 +532,7 @@ def cq(world, workload, rnd):
             else:
                 q_update(q[k], s, a, r, new[k], reached[k], alpha, gamma)
             recent[k][s][a].add(r)
-            if keys[k] is not None and recent[k][s][a].added >= workload.settings.cq_window:
+            if keys[k] is not None and recent[k][s][a].added >= c.cq_window:
                 mark_if_conflict(k, s, a, keys[k], r)
         observed = any(joint[k] and not done[k] for k in range(n))
         return new, rewards, reached, collisions, int(observed)
@@ -568,9 +572,9 @@ def play(world, episodes, max_steps, step):
 def run(workload, rnd):
     """One run of the workload's learner in plain Python, drawing from ``rnd``: its log, a row per
     episode."""
-    world = World(workload.gridmap(), workload.settings.bounce)
+    world = World(workload.gridmap(), workload.bounce)
     step = LEARNERS[workload.learner](world, workload, rnd)
-    return play(world, workload.episodes, workload.settings.max_steps, step)
+    return play(world, workload.episodes, workload.max_steps, step)
 
 
 def steps(log):

@@ -8,18 +8,15 @@ episodes: its log (a row per episode: steps, rewards, length, collisions, coordi
 and, for the line-world experiments, its learned parameters equal the kernel's number for number.
 """
 
-from dataclasses import replace
-
 import numpy as np
 import pytest
 
 from benchmarks import kernels, python_gridworld, python_lineworld
 from glamas import parallel, rng
 from glamas.experiments import and_network, single_gla
-from glamas.experiments.scaling import ScalingConfig
 from glamas.gridworld import BOUNCE_MODES, rules
+from glamas.learners import cq
 from glamas.learners import episode as ep
-from glamas.learners.settings import LearnerSettings
 
 class KernelStream:
     """glamas.rng's stream as a reference's random source: ``random()`` is glamas.rng.uniform on
@@ -40,22 +37,22 @@ def test_the_python_stream_is_glamas_rng():
         assert [rng.integer(state, n) for _ in range(200)] == [python_gridworld.below(python, n) for _ in range(200)]
 
 
-TUNNEL = "tunnel_to_goal.txt"
-WAREHOUSE = "warehouse_4.txt"
-SCALING = ScalingConfig().settings("cq")  # the scaling study's settings: a 1000-step cap
+TUNNEL = "tunnel_to_goal"
+WAREHOUSE = "warehouse_4"
+SCALING = 1000  # the scaling study's step cap
 WORKLOADS = {
     "independent": kernels.Workload("independent", 200),
-    "independent, bounce to start": kernels.Workload("independent", 200, settings=LearnerSettings(bounce="start")),
+    "independent, bounce to start": kernels.Workload("independent", 200, bounce="start"),
     "joint_state": kernels.Workload("joint_state", 200),
     "mmdp": kernels.Workload("mmdp", 200),
     "two_observe": kernels.Workload("two_observe", 200),
     "sparse_maq": kernels.Workload("sparse_maq", 200),
-    "cq": kernels.Workload("cq", 200, settings=LearnerSettings(cq_solo_episodes=20)),
-    "two_observe, 4 agents": kernels.Workload("two_observe", 20, WAREHOUSE, settings=SCALING),
-    "sparse_maq, 4 agents": kernels.Workload("sparse_maq", 20, WAREHOUSE, settings=SCALING),
+    "cq": kernels.Workload("cq", 200, own=cq.Settings(cq_solo_episodes=20)),
+    "two_observe, 4 agents": kernels.Workload("two_observe", 20, WAREHOUSE, max_steps=SCALING),
+    "sparse_maq, 4 agents": kernels.Workload("sparse_maq", 20, WAREHOUSE, max_steps=SCALING),
     "sparse_maq, 4 agents, bounce to start": kernels.Workload(
-        "sparse_maq", 20, WAREHOUSE, settings=replace(SCALING, bounce="start")),
-    "cq, 4 agents": kernels.Workload("cq", 20, WAREHOUSE, settings=replace(SCALING, cq_solo_episodes=10)),
+        "sparse_maq", 20, WAREHOUSE, max_steps=SCALING, bounce="start"),
+    "cq, 4 agents": kernels.Workload("cq", 20, WAREHOUSE, own=cq.Settings(cq_solo_episodes=10), max_steps=SCALING),
 }
 COORDINATING = ("two_observe", "sparse_maq", "cq")
 

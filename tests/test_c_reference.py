@@ -10,7 +10,7 @@ import pytest
 
 from benchmarks import c_reference, kernels
 from glamas.learners import episode as ep
-from glamas.learners.settings import LearnerSettings
+from glamas.learners import two_observe
 
 pytestmark = pytest.mark.skipif(shutil.which("cc") is None, reason="no C compiler (cc)")
 
@@ -23,7 +23,7 @@ def reference(tmp_path_factory):
 @pytest.mark.parametrize("name", c_reference.LEARNERS)
 @pytest.mark.parametrize("bounce", ["previous", "start"])
 def test_c_reference_plays_the_kernels_episodes(reference, name, bounce):
-    workload = kernels.Workload(name, 1500, block=75, settings=LearnerSettings(bounce=bounce))
+    workload = kernels.Workload(name, 1500, block=75, bounce=bounce)
     kernel, c = kernels.run_compiled(workload, seed=11), reference.run(workload, seed=11)
     log = kernel.log[0]
     assert ep.metric(log, "length").min() >= 1 and ep.metric(log, "collisions").sum() > 0  # episodes with collisions
@@ -33,6 +33,6 @@ def test_c_reference_plays_the_kernels_episodes(reference, name, bounce):
 
 
 def test_c_reference_refuses_settings_it_does_not_implement(reference):
-    workload = kernels.Workload("two_observe", 10, settings=LearnerSettings(gla_need="outcome"))
+    workload = kernels.Workload("two_observe", 10, own=two_observe.GLASettings(gla_need="outcome"))
     with pytest.raises(ValueError, match="gla_need"):
         reference.run(workload)

@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 from glamas import parallel, reproduce
-from glamas.experiments import gridworld, gridworld_optimum, related_work, scaling
+from glamas.experiments import gridworld_optimum, related_work, scaling
 from glamas.experiments.gridworld import plots as gridworld_plots
 from glamas.gridworld import GridMap, MapError, maps, tunnel_to_goal
 from glamas.learners import registry

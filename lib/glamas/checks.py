@@ -26,6 +26,13 @@ def whole_numbers(config, minimums: dict) -> None:
             raise UserError(f"{name} must be at most {MAX_COUNT}, got {value!r}")
 
 
+def in_unit_interval(config, name: str) -> None:
+    """Raise unless field ``name`` of ``config`` is a number in (0, 1] (a rate or a probability)."""
+    value = getattr(config, name)
+    if isinstance(value, bool) or not isinstance(value, (int, float)) or not 0 < value <= 1:
+        raise UserError(f"{name} must be a number in (0, 1], got {value!r}")
+
+
 def field_types(config) -> None:
     """Raise UserError naming the field unless every field of a config dataclass has its
     annotated type: int and float a real number (float: finite; whether an int field is whole and

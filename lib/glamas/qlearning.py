@@ -7,15 +7,44 @@ kernels, where a call would cost more than the work: by numba (``inline="always"
 time once instead of at every place (:mod:`glamas.learners.episode`).
 """
 
+from dataclasses import dataclass
 from typing import NamedTuple
 
+import numpy as np
 from numba import njit
 
-from glamas import rng
+from glamas import checks, rng
+from glamas.errors import UserError
+
+
+@dataclass(frozen=True)
+class QSettings:
+    """Tabular Q-learning (eq. 11, Alg. 3), shared by every Q-learner of an experiment: the
+    chapter's values (Section 5.3) as defaults, the rest documented choices."""
+
+    q_learning_rate: float = 0.05
+    """alpha of eq. 11 for every Q-learner (Sec. 5.3)."""
+    q_initial: float = 0.0
+    """Initial value of every Q-table entry (Sec. 5.3)."""
+    exploit_prob: float = 0.9
+    """Probability of the greedy action; the chapter's "epsilon = 0.9" read as exploitation."""
+    discount: float = 0.9
+    """gamma of eq. 11 (not stated in the chapter)."""
+
+    def __post_init__(self):
+        checks.field_types(self)
+        for name in ("q_learning_rate", "exploit_prob", "discount"):
+            checks.in_unit_interval(self, name)
+        if not np.isfinite(self.q_initial):
+            raise UserError(f"q_initial must be a finite number, got {self.q_initial!r}")
+
+    def kernel_bundle(self) -> "QLearning":
+        """These settings as the kernels read them."""
+        return QLearning(self.q_learning_rate, self.discount, self.exploit_prob)
 
 
 class QLearning(NamedTuple):
-    """The Q-learning settings as the kernels read them, named as in the experiments' configs."""
+    """The Q-learning settings as the kernels read them, named as in :class:`QSettings`."""
 
     q_learning_rate: float
     """alpha of eq. 11."""

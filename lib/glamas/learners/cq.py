@@ -32,12 +32,14 @@ other one, so this is the two-agent algorithm, unchanged.
 
 import functools
 import math
+from dataclasses import dataclass
 from typing import NamedTuple
 
 import numpy as np
 from numba import njit
 
 from glamas.errors import UserError
+from glamas import checks
 from glamas.gridworld import GridMap, rules
 from glamas.learners import episode as ep
 from glamas.learners.independent import table_shape
@@ -49,9 +51,27 @@ COUNT, SUM, SUM_SQUARES = 0, 1, 2
 """Fields of a reward window's summary."""
 
 
+@dataclass(frozen=True)
+class Settings:
+    """CQ-learning's own settings: its test and its phase alone."""
+
+    cq_window: int = 30
+    """Rewards kept per state-action, in the baseline and in the recent window."""
+    cq_significance: float = 0.05
+    """Significance level of the two-sided Student t-test on immediate rewards."""
+    cq_solo_episodes: int = 1000
+    """Episodes each agent first learns alone (the single-agent phase), not counted in the
+    experiment's episodes."""
+
+    def __post_init__(self):
+        checks.field_types(self)
+        checks.whole_numbers(self, {"cq_window": 2, "cq_solo_episodes": 1})
+        if not (isinstance(self.cq_significance, float) and 0.0 < self.cq_significance < 1.0):
+            raise UserError(f"cq_significance must be a number in (0, 1) such as 0.05, got {self.cq_significance!r}")
+
+
 class TTest(NamedTuple):
-    """CQ-learning's test and schedule as the kernel reads them, named as the settings
-    (:class:`glamas.learners.settings.RelatedSettings`)."""
+    """CQ-learning's test and schedule as the kernel reads them, named as :class:`Settings`."""
 
     cq_window: int
     """Rewards kept per state-action, in the baseline and in the recent window."""
@@ -61,13 +81,14 @@ class TTest(NamedTuple):
     """Episodes each agent first learns alone."""
 
 
-def t_test(settings, gridmap: GridMap) -> tuple:
-    """The kernel's own input: the TTest bundle of ``settings``."""
+def t_test(setup, gridmap: GridMap) -> tuple:
+    """The kernel's own input: the TTest bundle of its settings (``setup.own``)."""
+    settings = setup.own
     t_critical = t_critical_values(2 * settings.cq_window - 2, settings.cq_significance)
     return (TTest(settings.cq_window, t_critical, settings.cq_solo_episodes),)
 
 
-def outputs(settings, gridmap: GridMap) -> dict:
+def outputs(setup, gridmap: GridMap) -> dict:
     """One run's joint-state values ``q_aug`` (agents, own cell, other's cell, 4 actions) and
     ``marked``, the joint states each agent observes (agents, own cell, other's cell); only marked
     rows are ever used, so the learned table is 4 entries per marked joint state."""
@@ -75,22 +96,22 @@ def outputs(settings, gridmap: GridMap) -> dict:
     return {"q_aug": np.zeros((n, c, c, rules.N_ACTIONS)), "marked": np.zeros((n, c, c), dtype=np.bool_)}
 
 
-def joint_room(settings, gridmap: GridMap) -> int:
+def joint_room(setup, gridmap: GridMap) -> int:
     """Joint values per run allocated: a row for every agent and joint state."""
     return gridmap.n_agents * gridmap.n_cells ** 2 * rules.N_ACTIONS
 
 
-def reward_samples(settings, gridmap: GridMap) -> int:
+def reward_samples(setup, gridmap: GridMap) -> int:
     """Rewards kept per run for the test: a recent window per agent and state-action."""
-    return gridmap.n_agents * gridmap.n_cells * rules.N_ACTIONS * settings.cq_window
+    return gridmap.n_agents * gridmap.n_cells * rules.N_ACTIONS * setup.own.cq_window
 
 
-def mark_bytes(settings, gridmap: GridMap) -> int:
+def mark_bytes(setup, gridmap: GridMap) -> int:
     """The marks per run: a flag per agent and joint state."""
     return gridmap.n_agents * gridmap.n_cells ** 2
 
 
-def joint_learned(outputs: dict, settings, gridmap: GridMap) -> np.ndarray:
+def joint_learned(outputs: dict, setup, gridmap: GridMap) -> np.ndarray:
     """Per run, the joint values learned: 4 per marked joint state."""
     return outputs["marked"].sum(axis=(1, 2, 3)) * float(rules.N_ACTIONS)
 
@@ -311,4 +332,4 @@ def episodes(world, learning, t_test, schedule, q, q_aug, marked, log, state, ar
 LEARNER = Learner(name="cq", label="CQ-learning", n_agent_label="CQ-learning (nearest)",
                   kernel=run, table_shape=table_shape, inputs=t_test, outputs=outputs,
                   joint_room=joint_room, reward_samples=reward_samples, extra_bytes=mark_bytes,
-                  joint_learned=joint_learned, family="related")
+                  joint_learned=joint_learned, defaults=Settings(), family="related", seed_slot=1)

@@ -79,4 +79,4 @@ def episodes(world, learning, schedule, q, log, state, buffers):
 
 
 LEARNER = Learner(name="independent", label="independent Q-learners", kernel=run, table_shape=table_shape,
-                  family="chapter")
+                  family="chapter", seed_slot=0)

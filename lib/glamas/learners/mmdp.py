@@ -60,4 +60,5 @@ def episodes(world, learning, schedule, q, log, state, buffers):
         ep.end_episode(log, episode, edges, acc, t, done)
 
 
-LEARNER = Learner(name="mmdp", label="MMDP learner", kernel=run, table_shape=table_shape, joint_tables=True, family="chapter")
+LEARNER = Learner(name="mmdp", label="MMDP learner", kernel=run, table_shape=table_shape, joint_tables=True,
+                  family="chapter", seed_slot=2)

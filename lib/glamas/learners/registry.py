@@ -1,12 +1,12 @@
 """Every learner by name. An experiment finds its learners here and knows nothing else of them:
 adding a learner is one module that declares a :class:`glamas.learners.spec.Learner` and one
 :func:`register` call (below for the library's own, in a test or a notebook for others). A
-registered learner of family 'other' can then be trained beside the chapter's learners
-(:mod:`glamas.experiments.related_work`) and in the scaling study by its name.
+registered learner can then be trained by name in the gridworld experiments and the scaling study,
+with settings of its own (its spec's ``defaults``) that configs hold by its name.
 
-Seeds: each learner's runs draw from a master seed of its own (:func:`master_seed`). The chapter's
-and the related-work learners keep the seeds of the committed results; another learner's seed
-comes from its name, so registering it changes nobody else's.
+Seeds: each learner's runs draw from a master seed of its own (:func:`master_seed`), made from the
+experiment's seed key, its family and the seed slot its spec declares, so that the order in which
+learners are registered or listed never decides anyone's streams.
 """
 
 import zlib
@@ -16,22 +16,31 @@ from glamas.learners import cq, independent, joint_state, mmdp, sparse_maq, two_
 from glamas.learners.spec import Learner
 
 LEARNERS: dict[str, Learner] = {}
-"""The registered learners by name, in the order they were registered."""
+"""The registered learners by name."""
 SEED_OFFSETS = {"chapter": 0, "related": 2 ** 32, "other": 2 ** 33}
 """Where each family's master seeds start (:func:`master_seed`): apart from each other for every
 experiment seed below 2**24."""
+SEED_STRIDES = {"chapter": 4, "related": 2}
+"""Seed slots per seed key in each family (:func:`master_seed`): the chapter's four learners
+(slots 0-3) and the two related-work learners (0-1). An experiment that trains more of a family
+reserves more (the scaling study: 5 chapter slots, the fixed-rule variant in slot 4)."""
 NAME_SLOTS = 2 ** 20
-"""Seed slots of the family 'other': a learner's slot comes from its name."""
+"""Seed slots of the learners that draw from their name (family 'other', or a slot beyond the
+experiment's stride)."""
+FAMILIES = ("chapter", "related", "other")
 
 
 def register(learner: Learner) -> Learner:
     """Make ``learner`` known by its name (a name registered again is replaced)."""
-    if learner.family not in SEED_OFFSETS:
-        raise UserError(f"a learner's family must be one of {sorted(SEED_OFFSETS)}, got {learner.family!r}")
-    taken = {_slot(other.name): other.name for other in LEARNERS.values()
+    if learner.family not in FAMILIES:
+        raise UserError(f"a learner's family must be one of {FAMILIES}, got {learner.family!r}")
+    if learner.family != "other" and not (isinstance(learner.seed_slot, int) and learner.seed_slot >= 0):
+        raise UserError(f"learner {learner.name!r} of family {learner.family!r} must declare its seed_slot, "
+                         "a whole number >= 0")
+    taken = {_name_slot(other.name): other.name for other in LEARNERS.values()
              if other.family == "other" and other.name != learner.name}
-    if learner.family == "other" and _slot(learner.name) in taken:
-        raise UserError(f"learner {learner.name!r} would draw the seeds of {taken[_slot(learner.name)]!r}; "
+    if learner.family == "other" and _name_slot(learner.name) in taken:
+        raise UserError(f"learner {learner.name!r} would draw the seeds of {taken[_name_slot(learner.name)]!r}; "
                          "choose another name")
     LEARNERS[learner.name] = learner
     return learner
@@ -55,33 +64,30 @@ def label(name: str) -> str:
 
 
 def family(name: str) -> tuple:
-    """The names of the learners of family ``name`` ('chapter', 'related' or 'other'), in
-    registration order."""
-    return tuple(learner.name for learner in LEARNERS.values() if learner.family == name)
+    """The names of the learners of family ``name`` ('chapter', 'related' or 'other'), by seed
+    slot (then name)."""
+    members = [learner for learner in LEARNERS.values() if learner.family == name]
+    return tuple(learner.name for learner in sorted(members, key=lambda x: (x.seed_slot or 0, x.name)))
 
 
-def beyond_the_chapter() -> tuple:
-    """The names of every registered learner that is not the chapter's, in registration order:
-    the related-work learners first."""
-    return tuple(learner.name for learner in LEARNERS.values() if learner.family != "chapter")
+def master_seed(key: int, name: str, strides: dict = SEED_STRIDES) -> int:
+    """The master seed of the runs of learner ``name`` for the seed key ``key`` (the experiment's
+    seed, or a number made from it): its family's offset + key * the family's stride + its
+    declared seed slot. A learner of family 'other', or whose slot is not below its family's stride
+    in ``strides``, draws from a slot made from its name instead (the offset of 'other' + key *
+    NAME_SLOTS + that slot). Distinct for every (key, learner), and the same whichever other
+    learners are registered, listed or trained."""
+    learner = get(name)
+    stride = strides.get(learner.family, 0)
+    if learner.family != "other" and learner.seed_slot < stride:
+        return SEED_OFFSETS[learner.family] + key * stride + learner.seed_slot
+    return SEED_OFFSETS["other"] + key * NAME_SLOTS + _name_slot(name)
 
 
-def master_seed(key: int, members: tuple, name: str, family: str = "chapter") -> int:
-    """The master seed of the runs of ``name`` for the seed key ``key`` (the experiment's seed, or
-    a number made from it). In the families 'chapter' and 'related', ``name`` is one of
-    ``members`` (what the experiment can train of that family, in a fixed order) and the seed is
-    the family's offset + key * len(members) + its place in members; in the family 'other' it is
-    the offset + key * NAME_SLOTS + the slot of its name. Distinct for every (key, name), and the
-    same whichever other learners are trained or registered."""
-    if family == "other":
-        return SEED_OFFSETS[family] + key * NAME_SLOTS + _slot(name)
-    return SEED_OFFSETS[family] + key * len(members) + members.index(name)
-
-
-def _slot(name: str) -> int:
+def _name_slot(name: str) -> int:
     return zlib.crc32(name.encode()) % NAME_SLOTS
 
 
-for _learner in (independent.LEARNER, joint_state.LEARNER, mmdp.LEARNER, two_observe.LEARNER,
+for _learner in (independent.LEARNER, joint_state.LEARNER, mmdp.LEARNER, two_observe.LEARNER, two_observe.RULE,
                  sparse_maq.LEARNER, cq.LEARNER):
     register(_learner)

@@ -32,12 +32,15 @@ the 1/2 share). With two agents there is one pair, matched exactly in the coordi
 and these are Kok and Vlassis's four updates.
 """
 
+import math
+from dataclasses import dataclass
 from typing import NamedTuple
 
 import numpy as np
 from numba import njit
 
 from glamas.errors import UserError
+from glamas import checks
 from glamas.gridworld import GridMap, rules
 from glamas.learners import episode as ep
 from glamas.learners.independent import lone_step, table_shape
@@ -49,6 +52,20 @@ PAIR = 2
 N_JOINT_ACTIONS = rules.N_ACTIONS ** PAIR
 NO_PARTNER = -1
 """``partner`` of an agent that acts alone (:func:`match_pairs`)."""
+
+
+@dataclass(frozen=True)
+class Settings:
+    """Sparse tabular MAQ's own setting: where the agents coordinate, given in advance as Kok and
+    Vlassis require."""
+
+    coordination_distance: int = 2
+    """The agents coordinate in the joint states where their Manhattan distance is at most this;
+    2 covers every collision."""
+
+    def __post_init__(self):
+        checks.field_types(self)
+        checks.whole_numbers(self, {"coordination_distance": 1})
 
 
 class Coordination(NamedTuple):
@@ -83,31 +100,31 @@ def n_pairs(n_agents: int) -> int:
     return n_agents * (n_agents - 1) // 2
 
 
-def coordination(settings, gridmap: GridMap) -> tuple:
-    """The kernel's own input: the Coordination bundle of ``settings`` on ``gridmap``."""
-    distance = settings.coordination_distance
+def coordination(setup, gridmap: GridMap) -> tuple:
+    """The kernel's own input: the Coordination bundle of its settings (``setup.own``) on ``gridmap``."""
+    distance = setup.own.coordination_distance
     return (Coordination(coordination_index(gridmap, distance), distance),)
 
 
-def pair_table_shape(settings, gridmap: GridMap) -> tuple:
+def pair_table_shape(setup, gridmap: GridMap) -> tuple:
     """(pairs, coordination states, 16 joint actions) of the pairs' joint tables."""
-    states = int((coordination_index(gridmap, settings.coordination_distance) >= 0).sum())
+    states = int((coordination_index(gridmap, setup.own.coordination_distance) >= 0).sum())
     return n_pairs(gridmap.n_agents), states, N_JOINT_ACTIONS
 
 
-def outputs(settings, gridmap: GridMap) -> dict:
+def outputs(setup, gridmap: GridMap) -> dict:
     """One run's pair tables ``q_pairs``, filled with ``q_initial``."""
-    return {"q_pairs": np.full(pair_table_shape(settings, gridmap), float(settings.q_initial))}
+    return {"q_pairs": np.full(pair_table_shape(setup, gridmap), float(setup.q.q_initial))}
 
 
-def joint_room(settings, gridmap: GridMap) -> int:
+def joint_room(setup, gridmap: GridMap) -> int:
     """Joint values per run: every pair's joint table, all of it learned."""
-    return int(np.prod(pair_table_shape(settings, gridmap)))
+    return math.prod(pair_table_shape(setup, gridmap))
 
 
-def joint_learned(outputs: dict, settings, gridmap: GridMap) -> np.ndarray:
+def joint_learned(outputs: dict, setup, gridmap: GridMap) -> np.ndarray:
     """Per run, the joint values learned: every pair's whole joint table."""
-    return np.full(outputs["q"].shape[0], float(joint_room(settings, gridmap)))
+    return np.full(outputs["q"].shape[0], float(joint_room(setup, gridmap)))
 
 
 @njit(cache=True, inline="always")
@@ -271,5 +288,5 @@ def episodes(world, learning, coordination, schedule, q, q_pairs, log, state, bu
 
 LEARNER = Learner(name="sparse_maq", label="sparse tabular MAQ", n_agent_label="sparse MAQ (pairs)",
                   kernel=run, table_shape=table_shape,
-                  inputs=coordination, outputs=outputs, joint_room=joint_room, joint_learned=joint_learned,
-                  family="related")
+                  defaults=Settings(), inputs=coordination, outputs=outputs, joint_room=joint_room,
+                  joint_learned=joint_learned, family="related", seed_slot=0)

@@ -1,8 +1,10 @@
 """What an experiment needs to know of a learner, declared once in the learner's own module.
 
-A :class:`Learner` names the learner, points at its run kernel and says how the kernel's tables,
-inputs and outputs are made from the settings (:class:`glamas.learners.settings.LearnerSettings`)
-and the map. Every run kernel has the same shape::
+A :class:`Learner` names the learner, points at its run kernel, holds its own settings at their
+defaults (a frozen dataclass of its module, or None for a learner that has none beyond Q-learning)
+and says how the kernel's tables, inputs and outputs are made from the settings and the map. A
+learner runs with a :class:`Setup`: the experiment's Q-learning settings, shared by every
+Q-learner (:class:`glamas.qlearning.QSettings`), and its own. Every run kernel has the same shape::
 
     kernel(world, learning, *inputs, schedule, q, *outputs, log, state)
 
@@ -16,33 +18,44 @@ loops over learners without knowing any of them; :mod:`glamas.learners.registry`
 
 import math
 from dataclasses import dataclass
-from typing import Callable
+from typing import Any, Callable, NamedTuple
 
 import numpy as np
 
 from glamas import parallel
 from glamas.gridworld import GridMap, rules
 from glamas.learners import episode as ep
-from glamas.qlearning import QLearning
+from glamas.qlearning import QSettings
+from glamas.errors import UserError
 
 
 BYTES_PER_VALUE = 8
 """Q values, joint values and reward samples are float64."""
 
 
-def _nothing(settings, gridmap) -> tuple:
+class Setup(NamedTuple):
+    """What one learner runs with: the experiment's Q-learning settings and the learner's own."""
+
+    q: QSettings
+    """Tabular Q-learning, shared by every Q-learner of the experiment."""
+    own: Any = None
+    """The learner's own settings (an instance of the class of its :attr:`Learner.defaults`), or
+    None for a learner that has none."""
+
+
+def _nothing(setup, gridmap) -> tuple:
     return ()
 
 
-def _no_outputs(settings, gridmap) -> dict:
+def _no_outputs(setup, gridmap) -> dict:
     return {}
 
 
-def _none(settings, gridmap) -> int:
+def _none(setup, gridmap) -> int:
     return 0
 
 
-def _none_learned(outputs: dict, settings, gridmap) -> np.ndarray:
+def _none_learned(outputs: dict, setup, gridmap) -> np.ndarray:
     return np.zeros(outputs["q"].shape[0])
 
 
@@ -66,72 +79,91 @@ class Learner:
     joint_tables: bool = False
     """Whether its Q tables are over joint states (the joint-state and MMDP learners), not over
     each agent's own cell."""
+    defaults: Any = None
+    """Its own settings at their defaults: an instance of a frozen dataclass of its module (the
+    class is what configs accept for it), or None for a learner with no settings of its own."""
     inputs: Callable = _nothing
-    """(settings, gridmap) -> its own settings bundles, passed between ``learning`` and ``schedule``."""
+    """(setup, gridmap) -> its own settings bundles, passed between ``learning`` and ``schedule``."""
     outputs: Callable = _no_outputs
-    """(settings, gridmap) -> {name: one run's array} of what else it learns, passed between ``q``
+    """(setup, gridmap) -> {name: one run's array} of what else it learns, passed between ``q``
     and ``log`` in this order, zeros (or its initial values)."""
     gla_parameters: Callable = _none
-    """(settings, gridmap) -> GLA parameters per run."""
+    """(setup, gridmap) -> GLA parameters per run."""
     joint_room: Callable = _none
-    """(settings, gridmap) -> joint values per run it allocates beyond its Q tables."""
+    """(setup, gridmap) -> joint values per run it allocates beyond its Q tables."""
     reward_samples: Callable = _none
-    """(settings, gridmap) -> immediate rewards per run it keeps for a statistical test."""
+    """(setup, gridmap) -> immediate rewards per run it keeps for a statistical test."""
     extra_bytes: Callable = _none
-    """(settings, gridmap) -> bytes per run it allocates beyond its float64 values (e.g. flags)."""
+    """(setup, gridmap) -> bytes per run it allocates beyond its float64 values (e.g. flags)."""
     joint_learned: Callable = _none_learned
-    """(outputs, settings, gridmap) -> per run, the joint values it actually learned beyond its Q
+    """(outputs, setup, gridmap) -> per run, the joint values it actually learned beyond its Q
     tables (the room it allocated, unless it learns only some of it)."""
     family: str = "other"
-    """Whose seeds it draws from: 'chapter', 'related' or 'other'
-    (:func:`glamas.learners.registry.master_seed`)."""
+    """Its seeds' family: 'chapter', 'related' or 'other' (:func:`glamas.learners.registry.master_seed`)."""
+    seed_slot: int | None = None
+    """Its place among its family's seeds for one seed key, fixed here so that registering or
+    reordering learners never changes its streams (:func:`glamas.learners.registry.master_seed`);
+    None: a slot made from its name."""
 
     def kernel_for(self, n_agents: int) -> Callable:
         """The run kernel for ``n_agents`` agents. Chosen here rather than inside a compiled kernel,
         so that an experiment of two agents compiles only the two-agent kernel."""
         return self.two_agent_kernel if n_agents == 2 and self.two_agent_kernel is not None else self.kernel
 
-    def bytes_per_run(self, settings, gridmap: GridMap) -> int:
-        """Bytes one run's tables take: Q tables, joint values and reward samples (float64) and the rest."""
-        values = (math.prod(self.table_shape(gridmap.n_cells, gridmap.n_agents))  # Python ints: no overflow
-                  + self.joint_room(settings, gridmap) + self.reward_samples(settings, gridmap))
-        return int(values) * BYTES_PER_VALUE + self.extra_bytes(settings, gridmap)
+    def setup(self, q: QSettings = QSettings(), own=None) -> Setup:
+        """Its :class:`Setup` from the shared Q-learning settings and its own (None: its defaults);
+        settings of another learner's class are refused."""
+        own = self.defaults if own is None else own
+        if type(own) is not type(self.defaults):
+            expected = "none" if self.defaults is None else type(self.defaults).__name__
+            raise UserError(f"learner {self.name!r} takes settings of its own of type {expected}, "
+                             f"got {type(own).__name__}")
+        return Setup(q, own)
+
+    def bytes_per_run(self, setup: Setup, gridmap: GridMap) -> int:
+        """Bytes one run's tables take: Q tables, joint values and reward samples (float64) and the
+        rest, in Python integers (a table of many agents exceeds any fixed-width integer)."""
+        values = (math.prod(self.table_shape(gridmap.n_cells, gridmap.n_agents))
+                  + self.joint_room(setup, gridmap) + self.reward_samples(setup, gridmap))
+        return int(values) * BYTES_PER_VALUE + self.extra_bytes(setup, gridmap)
 
 
-def kernel_inputs(learner: Learner, settings, gridmap: GridMap, schedule: ep.Schedule) -> tuple:
-    """The kernel's inputs: world, learning, the learner's own bundles, schedule."""
-    world = rules.world(gridmap, settings.bounce)
-    learning = QLearning(settings.q_learning_rate, settings.discount, settings.exploit_prob)
-    return (world, learning) + tuple(learner.inputs(settings, gridmap)) + (schedule,)
+def kernel_inputs(learner: Learner, setup: Setup, gridmap: GridMap, schedule: ep.Schedule,
+                  bounce: str = "previous") -> tuple:
+    """The kernel's inputs: world (``gridmap`` under the collision rule ``bounce``), learning, the
+    learner's own bundles, schedule."""
+    world = rules.world(gridmap, bounce)
+    return (world, setup.q.kernel_bundle()) + tuple(learner.inputs(setup, gridmap)) + (schedule,)
 
 
-def allocate(learner: Learner, settings, gridmap: GridMap, schedule: ep.Schedule, n_runs: int,
+def allocate(learner: Learner, setup: Setup, gridmap: GridMap, schedule: ep.Schedule, n_runs: int,
              keep_q: bool = True) -> dict:
     """Every run's outputs, in kernel order: q (filled with ``q_initial``; without ``keep_q`` a
     :class:`glamas.parallel.Scratch` that the runs fill and drop), the learner's own, log."""
     shape = (n_runs,) + learner.table_shape(gridmap.n_cells, gridmap.n_agents)
-    q = np.full(shape, float(settings.q_initial)) if keep_q else parallel.Scratch(shape, np.dtype(float),
-                                                                                   float(settings.q_initial))
-    own = {name: np.stack([array] * n_runs) for name, array in learner.outputs(settings, gridmap).items()}
+    initial = float(setup.q.q_initial)
+    q = np.full(shape, initial) if keep_q else parallel.Scratch(shape, np.dtype(float), initial)
+    own = {name: np.stack([array] * n_runs) for name, array in learner.outputs(setup, gridmap).items()}
     log = np.zeros((n_runs, schedule.edges.size - 1, ep.n_columns(gridmap.n_agents)))
     return {"q": q, **own, "log": log}
 
 
-def batch(learner: Learner, settings, gridmap: GridMap, schedule: ep.Schedule, n_runs: int,
-          master_seed: int, keep_q: bool = True) -> tuple[parallel.Batch, dict]:
-    """``n_runs`` runs of ``learner`` on ``gridmap``, ready to run (:func:`glamas.parallel.run_many`),
-    and the outputs they fill, by name (``q``, the learner's own, ``log``; runs on the first axis).
-    Without ``keep_q`` the runs' Q tables are not kept (:func:`allocate`): an experiment that
-    reads only the learning curves saves their memory and their transport."""
-    outputs = allocate(learner, settings, gridmap, schedule, n_runs, keep_q)
-    inputs = kernel_inputs(learner, settings, gridmap, schedule)
+def batch(learner: Learner, setup: Setup, gridmap: GridMap, schedule: ep.Schedule, n_runs: int,
+          master_seed: int, *, bounce: str = "previous", keep_q: bool = True) -> tuple[parallel.Batch, dict]:
+    """``n_runs`` runs of ``learner`` on ``gridmap`` (collision rule ``bounce``), ready to run
+    (:func:`glamas.parallel.run_many`), and the outputs they fill, by name (``q``, the learner's
+    own, ``log``; runs on the first axis). Without ``keep_q`` the runs' Q tables are not kept
+    (:func:`allocate`): an experiment that reads only the learning curves saves their memory and
+    their transport."""
+    outputs = allocate(learner, setup, gridmap, schedule, n_runs, keep_q)
+    inputs = kernel_inputs(learner, setup, gridmap, schedule, bounce)
     return parallel.Batch(learner.kernel_for(gridmap.n_agents), inputs, tuple(outputs.values()), master_seed), outputs
 
 
-def train(learner: Learner, settings, gridmap: GridMap, schedule: ep.Schedule, n_runs: int, master_seed: int,
-          workers=None, progress=None) -> dict:
+def train(learner: Learner, setup: Setup, gridmap: GridMap, schedule: ep.Schedule, n_runs: int, master_seed: int,
+          *, bounce: str = "previous", workers=None, progress=None) -> dict:
     """``n_runs`` runs of ``learner`` on ``gridmap``: its outputs by name (``q``, its own, ``log``),
     each with the runs on the first axis."""
-    work, outputs = batch(learner, settings, gridmap, schedule, n_runs, master_seed)
+    work, outputs = batch(learner, setup, gridmap, schedule, n_runs, master_seed, bounce=bounce)
     parallel.run_many([work], workers=workers, progress=progress)
     return outputs

@@ -38,17 +38,19 @@ in less time (10 s against 16 s), and more on :func:`run` (its spec's ``two_agen
 two agents observe at the same distance with the same need, so such a step counts twice.
 """
 
+from dataclasses import dataclass, replace
 from typing import NamedTuple
 
 import numpy as np
 from numba import njit
 
-from glamas import gla, rng
+from glamas import checks, gla, rng
 from glamas.gridworld import GridMap, rules
 from glamas.learners import episode as ep
 from glamas.learners.independent import lone_step, table_shape
 from glamas.learners.spec import Learner
 from glamas.qlearning import epsilon_greedy, q_update
+from glamas.errors import UserError
 
 ACT_ALONE = 0
 """GLA action: ignore the other agent this step."""
@@ -68,9 +70,104 @@ DELTA_SCALES = ("cells", "unit")
 """How the GLA context holds delta: in cells, or divided by the map's largest distance."""
 
 
+@dataclass(frozen=True)
+class GLASettings:
+    """2observe's own settings: the first level's GLAs (eq. 12-15) and their feedback (Fig. 10, lost;
+    see the module docstring). The chapter's values as defaults where it states them (Sec. 5.3),
+    the rest documented choices."""
+
+    gla_learning_rate: float = 0.01
+    """lambda of eq. 13 (Sec. 5.3)."""
+    gla_temperature: float = 0.5
+    """T of eq. 15 (not stated for this experiment; Sec. 4.2 uses 0.5)."""
+    gla_K: float = 1.0
+    """K of eq. 13 (not stated for this experiment; Sec. 4.2 uses 1)."""
+    gla_L: float | None = None
+    """L of eq. 14 (not stated for this experiment); None: the map's largest distance
+    (:func:`box`), 8 on TunnelToGoal. Sec. 4.2's L = 1 bounds parameters for inputs in [-1, 1]; here
+    delta runs to the map's largest distance, and L = 1 x that distance lets u.x draw a sharp
+    boundary at any distance the map has."""
+    gla_bounding: str = "clip"
+    """h of eq. 14: 'clip' or 'printed' (see glamas.gla)."""
+    gla_init_range: float = 0.1
+    """GLA parameters start uniform in [-gla_init_range, gla_init_range] ("initialised randomly",
+    range not stated). 0.1 keeps every start learnable: with delta up to 8 cells and T = 0.5 no
+    logit exceeds 1.8, as Sec. 4's GLAs start on inputs in [-1, 1]; a range of 1 saturates some
+    GLAs at delta >= 3 from the first step, where eq. 13's gradient has vanished."""
+    gla_delta_scale: str = "cells"
+    """The GLA context [delta, 1]: delta in 'cells', or 'unit' (divided by the map's largest
+    distance, into [0, 1] like Sec. 4's inputs)."""
+    gla_need: str = "in_range"
+    """What "need to coordinate" means in Fig. 10 (lost): 'in_range', the agents could collide this
+    step (Sec. 5.1: within each other's range of interference); 'sampled', their preferred actions
+    would collide; 'outcome', they collided (module docstring)."""
+    gla_feedback: tuple = ((1.0, 0.0), (0.0, 1.0))
+    """Fig. 10 (lost), reconstructed: feedback[choice][need], choice 0 = act alone, 1 = coordinate:
+    1 for the right choice, 0 for the wrong one."""
+    coordination_penalty_per_cell: float = 0.1
+    """Added feedback -this * delta when both coordinated without need (Sec. 5.3's 0 - delta/10)."""
+    rule_distance: int | None = None
+    """None: the GLAs learn when to coordinate (Alg. 4). A whole number d: a diagnostic, not in
+    the chapter, replacing the GLAs by the fixed rule "coordinate when delta < d"."""
+
+    def __post_init__(self):
+        checks.field_types(self)
+        _gla_params(self, 1.0 if self.gla_L is None else self.gla_L)  # glamas.gla's checks and messages
+        if not (isinstance(self.gla_init_range, (int, float)) and self.gla_init_range >= 0):
+            raise UserError(f"gla_init_range must be a number >= 0, got {self.gla_init_range!r}")
+        if self.gla_L is not None and self.gla_init_range > self.gla_L:
+            raise UserError(f"gla_init_range must be in [0, gla_L={self.gla_L}], got {self.gla_init_range!r}")
+        table = np.array(self.gla_feedback, dtype=float) if _is_table(self.gla_feedback) else None
+        if table is None or table.shape != (2, 2) or not np.isfinite(table).all():
+            raise UserError("gla_feedback must be a 2x2 table of numbers, rows = (act alone, "
+                             f"coordinate), columns = (no need, need); got {self.gla_feedback!r}")
+        object.__setattr__(self, "gla_feedback", tuple(tuple(float(v) for v in row) for row in table))
+        if not (isinstance(self.coordination_penalty_per_cell, (int, float)) and self.coordination_penalty_per_cell >= 0):
+            raise UserError("coordination_penalty_per_cell must be a number >= 0, "
+                             f"got {self.coordination_penalty_per_cell!r}")
+        if self.gla_need not in NEEDS:
+            raise UserError(f"gla_need must be one of {sorted(NEEDS)}, got {self.gla_need!r}")
+        if self.gla_delta_scale not in DELTA_SCALES:
+            raise UserError(f"gla_delta_scale must be one of {sorted(DELTA_SCALES)}, got {self.gla_delta_scale!r}")
+        if self.rule_distance is not None:
+            checks.whole_numbers(self, {"rule_distance": 0})
+
+
+def _is_table(value) -> bool:
+    try:
+        np.array(value, dtype=float)
+    except (TypeError, ValueError):
+        return False
+    return True
+
+
+def _gla_params(settings: GLASettings, L: float) -> gla.GLAParams:
+    return gla.GLAParams(learning_rate=settings.gla_learning_rate, temperature=settings.gla_temperature,
+                         K=settings.gla_K, L=L, bounding=settings.gla_bounding)
+
+
+def largest_distance(gridmap: GridMap) -> int:
+    """The largest Manhattan distance delta the map's rows and columns allow (8 on TunnelToGoal)."""
+    return gridmap.n_rows + gridmap.n_cols - 2
+
+
+def box(settings: GLASettings, gridmap: GridMap) -> float:
+    """L of eq. 14 on ``gridmap``: ``gla_L``, or the map's largest distance when it is None."""
+    return float(largest_distance(gridmap)) if settings.gla_L is None else float(settings.gla_L)
+
+
+def gla_params(settings: GLASettings, gridmap: GridMap) -> gla.GLAParams:
+    """The GLAs' eq. 13-15 parameters on ``gridmap`` (the box L from :func:`box`)."""
+    L = box(settings, gridmap)
+    if settings.gla_init_range > L:
+        raise UserError(f"gla_init_range ({settings.gla_init_range}) must be at most the GLA box L = {L:g} "
+                         f"on map {gridmap.name!r}; give a smaller gla_init_range or a larger gla_L")
+    return _gla_params(settings, L)
+
+
 class Automata(NamedTuple):
-    """2observe's first level as the kernel reads it, named as the settings
-    (:class:`glamas.learners.settings.LearningSettings`); codes where the settings hold names."""
+    """2observe's first level as the kernel reads it, named as :class:`GLASettings`; codes where
+    the settings hold names, the box L and the delta scale as they are on the map."""
 
     gla_learning_rate: float
     gla_temperature: float
@@ -93,28 +190,29 @@ class Automata(NamedTuple):
 def delta_scale(mode: str, gridmap: GridMap) -> float:
     """The factor of delta in the GLA context: 1 for 'cells', one over the map's largest
     Manhattan distance for 'unit'."""
-    return 1.0 if mode == "cells" else 1.0 / (gridmap.n_rows + gridmap.n_cols - 2)
+    return 1.0 if mode == "cells" else 1.0 / largest_distance(gridmap)
 
 
-def automata(settings, gridmap: GridMap) -> tuple:
-    """The kernel's own input: the Automata bundle of ``settings`` on ``gridmap``."""
-    p = settings.gla_params()
+def automata(setup, gridmap: GridMap) -> tuple:
+    """The kernel's own input: the Automata bundle of 2observe's settings (``setup.own``) on ``gridmap``."""
+    settings = setup.own
+    p = gla_params(settings, gridmap)
     rule = -1 if settings.rule_distance is None else settings.rule_distance
     return (Automata(p.learning_rate, p.temperature, p.K, p.L, p.bounding_code, float(settings.gla_init_range),
                      np.array(settings.gla_feedback), float(settings.coordination_penalty_per_cell),
                      NEEDS[settings.gla_need], delta_scale(settings.gla_delta_scale, gridmap), rule),)
 
 
-def outputs(settings, gridmap: GridMap) -> dict:
+def outputs(setup, gridmap: GridMap) -> dict:
     """One run's GLA parameters ``u`` (agents, 2 actions, 2 inputs; drawn by the kernel from the
     run's stream) and ``need_counts`` (distances 0 .. rows + cols - 2, without / with need)."""
     return {"u": np.zeros((gridmap.n_agents, 2, N_GLA_INPUTS)),
-            "need_counts": np.zeros((gridmap.n_rows + gridmap.n_cols - 1, 2))}
+            "need_counts": np.zeros((largest_distance(gridmap) + 1, 2))}
 
 
-def gla_parameters(settings, gridmap: GridMap) -> int:
+def gla_parameters(setup, gridmap: GridMap) -> int:
     """The GLAs' parameters per run (none when the fixed rule replaces them)."""
-    return 0 if settings.rule_distance is not None else gridmap.n_agents * 2 * N_GLA_INPUTS
+    return 0 if setup.own.rule_distance is not None else gridmap.n_agents * 2 * N_GLA_INPUTS
 
 
 @njit(cache=True, inline="always")
@@ -126,7 +224,7 @@ def init_glas(u, init_range, state):
                 u[i, j, k] = init_range * (2.0 * rng.uniform(state) - 1.0)
 
 
-def initial_parameters(settings, gridmap: GridMap, master_seed: int, n_runs: int) -> np.ndarray:
+def initial_parameters(settings: GLASettings, gridmap: GridMap, master_seed: int, n_runs: int) -> np.ndarray:
     """(runs, agents, 2 actions, 2 inputs): the GLA parameters each run starts from. They are the
     first draws of the run's stream (:func:`glamas.rng.chunk_states`), which :func:`init_glas`
     makes at the start of the kernel, so they are drawn here again rather than carried out."""
@@ -453,4 +551,9 @@ def episodes(world, learning, automata, schedule, q, u, need_counts, log, state,
 
 LEARNER = Learner(name="two_observe", label="2observe", n_agent_label="2observe (N agents)",
                   kernel=run, two_agent_kernel=run_two, table_shape=table_shape, inputs=automata,
-                  outputs=outputs, gla_parameters=gla_parameters, family="chapter")
+                  defaults=GLASettings(), outputs=outputs, gla_parameters=gla_parameters, family="chapter",
+                  seed_slot=3)
+RULE = replace(LEARNER, name="two_observe_rule", label="2observe, fixed rule", n_agent_label="",
+               defaults=GLASettings(rule_distance=3), seed_slot=4)
+"""A diagnostic outside the chapter: 2observe with its GLAs replaced by the fixed rule "coordinate
+when delta < 3" (delta at most 2, where every collision of two agents comes from)."""
