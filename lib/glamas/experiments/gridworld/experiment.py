@@ -3,32 +3,43 @@ Q-learners, joint-state learners, the MMDP learner and 2observe (Alg. 4) on the 
 each trained for ``episodes`` episodes in ``runs`` independent runs. A result keeps the learning
 curves (block means over episodes) and the final learned structures."""
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
 from glamas import checks, memory, parallel
-from glamas.gridworld import GridMap, load_map
+from glamas.errors import UserError
+from glamas.gridworld import BOUNCE_MODES, GridMap, load_map
 from glamas.learners import episode as ep
 from glamas.learners import registry, spec, two_observe
-from glamas.learners.settings import LearningSettings
-from glamas.errors import UserError
+from glamas.qlearning import QSettings
 
-
-LEARNERS = registry.family("chapter")
-"""The learners this experiment trains: the chapter's (glamas.learners.registry), in the order
-their seeds are drawn."""
+CHAPTER_LEARNERS = ("independent", "joint_state", "mmdp", "two_observe")
+"""The chapter's learners (Sec. 5.3), which this experiment trains by default."""
 
 
 @dataclass(frozen=True)
-class GridworldConfig(LearningSettings):
-    """Settings of the Section 5.3 experiment: the learners' settings
-    (:class:`glamas.learners.settings.LearningSettings`), plus the map, the learners and the schedule."""
+class GridworldConfig:
+    """Settings of the Section 5.3 experiment: the map, the learners and their settings (the
+    shared Q-learning settings and each learner's own, by its name), the collision rule and the
+    schedule."""
 
-    map_file: str = "tunnel_to_goal.txt"
-    """Map file (data/maps format), a name in data/maps or a path; Fig. 9 is TunnelToGoal."""
-    learners: tuple = LEARNERS
-    """Which learners to train, a subset of independent, joint_state, mmdp, two_observe."""
+    map: str = "tunnel_to_goal"
+    """A map's name in data/maps or a map file's path (:func:`glamas.gridworld.load_map`); Fig. 9
+    is TunnelToGoal. Any number of agents."""
+    learners: tuple = CHAPTER_LEARNERS
+    """Which learners to train: distinct names of registered learners (glamas.learners.registry)."""
+    q: QSettings = QSettings()
+    """Tabular Q-learning, shared by every learner (Sec. 5.3: one learning rate for the Q-learners)."""
+    settings: dict = field(default_factory=dict)
+    """Each learner's own settings by its name (for example ``{"two_observe": GLASettings(gla_L=1.0)}``);
+    completed with the defaults of every trained learner that has settings of its own, and only
+    theirs kept."""
+    bounce: str = "previous"
+    """Where a collided agent goes: 'previous' cell (re-implementations) or its 'start' cell
+    (glamas.gridworld.rules)."""
+    max_steps: int = 10_000
+    """Step cap per episode, a safeguard (not in the chapter); capped episodes are counted."""
     episodes: int = 200_000
     """Episodes ("iterations": until both agents are in the goal) per run (Sec. 5.3)."""
     runs: int = 20
@@ -38,19 +49,31 @@ class GridworldConfig(LearningSettings):
     one episode wide), so that learning in the first episodes is resolved (glamas.learners.episode)."""
 
     def __post_init__(self):
-        super().__post_init__()
-        checks.whole_numbers(self, {"episodes": 1, "runs": 1, "bins": 1})
-        learners = tuple(self.learners)
-        if not learners or len(set(learners)) != len(learners) or not set(learners) <= set(LEARNERS):
-            raise UserError(f"learners must be distinct names from {LEARNERS}, got {self.learners!r}")
+        checks.field_types(self)
+        checks.whole_numbers(self, {"max_steps": 1, "episodes": 1, "runs": 1, "bins": 1})
+        if self.bounce not in BOUNCE_MODES:
+            raise UserError(f"bounce must be one of {sorted(BOUNCE_MODES)}, got {self.bounce!r}")
+        learners = tuple(self.learners) if isinstance(self.learners, (tuple, list)) else ()
+        if not learners or len(set(learners)) != len(learners) or not set(learners) <= set(registry.LEARNERS):
+            raise UserError(f"learners must be distinct names of registered learners ({', '.join(registry.LEARNERS)}), "
+                            f"got {self.learners!r}")
         object.__setattr__(self, "learners", learners)
+        object.__setattr__(self, "settings", own_settings(learners, self.q, self.settings))
         gridmap = self.gridmap()
-        if gridmap.n_agents != 2:
-            raise UserError(f"the learners are written for two agents; map {self.map_file!r} has {gridmap.n_agents}")
+        for name in learners:  # what only the map decides (2observe's box) is checked before any run
+            registry.get(name).inputs(self.setup(name), gridmap)
+
+    def setup(self, name: str) -> spec.Setup:
+        """What learner ``name`` runs with: the Q-learning settings and its own."""
+        return registry.get(name).setup(self.q, self.settings.get(name))
+
+    def own(self, name: str):
+        """Learner ``name``'s own settings (None if it has none)."""
+        return self.settings.get(name)
 
     def gridmap(self) -> GridMap:
-        """The map: ``map_file`` as a name in data/maps or a path (:func:`glamas.gridworld.load_map`)."""
-        return load_map(self.map_file)
+        """The map (:func:`glamas.gridworld.load_map`)."""
+        return load_map(self.map)
 
     def edges(self) -> np.ndarray:
         """The learning curves' block edges (glamas.learners.episode.log_edges)."""
@@ -62,16 +85,25 @@ class GridworldConfig(LearningSettings):
     def memory_bytes(self) -> int:
         """Bytes of every learner's runs: their tables and logs (:func:`learner_bytes`)."""
         gridmap = self.gridmap()
-        return self.runs * sum(learner_bytes(name, self, gridmap, self.bins) for name in self.learners)
-
-    def delta_scale(self) -> float:
-        """What the GLA context multiplies delta by (``gla_delta_scale``) on this map."""
-        return two_observe.delta_scale(self.gla_delta_scale, self.gridmap())
+        return self.runs * sum(learner_bytes(name, self.setup(name), gridmap, self.bins) for name in self.learners)
 
 
-def learner_bytes(name: str, settings, gridmap: GridMap, bins: int) -> int:
+def own_settings(learners: tuple, q: QSettings, given) -> dict:
+    """The own settings of ``learners`` by name: those ``given`` (a dict by learner name), the
+    defaults of the others that have settings of their own; settings for a name that is no
+    registered learner, or of another learner's class, are refused."""
+    if not isinstance(given, dict):
+        raise UserError(f"settings must be a dict of each learner's own settings by its name, got {given!r}")
+    unknown = sorted(set(given) - set(registry.LEARNERS))
+    if unknown:
+        raise UserError(f"settings for {unknown}, which are no registered learners ({', '.join(registry.LEARNERS)})")
+    chosen = {name: registry.get(name).setup(q, given.get(name)).own for name in learners}
+    return {name: own for name, own in chosen.items() if own is not None}
+
+
+def learner_bytes(name: str, setup: spec.Setup, gridmap: GridMap, bins: int) -> int:
     """Bytes one run of learner ``name`` allocates: its tables (with the runner's working copy) and its log."""
-    tables = registry.get(name).bytes_per_run(settings, gridmap)
+    tables = registry.get(name).bytes_per_run(setup, gridmap)
     return tables * memory.WORKING_COPIES + bins * ep.n_columns(gridmap.n_agents) * memory.BYTES_PER_VALUE
 
 
@@ -82,14 +114,14 @@ class GridworldResult:
     config: GridworldConfig
     """The configuration that produced the arrays."""
     learners: np.ndarray
-    """int (n_learners,): index into LEARNERS of each learner, in the order of the other arrays."""
+    """str (n_learners,): the learners' names, in the order of the other arrays."""
     log: np.ndarray
     """(n_learners, runs, bins, columns): block means of the per-episode measurements; columns
     as in glamas.learners.episode (steps and reward per agent, length, collisions, coordinations, capped)."""
     table_shapes: np.ndarray
     """int (n_learners, 3): (tables, states, actions) of each learner's final Q tables."""
     gla_parameters: np.ndarray
-    """(runs, agents, 2 actions, 2 inputs): 2observe's final GLA parameters (zeros if not run)."""
+    """(runs, agents, 2 actions, 2 inputs): 2observe's final GLA parameters (zeros if it did not run)."""
     gla_initial: np.ndarray
     """(runs, agents, 2 actions, 2 inputs): the GLA parameters 2observe's runs started from
     (zeros if not run)."""
@@ -104,7 +136,7 @@ class GridworldResult:
         return np.diff(self.episodes, prepend=0)
 
     def names(self) -> list[str]:
-        return [LEARNERS[k] for k in self.learners]
+        return [str(name) for name in self.learners]
 
     def curves(self, learner: str, metric: str) -> np.ndarray:
         """(runs, bins) block means of one metric of glamas.learners.episode.METRICS for one
@@ -126,8 +158,8 @@ def run(config: GridworldConfig = GridworldConfig(), seed: int = 0, workers=None
     workers (:func:`glamas.parallel.run_many`).
 
     Each learner draws its runs' streams from its own master seed
-    (:func:`glamas.learners.registry.master_seed` over LEARNERS): every (seed, learner) pair has
-    its own streams, and a learner gets the same streams whichever other learners are trained with it.
+    (:func:`glamas.learners.registry.master_seed`, from its declared seed slot): every (seed,
+    learner) pair has its own streams, whichever other learners are trained or registered.
     """
     work = trainings(config, seed)
     parallel.run_many([batch for batch, _ in work], workers=workers, progress=progress)
@@ -137,27 +169,26 @@ def run(config: GridworldConfig = GridworldConfig(), seed: int = 0, workers=None
 def trainings(config: GridworldConfig, seed: int = 0) -> list:
     """Per learner of ``config``: its runs, ready to run (glamas.parallel.Batch), and the outputs they fill."""
     gridmap, schedule = config.gridmap(), config.schedule()
-    return [spec.batch(registry.get(name), config, gridmap, schedule, config.runs,
-                       registry.master_seed(seed, LEARNERS, name)) for name in config.learners]
+    return [spec.batch(registry.get(name), config.setup(name), gridmap, schedule, config.runs,
+                       registry.master_seed(seed, name), bounce=config.bounce) for name in config.learners]
 
 
 def result_of(config: GridworldConfig, outputs: list, seed: int = 0) -> GridworldResult:
     """The result of ``config`` and ``seed`` from its learners' filled outputs (:func:`trainings`,
     in order)."""
     gridmap = config.gridmap()
-    first_level = {key: np.stack([zeros] * config.runs) for key, zeros in two_observe.outputs(config, gridmap).items()}
-    for learned in outputs:
-        first_level.update({key: learned[key] for key in first_level.keys() & learned.keys()})
+    setup = registry.get("two_observe").setup(config.q, config.own("two_observe"))
+    first_level = {key: np.stack([zeros] * config.runs) for key, zeros in two_observe.outputs(setup, gridmap).items()}
     initial = np.zeros_like(first_level["u"])
     if "two_observe" in config.learners:
-        initial = two_observe.initial_parameters(config, gridmap, registry.master_seed(seed, LEARNERS, "two_observe"),
+        first_level = {key: outputs[config.learners.index("two_observe")][key] for key in first_level}
+        initial = two_observe.initial_parameters(setup.own, gridmap, registry.master_seed(seed, "two_observe"),
                                                  config.runs)
-    codes = np.array([LEARNERS.index(name) for name in config.learners], dtype=np.int64)
-    return GridworldResult(config=config, learners=codes, log=np.stack([learned["log"] for learned in outputs]),
+    return GridworldResult(config=config, learners=np.array(config.learners),
+                           log=np.stack([learned["log"] for learned in outputs]),
                            table_shapes=np.array([learned["q"].shape[1:] for learned in outputs], dtype=np.int64),
                            gla_parameters=first_level["u"], gla_initial=initial,
-                           need_counts=first_level["need_counts"],
-                           episodes=config.edges()[1:])
+                           need_counts=first_level["need_counts"], episodes=config.edges()[1:])
 
 
 def scaled(runs: int, episodes: int) -> GridworldConfig:
