@@ -26,7 +26,7 @@ except ImportError as error:
     ) from error
 
 from glamas.gridworld.env import GridworldEnv
-from glamas.gridworld.maps import GridMap, load_map, tunnel_to_goal
+from glamas.gridworld.maps import GridMap, load_map, map_text, tunnel_to_goal
 from glamas.gridworld.rules import N_ACTIONS
 
 
@@ -93,7 +93,7 @@ class GridworldParallelEnv(ParallelEnv):
     def render(self):
         if self.render_mode is None:
             raise ValueError("render() needs render_mode='ansi' when the environment is made")
-        return map_text(self.gridmap, self._game.cells)
+        return map_text(self.gridmap, self._game.cells).rstrip("\n")
 
     def _flatten(self, observations: dict) -> dict:
         return {name: np.array([*obs["position"], *(x for cell in obs["others"] for x in cell)], dtype=np.int64)
@@ -105,26 +105,3 @@ def _as_map(gridmap) -> GridMap:
     if gridmap is None:
         return tunnel_to_goal()
     return gridmap if isinstance(gridmap, GridMap) else load_map(gridmap)
-
-
-def map_text(gridmap: GridMap, cells) -> str:
-    """The map in the text format of ``data/maps`` with agent k's number on cell ``cells[k - 1]``."""
-    symbol = {c: str(k + 1) for k, c in enumerate(int(c) for c in cells)}
-    lines = ["+" + "-+" * gridmap.n_cols]
-    for r in range(gridmap.n_rows):
-        cell_line, below = "|", "+"
-        for c in range(gridmap.n_cols):
-            cell = gridmap.cell(r, c)
-            cell_line += symbol.get(cell, "G" if gridmap.is_goal[cell] else "#" if gridmap.blocked[cell] else ".")
-            cell_line += "|" if c == gridmap.n_cols - 1 or _wall(gridmap, cell, cell + 1) else " "
-            below += ("-" if r == gridmap.n_rows - 1 or _wall(gridmap, cell, cell + gridmap.n_cols) else " ") + "+"
-        lines += [cell_line, below]
-    return "\n".join(lines)
-
-
-def _wall(gridmap: GridMap, a: int, b: int) -> bool:
-    """A wall between neighbouring cells a and b: neither move enters the other cell, though both
-    cells are open (the goal's own moves do not count: it is absorbing)."""
-    if gridmap.blocked[a] or gridmap.blocked[b]:
-        return False
-    return b not in gridmap.open_neighbours(a) and a not in gridmap.open_neighbours(b)
