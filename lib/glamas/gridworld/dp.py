@@ -1,10 +1,10 @@
 """Dynamic programming (chapter Section 2.2) on the gridworld's joint MMDP: the optimum the learners aim at.
 
-The joint MMDP of a map has one state per assignment of cells to the agents (an agent in a goal
-cell is done: it no longer acts), one action per joint action (4**n), deterministic transitions
-given by :func:`glamas.gridworld.rules.step` and the MMDP learner's shared reward
+The joint MMDP of a map has one state per assignment of cells to the agents (an agent on one of its
+own goal cells is done: it no longer acts), one action per joint action (4**n), deterministic
+transitions given by :func:`glamas.gridworld.rules.step` and the MMDP learner's shared reward
 (:func:`glamas.gridworld.rules.shared_reward`). States no play can reach (two acting agents on
-one cell, an agent on a blocked cell) and the all-done state are absorbing with reward 0.
+one cell, an agent on a blocked cell) and the all-done states are absorbing with reward 0.
 
 :func:`value_iteration` is Alg. 2 with eq. 6 and the chapter's stopping rule (largest change
 below epsilon); :func:`policy_iteration` is Alg. 1 with iterative policy evaluation (eq. 5).
@@ -40,7 +40,7 @@ class JointMDP:
     bumped: np.ndarray
     """bool (n_states, n_joint_actions, n_agents): which agents bump into a wall in the step."""
     reached: np.ndarray
-    """bool (n_states, n_joint_actions, n_agents): which agents enter the goal in the step."""
+    """bool (n_states, n_joint_actions, n_agents): which agents enter their goal in the step."""
     valid: np.ndarray
     """bool (n_states,): states play can reach (distinct cells for acting agents, none blocked)."""
 
@@ -88,7 +88,7 @@ class Rollout:
     cells: np.ndarray
     """int64 (n_steps + 1, n_agents): the agents' cells, starts first."""
     steps_to_goal: np.ndarray
-    """int64 (n_agents,): the step at which each agent entered the goal (-1: not within the steps)."""
+    """int64 (n_agents,): the step at which each agent entered its goal (-1: not within the steps)."""
     returns: np.ndarray
     """float (n_agents,): each agent's undiscounted sum of its own rewards."""
     collisions: int
@@ -96,7 +96,7 @@ class Rollout:
     bumps: np.ndarray
     """int64 (n_agents,): wall bumps of each agent."""
     finished: bool
-    """Whether every agent was in the goal at the end."""
+    """Whether every agent was in its goal at the end."""
 
 
 def joint_mdp(gridmap: GridMap, bounce: str = "previous") -> JointMDP:
@@ -118,18 +118,18 @@ def joint_mdp(gridmap: GridMap, bounce: str = "previous") -> JointMDP:
 
 @njit(cache=True)
 def _tabulate(world, blocked, next_state, reward, agent_rewards, collisions, agent_bumped, agent_reached, valid):
-    is_goal = world.is_goal
+    goal_of = world.goal_of
     n_cells, n = world.next_cell.shape[0], world.starts.shape[0]
     cells, done, actions = np.empty(n, np.int64), np.empty(n, np.bool_), np.empty(n, np.int64)
     new_cells, rewards = np.empty(n, np.int64), np.empty(n)
     bumped, collided, reached = np.empty(n, np.bool_), np.empty(n, np.bool_), np.empty(n, np.bool_)
     for s in range(next_state.shape[0]):
         split_index(s, n_cells, cells)
-        valid[s] = _is_valid(cells, is_goal, blocked)
         all_done = True
         for i in range(n):
-            done[i] = is_goal[cells[i]]
+            done[i] = goal_of[i, cells[i]]
             all_done = all_done and done[i]
+        valid[s] = _is_valid(cells, done, blocked)
         for ja in range(next_state.shape[1]):
             if all_done or not valid[s]:
                 next_state[s, ja], reward[s, ja], collisions[s, ja] = s, 0.0, 0
@@ -150,12 +150,14 @@ def _tabulate(world, blocked, next_state, reward, agent_rewards, collisions, age
 
 
 @njit(cache=True)
-def _is_valid(cells, is_goal, blocked):
+def _is_valid(cells, done, blocked):
+    """Whether play can reach the agents' ``cells``: none blocked, no two acting agents on one cell
+    (an agent in its goal has left the game: another agent may stand on that cell)."""
     for i in range(cells.shape[0]):
         if blocked[cells[i]]:
             return False
         for j in range(i + 1, cells.shape[0]):
-            if cells[i] == cells[j] and not is_goal[cells[i]]:
+            if cells[i] == cells[j] and not (done[i] or done[j]):
                 return False
     return True
 
@@ -226,7 +228,7 @@ def policy_iteration(mdp: JointMDP, gamma: float, epsilon: float = 1e-9, max_ite
 
 
 def rollout(mdp: JointMDP, policy: np.ndarray, max_steps: int | None = None) -> Rollout:
-    """Follow a deterministic joint policy from the start cells until every agent is in the goal
+    """Follow a deterministic joint policy from the start cells until every agent is in its goal
     or ``max_steps`` (default: the number of joint states, beyond which a deterministic policy loops)."""
     max_steps = mdp.n_states if max_steps is None else max_steps
     n = mdp.gridmap.n_agents
@@ -234,7 +236,7 @@ def rollout(mdp: JointMDP, policy: np.ndarray, max_steps: int | None = None) -> 
     path = [mdp.cells(state)]
     steps, returns, bumps = np.full(n, -1, np.int64), np.zeros(n), np.zeros(n, np.int64)
     collisions = 0
-    while len(path) <= max_steps and not all(mdp.gridmap.is_goal[c] for c in path[-1]):
+    while len(path) <= max_steps and not _all_in_goal(mdp.gridmap, path[-1]):
         action = int(policy[state])
         returns += mdp.agent_rewards[state, action]
         bumps += mdp.bumped[state, action]
@@ -242,8 +244,12 @@ def rollout(mdp: JointMDP, policy: np.ndarray, max_steps: int | None = None) -> 
         collisions += int(mdp.collisions[state, action])
         state = int(mdp.next_state[state, action])
         path.append(mdp.cells(state))
-    finished = all(mdp.gridmap.is_goal[c] for c in path[-1])
+    finished = _all_in_goal(mdp.gridmap, path[-1])
     return Rollout(np.array(path, np.int64), steps, returns, collisions, bumps, finished)
+
+
+def _all_in_goal(gridmap: GridMap, cells) -> bool:
+    return all(gridmap.goal_of[i, c] for i, c in enumerate(cells))
 
 
 def selfish_policy(mdp: JointMDP, gamma: float) -> np.ndarray:
@@ -251,9 +257,9 @@ def selfish_policy(mdp: JointMDP, gamma: float) -> np.ndarray:
     gridmap = mdp.gridmap
     own = []
     for i in range(gridmap.n_agents):
-        # a slice keeps the map's read-only starts: a writable array would be typed apart by numba,
+        # slices keep the map's read-only arrays: a writable array would be typed apart by numba,
         # and _tabulate compiled a second time (2 s)
-        alone = joint_mdp(replace(gridmap, starts=gridmap.starts[i:i + 1]), mdp.bounce)
+        alone = joint_mdp(replace(gridmap, starts=gridmap.starts[i:i + 1], goal_of=gridmap.goal_of[i:i + 1]), mdp.bounce)
         own.append(value_iteration(alone, gamma).policy)
     policy = np.empty(mdp.n_states, np.int64)
     for state in range(mdp.n_states):
@@ -268,5 +274,5 @@ def optimal_rollout(gridmap: GridMap, gamma: float, bounce: str = "previous", ep
     mdp = joint_mdp(gridmap, bounce)
     episode = rollout(mdp, value_iteration(mdp, gamma, epsilon).policy)
     if not episode.finished:
-        raise RuntimeError(f"the optimal policy of {gridmap.name!r} does not bring every agent to the goal")
+        raise RuntimeError(f"the optimal policy of {gridmap.name!r} does not bring every agent to its goal")
     return episode

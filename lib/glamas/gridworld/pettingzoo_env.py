@@ -9,8 +9,9 @@ gymnasium spaces:
   col) in agent order]``, GridworldEnv's ``{"position", "others"}`` dict flattened, in
   ``MultiDiscrete([n_rows, n_cols] * n_agents)``.
 
-An agent that enters the goal is terminated and leaves ``agents`` (the goal is absorbing); the
-live agents are truncated after ``max_steps`` steps. The game is deterministic: ``reset``'s
+An agent that enters its goal is terminated and leaves ``agents`` (its goal is absorbing; each
+agent's goal cells are the map's, ``gridmap.goal_of``, and another agent's goal is an ordinary cell
+for it); the live agents are truncated after ``max_steps`` steps. The game is deterministic: ``reset``'s
 seed only seeds the spaces' samplers, so a seeded run of sampled actions repeats exactly.
 """
 
@@ -33,10 +34,11 @@ from glamas.gridworld.rules import N_ACTIONS
 class GridworldParallelEnv(ParallelEnv):
     """The gridworld game for ``gridmap.n_agents`` agents ``agent_1``, ``agent_2``, ...
 
-    ``gridmap`` (a GridMap, or a map file's path or text) defaults to the chapter's TunnelToGoal
-    (Fig. 9); ``bounce`` and ``max_steps`` as
-    in GridworldEnv; ``render_mode`` None or 'ansi' (``render()`` returns the map as text, in
-    the format of ``data/maps``, with each agent's number on its cell).
+    ``gridmap`` (a GridMap, or a map's name in ``data/maps``, a map file's path or the map's text:
+    :func:`glamas.gridworld.load_map`) defaults to the chapter's TunnelToGoal (Fig. 9); ``bounce``
+    and ``max_steps`` as in GridworldEnv; ``render_mode`` None or 'ansi' (``render()`` returns the
+    map as text, in the format of ``data/maps``, with each agent on its cell:
+    :func:`glamas.gridworld.map_text`).
     """
 
     metadata = {"name": "glamas_gridworld_v0", "render_modes": ["ansi"], "is_parallelizable": True}
@@ -101,7 +103,7 @@ class GridworldParallelEnv(ParallelEnv):
 
 
 def _as_map(gridmap) -> GridMap:
-    """The map to play on: TunnelToGoal for None, a GridMap as it is, else a map file's path or text."""
+    """The map to play on: TunnelToGoal for None, a GridMap as it is, else a map's name, path or text."""
     if gridmap is None:
         return tunnel_to_goal()
     return gridmap if isinstance(gridmap, GridMap) else load_map(gridmap)
