@@ -306,3 +306,17 @@ def test_random_maps_are_written_back_to_the_same_map():
         assert load_map(again).same_layout(m), text
         assert map_text(load_map(again)) == again
     assert loaded > 100
+
+
+@pytest.mark.parametrize("name, labels", [("tunnel_to_goal", ["G"]), ("isr", ["G1", "G2"]),
+                                          ("tunnel_to_goal_4", ["G1,2", "G3,4"])])
+def test_draw_map_labels_each_agents_goal(name, labels):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    from glamas.gridworld.draw import draw_map
+    fig, ax = plt.subplots()
+    draw_map(ax, load_map(name))
+    texts = [t.get_text() for t in ax.texts]
+    plt.close(fig)
+    assert sorted(t for t in texts if t.startswith("G")) == labels

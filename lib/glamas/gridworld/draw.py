@@ -36,7 +36,8 @@ def draw_map(ax, gridmap: GridMap):
             ax.add_patch(_square(c, r, "#d9f0d3"))
             ax.text(c + 0.5, r + 0.5, "G", ha="center", va="center", fontsize=14, fontweight="bold")
         elif gridmap.is_goal[cell]:
-            _draw_own_goal(ax, r, c, [int(a) for a in np.flatnonzero(gridmap.goal_of[:, cell])])
+            _draw_own_goal(ax, r, c, [int(a) for a in np.flatnonzero(gridmap.goal_of[:, cell])],
+                           under_a_start=cell in gridmap.starts)
     for wall in _walls(gridmap):
         ax.plot(*wall, color="black", linewidth=3, solid_capstyle="projecting", zorder=3)
     for agent, start in enumerate(gridmap.starts):
@@ -47,16 +48,18 @@ def draw_map(ax, gridmap: GridMap):
     _draw_indices(ax, rows, cols)
 
 
-def _draw_own_goal(ax, r: int, c: int, agents: list[int]):
+def _draw_own_goal(ax, r: int, c: int, agents: list[int], under_a_start: bool):
     """A goal cell of ``agents`` (0 for agent 1), not of every agent: a stripe per agent in its
-    colour, light, and 'G' with their numbers."""
+    colour, light, and 'G' with their numbers (at the cell's foot where a start's disc covers its
+    middle, as in ISR, CIT and CMU, where each agent's goal is the other's start)."""
     width = 1.0 / len(agents)
     for k, agent in enumerate(agents):
         ax.add_patch(Rectangle((c + k * width, r), width, 1, facecolor=agent_colour(agent), alpha=0.25,
                                edgecolor="none", zorder=1))
     label = "G" + ",".join(str(a + 1) for a in agents)
-    ax.text(c + 0.5, r + 0.5, label, ha="center", va="center", fontweight="bold",
-            fontsize=12 if len(label) <= 2 else 8, color=agent_colour(agents[0]) if len(agents) == 1 else "black")
+    size = 7 if under_a_start or len(label) > 2 else 12
+    ax.text(c + 0.5, r + (0.88 if under_a_start else 0.5), label, ha="center", va="center", fontweight="bold",
+            fontsize=size, color=agent_colour(agents[0]) if len(agents) == 1 else "black", zorder=5)
 
 
 def agent_colour(agent: int) -> str:
