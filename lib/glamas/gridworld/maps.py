@@ -407,25 +407,28 @@ def _row_col_text(cell, n_cols):
 
 
 def _check_goals_reachable(gridmap: GridMap, start_of):
+    area = _areas(gridmap)
     for agent, start in sorted(start_of.items()):
-        reached = _reachable(gridmap, start.cell)
         goals = gridmap.goal_cells(agent - 1)
-        if not any(g in reached for g in goals):
+        if not any(area[g] == area[start.cell] for g in goals):
             cells = ", ".join(_row_col_text(g, gridmap.n_cols) for g in goals)
             raise MapError(f"no goal is reachable from agent {agent}'s start at {start.where} "
                            f"(its goals: {cells}): open a wall on the way")
 
 
-def _reachable(gridmap: GridMap, start: int) -> set[int]:
-    """The cells an agent can walk to from ``start``."""
-    seen, frontier = {start}, deque([start])
-    while frontier:
-        cell = frontier.popleft()
-        for other in gridmap.open_neighbours(cell):
-            if other not in seen:
-                seen.add(other)
-                frontier.append(other)
-    return seen
+def _areas(gridmap: GridMap) -> list[int]:
+    """Each cell's area: cells an agent can walk between share one (moves are symmetric)."""
+    area = [-1] * gridmap.n_cells
+    for first in range(gridmap.n_cells):
+        if area[first] >= 0:
+            continue
+        area[first], frontier = first, deque([first])
+        while frontier:
+            for other in gridmap.open_neighbours(frontier.popleft()):
+                if area[other] < 0:
+                    area[other] = first
+                    frontier.append(other)
+    return area
 
 
 # --- writing ------------------------------------------------------------------------------------
