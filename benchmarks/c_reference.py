@@ -27,7 +27,7 @@ TWO_OBSERVE_SETTINGS = {"gla_bounding": "clip", "gla_need": "in_range", "gla_del
 
 
 class _World(ctypes.Structure):
-    _fields_ = [("next_cell", ctypes.c_void_p), ("is_goal", ctypes.c_void_p), ("starts", ctypes.c_void_p),
+    _fields_ = [("next_cell", ctypes.c_void_p), ("goal_of", ctypes.c_void_p), ("starts", ctypes.c_void_p),
                 ("bounce", ctypes.c_int64), ("n_cells", ctypes.c_int64), ("n_cols", ctypes.c_int64)]
 
 
@@ -56,7 +56,7 @@ class Reference:
         if g.n_agents != 2:
             raise ValueError(f"the C reference is written for two agents, got {g.n_agents}")
         arrays = kernels.new_outputs(workload, 1)
-        world_arrays = (np.ascontiguousarray(g.next_cell, np.int64), np.ascontiguousarray(g.is_goal, np.uint8),
+        world_arrays = (np.ascontiguousarray(g.next_cell, np.int64), np.ascontiguousarray(g.goal_of, np.uint8),
                         np.ascontiguousarray(g.starts, np.int64))
         world = _World(*(a.ctypes.data for a in world_arrays), BOUNCE_MODES[workload.bounce], g.n_cells, g.n_cols)
         double, state = ctypes.c_double, kernels.run_state(seed)

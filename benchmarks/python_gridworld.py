@@ -29,13 +29,16 @@ def below(rnd, n):
 
 class World:
     """A map as lists, with the rules of glamas.gridworld.rules: ``step`` for any number of
-    agents (rules.step), ``step_two`` for two (rules.step_pair, the learners' two-agent path)."""
+    agents (rules.step), ``step_two`` for two (rules.step_pair, the learners' two-agent path).
+    Each agent has its own goals (``goal_of[i][c]``); agents entering a goal of both together do
+    not collide."""
 
     def __init__(self, gridmap, bounce="previous"):
         self.gridmap = gridmap
         self.next_cell = gridmap.next_cell.tolist()
-        self.is_goal = gridmap.is_goal.tolist()
-        self.usable = (~(gridmap.is_goal | gridmap.blocked)).tolist()
+        self.goal_of = gridmap.goal_of.tolist()
+        self.shared_goal = gridmap.shared_goal.tolist()
+        self.usable = (~(gridmap.shared_goal | gridmap.blocked)).tolist()
         self.starts = gridmap.starts.tolist()
         self.n_cols, self.n_cells = gridmap.n_cols, gridmap.n_cells
         self.bounce_to_start = bounce == "start"
@@ -47,18 +50,23 @@ class World:
         """Where collided agents go: their start cells or the cells they came from."""
         return self.starts if self.bounce_to_start else cells
 
+    def both_goal(self, i, j, cell):
+        """Whether ``cell`` is a goal of agent i and of agent j: entering it together is no collision."""
+        return self.goal_of[i][cell] and self.goal_of[j][cell]
+
     def would_collide(self, cells, done, actions, i, j):
-        """Whether acting agents i and j playing ``actions`` target one non-goal cell or swap."""
+        """Whether acting agents i and j playing ``actions`` target one cell (a goal of not both) or swap."""
         if done[i] or done[j]:
             return False
         a, b = self.next_cell[cells[i]][actions[i]], self.next_cell[cells[j]][actions[j]]
-        return (a == b and not self.is_goal[a]) or (a == cells[j] and b == cells[i])
+        return (a == b and not self.both_goal(i, j, a)) or (a == cells[j] and b == cells[i])
 
     def in_range_table(self):
         """rules.in_range_table: ``table[a][b]``, whether agents on cells a and b could collide in
-        one step, made once per run as the kernels make it."""
+        one step (entering a goal of every agent together is none), made once per run as the
+        kernels make it."""
         def could_collide(a, b):
-            return any((ta == tb and not self.is_goal[ta]) or (ta == b and tb == a)
+            return any((ta == tb and not self.shared_goal[ta]) or (ta == b and tb == a)
                        for ta in self.next_cell[a] for tb in self.next_cell[b])
         return [[could_collide(a, b) for b in range(self.n_cells)] for a in range(self.n_cells)]
 
@@ -69,12 +77,12 @@ class World:
         new1 = c1 if d1 else self.next_cell[c1][actions[1]]
         r0 = BUMP_PENALTY if not d0 and new0 == c0 else 0.0
         r1 = BUMP_PENALTY if not d1 and new1 == c1 else 0.0
-        hit = not d0 and not d1 and ((new0 == new1 and not self.is_goal[new0]) or (new0 == c1 and new1 == c0))
+        hit = not d0 and not d1 and ((new0 == new1 and not self.both_goal(0, 1, new0)) or (new0 == c1 and new1 == c0))
         if hit:
             r0 += COLLISION_PENALTY
             r1 += COLLISION_PENALTY
             new0, new1 = self.bounced(cells)
-        reached = [not d0 and self.is_goal[new0], not d1 and self.is_goal[new1]]
+        reached = [not d0 and self.goal_of[0][new0], not d1 and self.goal_of[1][new1]]
         if reached[0]:
             r0 += GOAL_REWARD
         if reached[1]:
@@ -87,7 +95,7 @@ class World:
         new = [c if d else self.next_cell[c][a] for c, d, a in zip(cells, done, actions)]
         rewards = [BUMP_PENALTY if not d and m == c else 0.0 for c, d, m in zip(cells, done, new)]
         pairs = [(i, j) for i in range(n) for j in range(i + 1, n) if not done[i] and not done[j]]
-        found = [(i, j) for i, j in pairs if (new[i] == new[j] and not self.is_goal[new[i]])
+        found = [(i, j) for i, j in pairs if (new[i] == new[j] and not self.both_goal(i, j, new[i]))
                  or (new[i] == cells[j] and new[j] == cells[i])]
         collided, collisions, back = [False] * n, 0, self.bounced(cells)
         while found:  # bounced agents may land where another agent now is
@@ -97,9 +105,9 @@ class World:
                 collided[i] = collided[j] = True
             collisions += len(found)
             new = [back[i] if collided[i] else new[i] for i in range(n)]
-            found = [(i, j) for i, j in pairs if new[i] == new[j] and not self.is_goal[new[i]]
+            found = [(i, j) for i, j in pairs if new[i] == new[j] and not self.both_goal(i, j, new[i])
                      and not (collided[i] and collided[j])]
-        reached = [not d and self.is_goal[m] for d, m in zip(done, new)]
+        reached = [not d and self.goal_of[i][m] for i, (d, m) in enumerate(zip(done, new))]
         for i in range(n):
             if reached[i]:
                 rewards[i] += GOAL_REWARD
@@ -231,7 +239,7 @@ def joint_state(world, workload, rnd):
 
 def shared_reward(rewards, reached, finished):
     """The MMDP learner's reward (rules.shared_reward): penalties summed, +100 when the last agent
-    enters the goal."""
+    enters its goal."""
     total, arrived = 0.0, False
     for r, entered in zip(rewards, reached):
         total += r
@@ -344,8 +352,8 @@ def two_observe_group(world, workload, rnd):
 # --- sparse tabular MAQ (glamas.learners.sparse_maq) ---------------------------------------------------
 
 def coordination_states(world, distance):
-    """The joint states (a, b) of two agents in which they coordinate: distinct usable cells at
-    Manhattan distance at most ``distance``."""
+    """The joint states (a, b) of two agents in which they coordinate: distinct usable cells (not
+    blocked, not a goal of every agent) at Manhattan distance at most ``distance``."""
     usable = [a for a in range(world.n_cells) if world.usable[a]]
     return [(a, b) for a in usable for b in usable if a != b and world.distance(a, b) <= distance]
 

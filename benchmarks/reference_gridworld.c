@@ -1,7 +1,7 @@
 /* The gridworld learners of the chapter's Section 5.3 in plain C: the yardstick of the compiled
  * kernels' speed (benchmarks/bench_gridworld.py).
  *
- * Two agents, the rules of glamas.gridworld.rules, eq. 11 with epsilon-greedy selection and random
+ * Two agents, each with its own goal cells, the rules of glamas.gridworld.rules, eq. 11 with epsilon-greedy selection and random
  * tie-breaking, and for 2observe (Alg. 4) a GLA per agent (eq. 13-15) over the context [delta, 1],
  * need = "the agents could collide this step" and the feedback table[choice][need] minus
  * penalty * delta when both coordinated without need. Each run draws from the same xoshiro256**
@@ -9,8 +9,9 @@
  * (glamas.learners.episode), so the two can be compared number for number.
  *
  * Built as a shared library (cc -O2 -shared -fPIC) and called through ctypes, so that both sides
- * are timed in one process. Arrays are C-contiguous: next_cell (cells x 4, int64), is_goal (cells,
- * uint8), starts (2, int64), q (tables x states x actions, double), log (blocks x 8, double).
+ * are timed in one process. Arrays are C-contiguous: next_cell (cells x 4, int64), goal_of (2 x cells,
+ * uint8: goal_of[i * cells + c], cell c is a goal of agent i), starts (2, int64), q (tables x states
+ * x actions, double), log (blocks x 8, double).
  */
 
 #include <math.h>
@@ -24,7 +25,7 @@ static const double GOAL_REWARD = 100.0, COLLISION_PENALTY = -10.0, BUMP_PENALTY
 
 typedef struct {
     const int64_t *next_cell;
-    const uint8_t *is_goal;
+    const uint8_t *goal_of;
     const int64_t *starts;
     int64_t bounce, n_cells, n_cols;
 } World;
@@ -89,6 +90,11 @@ static void q_update(double *q, int64_t n, int64_t s, int64_t a, double r, int64
     q[s * n + a] = (1.0 - alpha) * q[s * n + a] + alpha * target;
 }
 
+static int is_goal_of(const World *w, int i, int64_t cell) { return w->goal_of[i * w->n_cells + cell]; }
+
+/* A cell both agents' goal: entering it together is no collision. */
+static int goal_of_both(const World *w, int64_t cell) { return is_goal_of(w, 0, cell) && is_goal_of(w, 1, cell); }
+
 /* One joint move of two agents (glamas.gridworld.rules.step); returns the collisions (0 or 1). */
 static int step(const World *w, Episode *e) {
     int i, collided;
@@ -99,14 +105,14 @@ static int step(const World *w, Episode *e) {
         if (!e->done[i] && e->new_cells[i] == e->cells[i]) e->rewards[i] += BUMP_PENALTY;
     }
     collided = !e->done[0] && !e->done[1]
-        && ((e->new_cells[0] == e->new_cells[1] && !w->is_goal[e->new_cells[0]])
+        && ((e->new_cells[0] == e->new_cells[1] && !goal_of_both(w, e->new_cells[0]))
             || (e->new_cells[0] == e->cells[1] && e->new_cells[1] == e->cells[0]));
     for (i = 0; i < 2; i++) {
         if (collided) {
             e->rewards[i] += COLLISION_PENALTY;
             e->new_cells[i] = w->bounce == BOUNCE_PREVIOUS ? e->cells[i] : w->starts[i];
         }
-        if (!e->done[i] && w->is_goal[e->new_cells[i]]) {
+        if (!e->done[i] && is_goal_of(w, i, e->new_cells[i])) {
             e->reached[i] = 1;
             e->rewards[i] += GOAL_REWARD;
         }
@@ -114,9 +120,10 @@ static int step(const World *w, Episode *e) {
     return collided;
 }
 
+/* Agents 0 on cell a and 1 on cell b playing action_a and action_b collide. */
 static int would_collide(const World *w, int64_t a, int64_t b, int64_t action_a, int64_t action_b) {
     int64_t target_a = w->next_cell[a * N_ACTIONS + action_a], target_b = w->next_cell[b * N_ACTIONS + action_b];
-    return (target_a == target_b && !w->is_goal[target_a]) || (target_a == b && target_b == a);
+    return (target_a == target_b && !goal_of_both(w, target_a)) || (target_a == b && target_b == a);
 }
 
 /* rules.could_collide: some joint action of agents on cells a and b collides. */

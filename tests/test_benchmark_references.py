@@ -39,6 +39,8 @@ def test_the_python_stream_is_glamas_rng():
 
 TUNNEL = "tunnel_to_goal"
 WAREHOUSE = "warehouse_4"
+SWAP = "isr"  # two agents swapping places: each one's goal is the other's start
+PAIRED_GOALS = "tunnel_to_goal_4"  # agents 1 and 2 share a goal, 3 and 4 another
 SCALING = 1000  # the scaling study's step cap
 WORKLOADS = {
     "independent": kernels.Workload("independent", 200),
@@ -53,6 +55,13 @@ WORKLOADS = {
     "sparse_maq, 4 agents, bounce to start": kernels.Workload(
         "sparse_maq", 20, WAREHOUSE, max_steps=SCALING, bounce="start"),
     "cq, 4 agents": kernels.Workload("cq", 20, WAREHOUSE, own=cq.Settings(cq_solo_episodes=10), max_steps=SCALING),
+    "independent, own goals": kernels.Workload("independent", 100, SWAP),
+    "two_observe, own goals": kernels.Workload("two_observe", 100, SWAP),
+    "sparse_maq, own goals": kernels.Workload("sparse_maq", 100, SWAP),
+    "cq, own goals": kernels.Workload("cq", 100, SWAP, own=cq.Settings(cq_solo_episodes=20)),
+    "two_observe, goals by pairs": kernels.Workload("two_observe", 20, PAIRED_GOALS, max_steps=SCALING),
+    "sparse_maq, goals by pairs": kernels.Workload("sparse_maq", 20, PAIRED_GOALS, max_steps=SCALING),
+    "cq, goals by pairs": kernels.Workload("cq", 60, PAIRED_GOALS, own=cq.Settings(cq_solo_episodes=10), max_steps=SCALING),
 }
 COORDINATING = ("two_observe", "sparse_maq", "cq")
 
@@ -70,7 +79,7 @@ def test_gridworld_reference_plays_the_kernels_episodes(case):
         assert compiled.arrays["marked"].any()  # CQ-learning's t-test marked joint states
 
 
-@pytest.mark.parametrize("map_file", [TUNNEL, WAREHOUSE])
+@pytest.mark.parametrize("map_file", [TUNNEL, WAREHOUSE, SWAP, PAIRED_GOALS])
 @pytest.mark.parametrize("bounce", sorted(BOUNCE_MODES))
 def test_rules_reference_ends_with_the_compiled_totals(map_file, bounce):
     gridmap = kernels.Workload("independent", 1, map_file).gridmap()

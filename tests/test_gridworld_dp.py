@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from glamas.experiments import gridworld_optimum
-from glamas.gridworld import dp, load_map, tunnel_to_goal
+from glamas.gridworld import dp, load_map, rules, tunnel_to_goal
 
 
 @pytest.fixture(scope="module")
@@ -149,3 +149,111 @@ def test_plot_episode_rejects_unknown_episode():
     fig, ax = plotting.new_figure(3, 3)
     with pytest.raises(ValueError, match=r"which must be one of \['optimal', 'selfish'\], got 'best'"):
         gridworld_optimum.plot_episode(ax, result, "best")
+
+
+# --- per-agent goals, the field's maps, and the search beyond the tables ---------------------------
+
+SWAP_WITH_A_POCKET = """\
++-+-+-+-+
+|1 . . 2|
++-+ +-+-+
+|#|.|#|#|
++-+-+-+-+
+goal 1: row 0, col 3
+goal 2: row 0, col 0
+"""
+"""Two agents swapping ends of a corridor with one pocket: one must step aside."""
+
+
+def exhaustive_value(gridmap, gamma, bounce="previous"):
+    """V*(start) by breadth-first search over every joint state the starts reach, step by step,
+    keeping the best discounted shared reward to each; stops once no longer episode can be better
+    (an episode ending after T steps is worth at most 100 gamma**(T - 1))."""
+    world, n = rules.world(gridmap, bounce), gridmap.n_agents
+    layer, best, t = {tuple(gridmap.starts.tolist()): 0.0}, -np.inf, 0
+    while best < 100.0 * gamma ** t:
+        following = {}
+        for cells, value in layer.items():
+            done = np.array([gridmap.goal_of[i, c] for i, c in enumerate(cells)])
+            for joint in range(4 ** n):
+                actions = np.array([joint // 4 ** (n - 1 - i) % 4 for i in range(n)], np.int64)
+                out = (np.empty(n, np.int64), np.empty(n), np.empty(n, bool), np.empty(n, bool), np.empty(n, bool))
+                rules.step(world, np.array(cells, np.int64), done, actions, *out)
+                all_in = bool((done | out[4]).all())
+                total = value + gamma ** t * rules.shared_reward(out[1], out[4], all_in)
+                if all_in:
+                    best = max(best, total)
+                else:
+                    key = tuple(out[0].tolist())
+                    following[key] = max(following.get(key, -np.inf), total)
+        layer, t = following, t + 1
+    return best
+
+
+@pytest.mark.parametrize("bounce", ["previous", "start"])
+def test_the_optimum_on_a_small_map_is_the_exhaustive_searchs(bounce):
+    gridmap = load_map(SWAP_WITH_A_POCKET)
+    mdp = dp.joint_mdp(gridmap, bounce)
+    solution = dp.value_iteration(mdp, 0.9, epsilon=1e-12)
+    expected = exhaustive_value(gridmap, 0.9, bounce)
+    assert solution.values[mdp.start_state] == pytest.approx(expected, abs=1e-9)
+    assert dp.searched_optimum(gridmap, 0.9, bounce).value == pytest.approx(expected, abs=1e-12)
+    episode = dp.rollout(mdp, solution.policy)
+    assert episode.finished and episode.collisions == 0 and dp.shortest_steps(gridmap).tolist() == [3, 3]
+    assert max(episode.steps_to_goal) == 5  # one agent waits in the pocket while the other passes
+
+
+@pytest.mark.parametrize("name, value, last", [
+    ("tunnel_to_goal", 100 * 0.9 ** 10 - 0.9 ** 5, 11),
+    ("isr", 100 * 0.9 ** 5, 6),
+    ("cit", 100 * 0.9 ** 12 - 0.9 ** 5, 13),
+    ("cmu", 100 * 0.9 ** 32, 33),
+])
+def test_two_agent_field_maps_value_iteration_and_search_agree(name, value, last):
+    gridmap = load_map(name)
+    mdp = dp.joint_mdp(gridmap)
+    solution = dp.value_iteration(mdp, 0.9)
+    episode = dp.rollout(mdp, solution.policy)
+    assert episode.finished and episode.collisions == 0 and max(episode.steps_to_goal) == last
+    searched = dp.searched_optimum(gridmap, 0.9)
+    assert solution.values[mdp.start_state] == pytest.approx(value, abs=1e-9)
+    assert searched.value == pytest.approx(value, abs=1e-9) and max(searched.episode.steps_to_goal) == last
+
+
+@pytest.mark.parametrize("name, value, steps", [
+    ("tunnel_to_goal_3", 100 * 0.9 ** 11 - 0.9 ** 4, [10, 11, 12]),
+    # agents 2 and 4 cannot wait by a wall bump at the tunnels' entrances (no wall there) and bump earlier
+    ("tunnel_to_goal_4", 100 * 0.9 ** 10 - 2 * 0.9 ** 4, [10, 11, 11, 10]),
+])
+def test_three_and_four_agents_by_search(name, value, steps):
+    gridmap = load_map(name)
+    found = dp.searched_optimum(gridmap, 0.9)
+    assert found.value == pytest.approx(value, abs=1e-9) and found.episode.steps_to_goal.tolist() == steps
+    assert found.episode.finished and found.episode.collisions == 0
+    bounds = dp.optimum_bounds(gridmap, 0.9)
+    assert bounds.steps.tolist() == [10] * gridmap.n_agents and bounds.episode_steps == 10
+    assert found.value <= bounds.value == pytest.approx(100 * 0.9 ** 9)
+    assert found.episode.returns.sum() <= bounds.returns == 100.0 * gridmap.n_agents
+
+
+def test_the_four_agent_tables_do_not_fit():
+    gridmap = load_map("tunnel_to_goal_4")
+    assert dp.tabulated_bytes(gridmap) > 100e9  # 55**4 joint states x 256 joint actions
+    with pytest.raises(ValueError, match=r"149\.9 GB of tables\): too large to tabulate; use searched_optimum"):
+        dp.joint_mdp(gridmap)
+
+
+def test_three_agents_value_iteration_agrees_with_the_search():
+    gridmap = load_map("tunnel_to_goal_3")
+    mdp = dp.joint_mdp(gridmap)
+    solution = dp.value_iteration(mdp, 0.9)
+    assert solution.values[mdp.start_state] == pytest.approx(dp.searched_optimum(gridmap, 0.9).value, abs=1e-9)
+
+
+def test_goal_distances_and_the_search_refusals():
+    gridmap = load_map(SWAP_WITH_A_POCKET)
+    assert dp.goal_distances(gridmap).tolist() == [[3, 2, 1, 0, -1, 3, -1, -1], [0, 1, 2, 3, -1, 2, -1, -1]]
+    with pytest.raises(RuntimeError, match=r"within 3 steps is provably optimal; raise max_steps"):
+        dp.searched_optimum(gridmap, 0.9, max_steps=3)
+    with pytest.raises(ValueError, match=r"would try 16 joint moves after 0 steps \(more than 10\)"):
+        dp.searched_optimum(gridmap, 0.9, max_candidates=10)

@@ -31,7 +31,7 @@ def play(gridmap, cells, actions, done=None, bounce=rules.BOUNCE_PREVIOUS):
     done = np.zeros(n, dtype=bool) if done is None else np.array(done, dtype=bool)
     out = {"new_cells": np.empty(n, np.int64), "rewards": np.empty(n), "bumped": np.empty(n, bool),
            "collided": np.empty(n, bool), "reached": np.empty(n, bool)}
-    world = rules.World(gridmap.next_cell, gridmap.is_goal, gridmap.starts, bounce, gridmap.n_cols)
+    world = rules.World(gridmap.next_cell, gridmap.goal_of, gridmap.starts, bounce, gridmap.n_cols)
     out["n_collisions"] = rules.step(world, cells, done, np.array(actions, dtype=np.int64), out["new_cells"],
                                      out["rewards"], out["bumped"], out["collided"], out["reached"])
     return out
@@ -167,13 +167,13 @@ def test_chain_with_bounce_to_start_ends_on_the_starts(room):
 def test_would_collide(tunnel):
     a, b = tunnel.cell(1, 4), tunnel.cell(3, 4)
     cells, done = np.array([a, b]), np.zeros(2, bool)
-    check = lambda actions, d=done: rules.would_collide(tunnel.next_cell, tunnel.is_goal, cells, d,
+    check = lambda actions, d=done: rules.would_collide(tunnel.next_cell, tunnel.goal_of, cells, d,
                                                         np.array(actions), 0, 1)
     assert check([S, N])
     assert not check([S, S])
     assert not check([S, N], np.array([False, True]))
     swap = np.array([tunnel.cell(2, 3), tunnel.cell(2, 4)])
-    assert rules.would_collide(tunnel.next_cell, tunnel.is_goal, swap, done, np.array([E, W]), 0, 1)
+    assert rules.would_collide(tunnel.next_cell, tunnel.goal_of, swap, done, np.array([E, W]), 0, 1)
 
 
 def test_shared_reward_pays_the_goal_once_when_the_last_agent_arrives():
@@ -198,12 +198,17 @@ def test_corridor_same_target_between_the_starts():
     assert out["new_cells"].tolist() == gridmap.starts.tolist()
 
 
+def every_agent_goal(gridmap, n_agents):
+    """(agents, cells): ``gridmap``'s shared goal as the goal of each of ``n_agents`` agents."""
+    return np.tile(gridmap.shared_goal, (n_agents, 1))
+
+
 def _step_outputs(step, gridmap, cells, done, actions, bounce, agents):
     """``step``'s collisions and the outputs of ``agents``."""
     n = cells.shape[0]
     out = (np.empty(n, np.int64), np.empty(n), np.empty(n, bool), np.empty(n, bool), np.empty(n, bool))
     starts = np.arange(n, dtype=np.int64)  # distinct start cells, for the bounce to the start
-    world = rules.World(gridmap.next_cell, gridmap.is_goal, starts, bounce, gridmap.n_cols)
+    world = rules.World(gridmap.next_cell, every_agent_goal(gridmap, n), starts, bounce, gridmap.n_cols)
     collisions = step(world, cells, done, actions, *out)
     return [collisions] + [a[list(agents)].tolist() for a in out]
 
@@ -234,7 +239,8 @@ def test_lone_agent_step_equals_the_general_step(tunnel, lone):
     """step_alone gives step's outputs for the only acting agent (the others on the goal), from
     every free cell with every action, and no collision."""
     goal = int(np.flatnonzero(tunnel.is_goal)[0])
-    world = rules.World(tunnel.next_cell, tunnel.is_goal, np.zeros(3, np.int64), rules.BOUNCE_PREVIOUS, tunnel.n_cols)
+    world = rules.World(tunnel.next_cell, every_agent_goal(tunnel, 3), np.zeros(3, np.int64), rules.BOUNCE_PREVIOUS,
+                        tunnel.n_cols)
     done = np.arange(3) != lone
     assert episode.few_acting(done) == (lone, -1) and episode.few_acting(np.zeros(3, bool)) == (-1, -1)
     assert episode.few_acting(np.arange(3) == lone) == tuple(a for a in range(3) if a != lone)
@@ -247,3 +253,100 @@ def test_lone_agent_step_equals_the_general_step(tunnel, lone):
             assert rules.step(world, cells, done, actions, *general) == 0
             assert rules.step_alone(world, cells, actions, *alone, lone) == 0
             assert [a[lone] for a in alone] == [a[lone] for a in general], (cell, action)
+
+
+# --- per-agent goals ------------------------------------------------------------------------------
+
+OWN_GOALS = """\
++-+-+-+-+
+|1 . a 3|
++ + + + +
+|2 . . c|
++-+-+-+-+
+goal 2: row 0, col 2
+"""
+"""Agents 1 and 2 share the goal (0, 2); agent 3's goal is (1, 3), an ordinary cell for the others."""
+
+
+@pytest.fixture(scope="module")
+def own_goals():
+    return load_map(OWN_GOALS)
+
+
+def test_another_agents_goal_is_an_ordinary_cell(own_goals):
+    g = own_goals
+    out = play(g, [g.cell(1, 2), g.cell(1, 0), g.cell(0, 3)], [E, N, W])  # 1 enters 3's goal, 3 enters 1's
+    assert out["new_cells"].tolist() == [g.cell(1, 3), g.cell(0, 0), g.cell(0, 2)]
+    assert out["reached"].tolist() == [False, False, False] and out["rewards"].tolist() == [0.0, 0.0, 0.0]
+
+
+def test_entering_a_goal_of_both_together_is_no_collision(own_goals):
+    g = own_goals
+    out = play(g, [g.cell(0, 1), g.cell(1, 2), g.cell(1, 0)], [E, N, E])
+    assert out["n_collisions"] == 0 and out["new_cells"].tolist()[:2] == [g.cell(0, 2)] * 2
+    assert out["reached"].tolist() == [True, True, False] and out["rewards"].tolist() == [100.0, 100.0, 0.0]
+
+
+def test_entering_a_goal_of_one_of_them_together_collides(own_goals):
+    g = own_goals
+    cells = [g.cell(0, 1), g.cell(1, 0), g.cell(0, 3)]  # agents 1 and 3 aim at (0, 2), agent 1's goal only
+    out = play(g, cells, [E, N, W])
+    assert out["n_collisions"] == 1 and out["new_cells"].tolist() == [cells[0], g.cell(0, 0), cells[2]]
+    assert out["reached"].tolist() == [False, False, False] and out["rewards"].tolist() == [-10.0, 0.0, -10.0]
+
+
+def test_an_agent_in_its_goal_has_left_the_game(own_goals):
+    g = own_goals
+    goal_3 = g.cell(1, 3)
+    out = play(g, [g.cell(1, 0), g.cell(1, 2), goal_3], [N, E, W], done=[False, False, True])
+    assert out["new_cells"].tolist() == [g.cell(0, 0), goal_3, goal_3] and out["n_collisions"] == 0
+
+
+def test_swapping_into_each_others_goal_collides():
+    swap = load_map("+-+-+\n|1 2|\n+-+-+\ngoal 1: row 0, col 1\ngoal 2: row 0, col 0\n")
+    out = play(swap, swap.starts, [E, W])
+    assert out["n_collisions"] == 1 and out["new_cells"].tolist() == swap.starts.tolist()
+    assert not out["reached"].any()
+
+
+def _placements(g, pair, third):
+    """Cells and done flags of three agents the rules can reach: agent ``third`` done on its goal,
+    the pair acting on distinct cells (none on its own goal) or one of them done on its goal."""
+    def own_goal(k):
+        return g.goal_cells(k)[0]
+    acting = {k: [c for c in range(g.n_cells) if not g.goal_of[k, c]] for k in pair}
+    i, j = pair
+    found = [((a, b), (False, False)) for a in acting[i] for b in acting[j] if a != b]
+    found += [((own_goal(i), b), (True, False)) for b in acting[j]]
+    found += [((a, own_goal(j)), (False, True)) for a in acting[i]]
+    for (a, b), pair_done in found:
+        cells, done = np.empty(3, np.int64), np.ones(3, bool)
+        cells[third] = own_goal(third)
+        cells[[i, j]], done[[i, j]] = (a, b), pair_done
+        yield cells, done
+
+
+@pytest.mark.parametrize("bounce", [rules.BOUNCE_PREVIOUS, rules.BOUNCE_START])
+@pytest.mark.parametrize("pair", [(0, 1), (0, 2), (1, 2)])
+def test_two_agent_fast_path_equals_the_general_step_with_own_goals(own_goals, bounce, pair):
+    g, third = own_goals, 3 - sum(pair)
+    world = rules.World(g.next_cell, g.goal_of, g.starts, bounce, g.n_cols)
+    for cells, done in _placements(g, pair, third):
+        for joint in range(16):
+            actions = np.zeros(3, np.int64)
+            actions[list(pair)] = divmod(joint, 4)
+            general, fast = ([np.empty(3, np.int64), np.empty(3), *(np.empty(3, bool) for _ in range(3))]
+                             for _ in range(2))
+            n_general = rules.step(world, cells, done, actions, *general)
+            n_fast = rules.step_pair(world, cells, done, actions, *fast, pair)
+            assert n_fast == n_general
+            assert [a[list(pair)].tolist() for a in fast] == [a[list(pair)].tolist() for a in general], (cells, done, actions)
+
+
+def test_in_range_table_exempts_the_goal_of_every_agent_only(own_goals):
+    g = own_goals
+    assert not g.shared_goal.any()  # no cell is every agent's goal: entering any cell together collides
+    table = rules.in_range_table(g.next_cell, g.shared_goal)
+    assert table[g.cell(0, 2), g.cell(1, 3)]  # both could enter (1, 2)
+    assert table[g.cell(0, 1), g.cell(1, 2)]  # both could enter (1, 1), or (0, 2): a collision unless agents 1 and 2
+    assert rules.shared_goals(g.goal_of).tolist() == g.shared_goal.tolist()

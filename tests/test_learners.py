@@ -81,7 +81,7 @@ def tunnel_entrance():
 
 def _first_level(g, cells, done, choices, preferred, state):
     """The actions of Alg. 4's first level, as the kernel plays it."""
-    coming, both = first_level(g.next_cell, g.is_goal, cells, done, np.array(choices), preferred, (0, 1))
+    coming, both = first_level(g.next_cell, g.goal_of, cells, done, np.array(choices), preferred, (0, 1))
     actions = preferred.copy()
     if both and coming:
         yield_at_random(preferred, actions, (0, 1), state)
@@ -177,13 +177,13 @@ def _collides_under_some_joint_action(g, a, b):
 
 def test_in_range_is_some_joint_action_colliding_under_the_rules():
     g = tunnel_to_goal()
-    table = rules.in_range_table(g.next_cell, g.is_goal)
+    table = rules.in_range_table(g.next_cell, g.shared_goal)
     free = [c for c in range(g.n_cells) if not g.is_goal[c] and not g.blocked[c]]
     for a in free:
         for b in free:
             if a != b:
                 expected = _collides_under_some_joint_action(g, a, b)
-                assert rules.could_collide(g.next_cell, g.is_goal, a, b) == expected, (a, b)
+                assert rules.could_collide(g.next_cell, g.shared_goal, a, b) == expected, (a, b)
                 assert table[a, b] == expected, (a, b)
                 if rules.manhattan(g.n_cols, a, b) > 2:
                     assert not expected  # one move each: never from farther than 2 cells
@@ -192,11 +192,11 @@ def test_in_range_is_some_joint_action_colliding_under_the_rules():
 def test_a_wall_takes_close_agents_out_of_range():
     g = tunnel_to_goal()
     # distance 1 across the wall above row 2, distance 2 across the goal between two walls
-    assert not rules.could_collide(g.next_cell, g.is_goal, g.cell(1, 1), g.cell(2, 1))
-    assert not rules.could_collide(g.next_cell, g.is_goal, g.cell(1, 0), g.cell(3, 0))
+    assert not rules.could_collide(g.next_cell, g.shared_goal, g.cell(1, 1), g.cell(2, 1))
+    assert not rules.could_collide(g.next_cell, g.shared_goal, g.cell(1, 0), g.cell(3, 0))
     # the tunnel entrance from above and below, and two agents side by side
-    assert rules.could_collide(g.next_cell, g.is_goal, g.cell(1, 4), g.cell(3, 4))
-    assert rules.could_collide(g.next_cell, g.is_goal, g.cell(0, 0), g.cell(0, 1))
+    assert rules.could_collide(g.next_cell, g.shared_goal, g.cell(1, 4), g.cell(3, 4))
+    assert rules.could_collide(g.next_cell, g.shared_goal, g.cell(0, 0), g.cell(0, 1))
 
 
 @pytest.mark.parametrize("need, preferred, expected", [
@@ -206,8 +206,8 @@ def test_a_wall_takes_close_agents_out_of_range():
 ])
 def test_need_before_the_move_under_each_reading(tunnel_entrance, need, preferred, expected):
     g, cells, done, _ = tunnel_entrance
-    coming = rules.would_collide(g.next_cell, g.is_goal, cells, done, np.array(preferred), 0, 1)
-    in_range = rules.in_range_table(g.next_cell, g.is_goal)
+    coming = rules.would_collide(g.next_cell, g.goal_of, cells, done, np.array(preferred), 0, 1)
+    in_range = rules.in_range_table(g.next_cell, g.shared_goal)
     assert two_observe.need_before_step(two_observe.NEEDS[need], in_range, cells, 0, 1, coming) == expected
 
 

@@ -75,7 +75,7 @@ def _converging_three():
 
 def _resolve(g, cells, done, choices, preferred, state):
     actions = np.zeros(3, np.int64)
-    count = two_observe.coordinate_group(g.next_cell, g.is_goal, cells, done, np.array(choices), preferred,
+    count = two_observe.coordinate_group(g.next_cell, g.goal_of, cells, done, np.array(choices), preferred,
                                            actions, np.zeros(3, np.int64), np.zeros(3, np.bool_), state)
     return count, actions
 
@@ -134,7 +134,7 @@ def test_two_agents_draw_what_the_two_agent_rule_draws():
         expected = pref2.copy()
         two_observe.yield_at_random(pref2, expected, (0, 1), a)
         actions = np.zeros(2, np.int64)
-        two_observe.coordinate_group(g.next_cell, g.is_goal, cells2, done2, np.array([COORDINATE] * 2), pref2,
+        two_observe.coordinate_group(g.next_cell, g.goal_of, cells2, done2, np.array([COORDINATE] * 2), pref2,
                                        actions, np.zeros(2, np.int64), np.zeros(2, np.bool_), b)
         assert np.array_equal(actions, expected) and np.array_equal(a, b)
 

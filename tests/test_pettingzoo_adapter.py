@@ -10,6 +10,7 @@ import pytest
 from pettingzoo.test import parallel_api_test, parallel_seed_test
 
 from glamas.gridworld import GridworldEnv, load_map, tunnel_to_goal
+from glamas.gridworld.generate import warehouse
 from glamas.gridworld.pettingzoo_env import GridworldParallelEnv
 from glamas.gridworld.rules import E, N, S, W
 from glamas.paths import MAPS
@@ -34,6 +35,42 @@ def test_pettingzoo_parallel_api_test_passes(gridmap):
 @pytest.mark.filterwarnings("error")
 def test_pettingzoo_parallel_seed_test_passes():
     parallel_seed_test(lambda: GridworldParallelEnv(max_steps=60), num_cycles=100)
+
+
+FIELD_MAPS = ["tunnel_to_goal_3", "tunnel_to_goal_4", "isr", "cit", "cmu"]
+"""The field's maps by name, each agent with its own goals (data/maps)."""
+
+
+@pytest.mark.filterwarnings("error")
+@pytest.mark.parametrize("name", FIELD_MAPS)
+def test_pettingzoo_tests_pass_on_every_field_map(name):
+    parallel_api_test(GridworldParallelEnv(name, max_steps=60), num_cycles=200)
+    parallel_seed_test(lambda: GridworldParallelEnv(name, max_steps=60), num_cycles=100)
+
+
+@pytest.fixture(scope="module")
+def warehouse_128():
+    return warehouse(128, seed=0)
+
+
+@pytest.mark.filterwarnings("error")
+def test_pettingzoo_tests_pass_with_128_agents(warehouse_128):
+    parallel_api_test(GridworldParallelEnv(warehouse_128, max_steps=30), num_cycles=40)
+    parallel_seed_test(lambda: GridworldParallelEnv(warehouse_128, max_steps=30), num_cycles=20)
+
+
+def test_an_agent_is_done_in_its_own_goal_only():
+    env = GridworldParallelEnv("isr", render_mode="ansi")  # agent 1 starts on agent 2's goal (6, 3), and back
+    env.reset()
+    assert env.render().splitlines()[-2:] == ["goal 1: row 7, col 0", "goal 2: row 6, col 3"]
+    # agent 1 steps aside into the pocket (8, 3), waits by a bump, and agent 2 passes to its goal
+    for action_1, action_2 in [(S, E), (S, E), (E, E), (N, N)]:
+        _, rewards, terminations, _, _ = env.step({"agent_1": action_1, "agent_2": action_2})
+    assert terminations == {"agent_1": False, "agent_2": True} and rewards == {"agent_1": 0.0, "agent_2": 100.0}
+    assert env.agents == ["agent_1"]
+    for _ in range(3):
+        _, rewards, terminations, _, _ = env.step({"agent_1": W})
+    assert terminations == {"agent_1": True} and rewards == {"agent_1": 100.0} and env.agents == []
 
 
 def test_moves_are_gridworld_env_moves_and_observations_its_dicts_flattened():

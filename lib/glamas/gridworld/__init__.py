@@ -2,7 +2,7 @@
 
 from glamas.gridworld import rules
 from glamas.gridworld.env import GridworldEnv
-from glamas.gridworld.maps import GridMap, MapError, load_map, tunnel_to_goal
+from glamas.gridworld.maps import GridMap, MapError, load_map, map_text, tunnel_to_goal
 from glamas.gridworld.rules import (
     ACTION_NAMES, BOUNCE_MODES, BOUNCE_PREVIOUS, BOUNCE_START, BUMP_PENALTY, COLLISION_PENALTY,
     GOAL_REWARD, N_ACTIONS, manhattan, shared_reward, step, would_collide,
@@ -10,6 +10,6 @@ from glamas.gridworld.rules import (
 
 __all__ = [
     "ACTION_NAMES", "BOUNCE_MODES", "BOUNCE_PREVIOUS", "BOUNCE_START", "BUMP_PENALTY",
-    "COLLISION_PENALTY", "GOAL_REWARD", "GridMap", "GridworldEnv", "MapError", "N_ACTIONS", "load_map",
+    "COLLISION_PENALTY", "GOAL_REWARD", "GridMap", "GridworldEnv", "MapError", "N_ACTIONS", "load_map", "map_text",
     "manhattan", "rules", "shared_reward", "step", "tunnel_to_goal", "would_collide",
 ]

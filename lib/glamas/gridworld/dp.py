@@ -1,13 +1,19 @@
 """Dynamic programming (chapter Section 2.2) on the gridworld's joint MMDP: the optimum the learners aim at.
 
-The joint MMDP of a map has one state per assignment of cells to the agents (an agent in a goal
-cell is done: it no longer acts), one action per joint action (4**n), deterministic transitions
-given by :func:`glamas.gridworld.rules.step` and the MMDP learner's shared reward
+The joint MMDP of a map has one state per assignment of cells to the agents (an agent on one of its
+own goal cells is done: it no longer acts), one action per joint action (4**n), deterministic
+transitions given by :func:`glamas.gridworld.rules.step` and the MMDP learner's shared reward
 (:func:`glamas.gridworld.rules.shared_reward`). States no play can reach (two acting agents on
-one cell, an agent on a blocked cell) and the all-done state are absorbing with reward 0.
+one cell, an agent on a blocked cell) and the all-done states are absorbing with reward 0.
 
 :func:`value_iteration` is Alg. 2 with eq. 6 and the chapter's stopping rule (largest change
 below epsilon); :func:`policy_iteration` is Alg. 1 with iterative policy evaluation (eq. 5).
+
+The tables hold n_cells**n x 4**n entries (:func:`tabulated_bytes`), so they fit for two agents and
+small maps of three. Beyond, :func:`searched_optimum` finds the same optimum, V*(start) and an
+optimal episode, by a forward search over the joint states the starts lead to
+(:mod:`glamas.gridworld.joint_search`), and :func:`optimum_bounds` states what each agent's own
+shortest path says about it without any search.
 """
 
 from dataclasses import dataclass, replace
@@ -16,7 +22,7 @@ import numpy as np
 from numba import njit
 
 from glamas.errors import UserError
-from glamas.gridworld import rules
+from glamas.gridworld import joint_search, rules
 from glamas.gridworld.joint import joint_index, split_index
 from glamas.gridworld.maps import GridMap
 from glamas.gridworld.rules import N_ACTIONS
@@ -41,7 +47,7 @@ class JointMDP:
     bumped: np.ndarray
     """bool (n_states, n_joint_actions, n_agents): which agents bump into a wall in the step."""
     reached: np.ndarray
-    """bool (n_states, n_joint_actions, n_agents): which agents enter the goal in the step."""
+    """bool (n_states, n_joint_actions, n_agents): which agents enter their goal in the step."""
     valid: np.ndarray
     """bool (n_states,): states play can reach (distinct cells for acting agents, none blocked)."""
 
@@ -89,7 +95,7 @@ class Rollout:
     cells: np.ndarray
     """int64 (n_steps + 1, n_agents): the agents' cells, starts first."""
     steps_to_goal: np.ndarray
-    """int64 (n_agents,): the step at which each agent entered the goal (-1: not within the steps)."""
+    """int64 (n_agents,): the step at which each agent entered its goal (-1: not within the steps)."""
     returns: np.ndarray
     """float (n_agents,): each agent's undiscounted sum of its own rewards."""
     collisions: int
@@ -97,7 +103,20 @@ class Rollout:
     bumps: np.ndarray
     """int64 (n_agents,): wall bumps of each agent."""
     finished: bool
-    """Whether every agent was in the goal at the end."""
+    """Whether every agent was in its goal at the end."""
+
+
+MAX_TABLE_ENTRIES = 50_000_000
+"""The most (joint state, joint action) entries :func:`joint_mdp` tabulates (about 2 GB for three agents)."""
+
+
+def tabulated_bytes(gridmap: GridMap) -> int:
+    """The bytes of :func:`joint_mdp`'s tables for ``gridmap``: per (joint state, joint action) the
+    next state, shared reward and collisions (8 bytes each), each agent's reward (8) and bumped
+    and reached flags (1 each); per joint state its validity."""
+    n = gridmap.n_agents
+    n_states = gridmap.n_cells ** n
+    return n_states * N_ACTIONS ** n * (3 * 8 + n * (8 + 2)) + n_states
 
 
 def joint_mdp(gridmap: GridMap, bounce: str = "previous") -> JointMDP:
@@ -105,9 +124,10 @@ def joint_mdp(gridmap: GridMap, bounce: str = "previous") -> JointMDP:
     if bounce not in rules.BOUNCE_MODES:
         raise UserError(f"bounce must be one of {sorted(rules.BOUNCE_MODES)}, got {bounce!r}")
     n_states = gridmap.n_cells ** gridmap.n_agents
-    if n_states * N_ACTIONS ** gridmap.n_agents > 50_000_000:
+    if n_states * N_ACTIONS ** gridmap.n_agents > MAX_TABLE_ENTRIES:
         raise UserError(f"the joint MMDP of {gridmap.name!r} has {n_states} states x "
-                         f"{N_ACTIONS ** gridmap.n_agents} joint actions: too large to tabulate; use fewer agents")
+                         f"{N_ACTIONS ** gridmap.n_agents} joint actions ({tabulated_bytes(gridmap) / 1e9:,.1f} GB of "
+                         "tables): too large to tabulate; use searched_optimum or optimum_bounds, or fewer agents")
     shape = (n_states, N_ACTIONS ** gridmap.n_agents)
     tables = dict(next_state=np.empty(shape, np.int64), reward=np.empty(shape),
                   agent_rewards=np.empty(shape + (gridmap.n_agents,)), collisions=np.empty(shape, np.int64),
@@ -119,18 +139,18 @@ def joint_mdp(gridmap: GridMap, bounce: str = "previous") -> JointMDP:
 
 @njit(cache=True)
 def _tabulate(world, blocked, next_state, reward, agent_rewards, collisions, agent_bumped, agent_reached, valid):
-    is_goal = world.is_goal
+    goal_of = world.goal_of
     n_cells, n = world.next_cell.shape[0], world.starts.shape[0]
     cells, done, actions = np.empty(n, np.int64), np.empty(n, np.bool_), np.empty(n, np.int64)
     new_cells, rewards = np.empty(n, np.int64), np.empty(n)
     bumped, collided, reached = np.empty(n, np.bool_), np.empty(n, np.bool_), np.empty(n, np.bool_)
     for s in range(next_state.shape[0]):
         split_index(s, n_cells, cells)
-        valid[s] = _is_valid(cells, is_goal, blocked)
         all_done = True
         for i in range(n):
-            done[i] = is_goal[cells[i]]
+            done[i] = goal_of[i, cells[i]]
             all_done = all_done and done[i]
+        valid[s] = _is_valid(cells, done, blocked)
         for ja in range(next_state.shape[1]):
             if all_done or not valid[s]:
                 next_state[s, ja], reward[s, ja], collisions[s, ja] = s, 0.0, 0
@@ -151,12 +171,14 @@ def _tabulate(world, blocked, next_state, reward, agent_rewards, collisions, age
 
 
 @njit(cache=True)
-def _is_valid(cells, is_goal, blocked):
+def _is_valid(cells, done, blocked):
+    """Whether play can reach the agents' ``cells``: none blocked, no two acting agents on one cell
+    (an agent in its goal has left the game: another agent may stand on that cell)."""
     for i in range(cells.shape[0]):
         if blocked[cells[i]]:
             return False
         for j in range(i + 1, cells.shape[0]):
-            if cells[i] == cells[j] and not is_goal[cells[i]]:
+            if cells[i] == cells[j] and not (done[i] or done[j]):
                 return False
     return True
 
@@ -227,7 +249,7 @@ def policy_iteration(mdp: JointMDP, gamma: float, epsilon: float = 1e-9, max_ite
 
 
 def rollout(mdp: JointMDP, policy: np.ndarray, max_steps: int | None = None) -> Rollout:
-    """Follow a deterministic joint policy from the start cells until every agent is in the goal
+    """Follow a deterministic joint policy from the start cells until every agent is in its goal
     or ``max_steps`` (default: the number of joint states, beyond which a deterministic policy loops)."""
     max_steps = mdp.n_states if max_steps is None else max_steps
     n = mdp.gridmap.n_agents
@@ -235,7 +257,7 @@ def rollout(mdp: JointMDP, policy: np.ndarray, max_steps: int | None = None) -> 
     path = [mdp.cells(state)]
     steps, returns, bumps = np.full(n, -1, np.int64), np.zeros(n), np.zeros(n, np.int64)
     collisions = 0
-    while len(path) <= max_steps and not all(mdp.gridmap.is_goal[c] for c in path[-1]):
+    while len(path) <= max_steps and not _all_in_goal(mdp.gridmap, path[-1]):
         action = int(policy[state])
         returns += mdp.agent_rewards[state, action]
         bumps += mdp.bumped[state, action]
@@ -243,8 +265,12 @@ def rollout(mdp: JointMDP, policy: np.ndarray, max_steps: int | None = None) -> 
         collisions += int(mdp.collisions[state, action])
         state = int(mdp.next_state[state, action])
         path.append(mdp.cells(state))
-    finished = all(mdp.gridmap.is_goal[c] for c in path[-1])
+    finished = _all_in_goal(mdp.gridmap, path[-1])
     return Rollout(np.array(path, np.int64), steps, returns, collisions, bumps, finished)
+
+
+def _all_in_goal(gridmap: GridMap, cells) -> bool:
+    return all(gridmap.goal_of[i, c] for i, c in enumerate(cells))
 
 
 def selfish_policy(mdp: JointMDP, gamma: float) -> np.ndarray:
@@ -252,9 +278,9 @@ def selfish_policy(mdp: JointMDP, gamma: float) -> np.ndarray:
     gridmap = mdp.gridmap
     own = []
     for i in range(gridmap.n_agents):
-        # a slice keeps the map's read-only starts: a writable array would be typed apart by numba,
+        # slices keep the map's read-only arrays: a writable array would be typed apart by numba,
         # and _tabulate compiled a second time (2 s)
-        alone = joint_mdp(replace(gridmap, starts=gridmap.starts[i:i + 1]), mdp.bounce)
+        alone = joint_mdp(replace(gridmap, starts=gridmap.starts[i:i + 1], goal_of=gridmap.goal_of[i:i + 1]), mdp.bounce)
         own.append(value_iteration(alone, gamma).policy)
     policy = np.empty(mdp.n_states, np.int64)
     for state in range(mdp.n_states):
@@ -269,5 +295,109 @@ def optimal_rollout(gridmap: GridMap, gamma: float, bounce: str = "previous", ep
     mdp = joint_mdp(gridmap, bounce)
     episode = rollout(mdp, value_iteration(mdp, gamma, epsilon).policy)
     if not episode.finished:
-        raise UserError(f"the optimal policy of {gridmap.name!r} does not bring every agent to the goal")
+        raise UserError(f"the optimal policy of {gridmap.name!r} does not bring every agent to its goal")
     return episode
+
+
+def goal_distances(gridmap: GridMap) -> np.ndarray:
+    """int64 (agents, cells): the moves from each cell to the agent's nearest goal cell, alone on
+    the map (-1 where none is reachable); breadth-first from the goals (moves are symmetric)."""
+    distances = np.full((gridmap.n_agents, gridmap.n_cells), -1, np.int64)
+    for agent in range(gridmap.n_agents):
+        frontier = gridmap.goal_cells(agent)
+        distances[agent, frontier] = 0
+        while frontier:
+            following = []
+            for cell in frontier:
+                for other in gridmap.open_neighbours(cell):
+                    if distances[agent, other] < 0:
+                        distances[agent, other] = distances[agent, cell] + 1
+                        following.append(other)
+            frontier = following
+    return distances
+
+
+def shortest_steps(gridmap: GridMap) -> np.ndarray:
+    """int64 (agents,): each agent's shortest path from its start to its goal, alone on the map."""
+    return goal_distances(gridmap)[np.arange(gridmap.n_agents), gridmap.starts]
+
+
+@dataclass(frozen=True, eq=False)
+class OptimumBounds:
+    """What each agent's shortest path alone says about the joint optimum: no joint episode brings
+    an agent in sooner, and none pays more than the agents' single-agent optima summed."""
+
+    steps: np.ndarray
+    """int64 (n_agents,): each agent's steps to its goal, at least (its shortest path)."""
+    episode_steps: int
+    """The episode's steps until the last agent is in, at least (the longest shortest path)."""
+    value: float
+    """V*(start) of the MMDP, at most: 100 gamma**(episode_steps - 1), the +100 at the earliest last arrival."""
+    returns: float
+    """The agents' undiscounted returns summed, at most: their single-agent optima summed (+100 each)."""
+    discounted_returns: float
+    """The agents' discounted returns summed, at most: sum of 100 gamma**(steps_i - 1)."""
+
+
+def optimum_bounds(gridmap: GridMap, gamma: float) -> OptimumBounds:
+    """:class:`OptimumBounds` of ``gridmap`` for the discount ``gamma``: computed from each agent's
+    shortest path alone, for maps whose joint MMDP is too large to solve."""
+    _check_gamma_epsilon(gamma, 1.0)
+    steps = shortest_steps(gridmap)
+    last = int(steps.max())
+    return OptimumBounds(steps, last, rules.GOAL_REWARD * gamma ** (last - 1), rules.GOAL_REWARD * gridmap.n_agents,
+                         float(np.sum(rules.GOAL_REWARD * gamma ** (steps - 1.0))))
+
+
+@dataclass(frozen=True, eq=False)
+class SearchedOptimum:
+    """The optimum of the joint MMDP from the starts, found by :func:`searched_optimum`."""
+
+    value: float
+    """V*(start): the discounted shared reward of an optimal joint play (as :func:`value_iteration`'s)."""
+    episode: Rollout
+    """An optimal episode (among equally good ones, the first the search found)."""
+    horizon: int
+    """The longest episodes searched: a longer one is worth at most 100 gamma**horizon <= value."""
+    states: int
+    """Joint states the search kept, over all its steps."""
+
+
+def searched_optimum(gridmap: GridMap, gamma: float, bounce: str = "previous", max_steps: int | None = None,
+                     max_candidates: int = 50_000_000) -> SearchedOptimum:
+    """The joint MMDP's optimum from the starts without its tables: exhaustive forward search over
+    episodes of at most H steps (:mod:`glamas.gridworld.joint_search`), H growing from the longest
+    shortest path until the best episode found is worth at least what any longer one could be
+    (100 gamma**H) or H passes ``max_steps`` (default: four times the longest shortest path).
+    ``max_candidates`` bounds the joint moves tried after one step."""
+    _check_gamma_epsilon(gamma, 1.0)
+    if bounce not in rules.BOUNCE_MODES:
+        raise UserError(f"bounce must be one of {sorted(rules.BOUNCE_MODES)}, got {bounce!r}")
+    world, distances = rules.world(gridmap, bounce), goal_distances(gridmap)
+    lowest = int(shortest_steps(gridmap).max())
+    max_steps = 4 * lowest if max_steps is None else max_steps
+    for horizon in range(lowest, max_steps + 1):
+        layers, best = joint_search.search_layers(world, distances, gamma, horizon, max_candidates)
+        if best is not None and best[0] >= rules.GOAL_REWARD * gamma ** horizon:
+            episode = play(gridmap, bounce, joint_search.best_actions(layers, best))
+            return SearchedOptimum(best[0], episode, horizon, sum(layer[0].shape[0] for layer in layers))
+    raise RuntimeError(f"no episode of {gridmap.name!r} within {max_steps} steps is provably optimal; raise max_steps")
+
+
+def play(gridmap: GridMap, bounce: str, joint_actions: list[int]) -> Rollout:
+    """The episode of ``joint_actions`` (each a base-4 number, agent 1 most significant) from the starts."""
+    world, n = rules.world(gridmap, bounce), gridmap.n_agents
+    cells, done, actions = gridmap.starts.copy(), np.zeros(n, bool), np.empty(n, np.int64)
+    out = (np.empty(n, np.int64), np.empty(n), np.empty(n, bool), np.empty(n, bool), np.empty(n, bool))
+    path, steps, returns, bumps, collisions = [cells.copy()], np.full(n, -1, np.int64), np.zeros(n), np.zeros(n, np.int64), 0
+    for t, joint in enumerate(joint_actions, 1):
+        split_index(joint, N_ACTIONS, actions)
+        collisions += rules.step(world, cells, done, actions, *out)
+        new_cells, rewards, bumped, _, reached = out
+        returns += np.where(done, 0.0, rewards)
+        bumps += bumped
+        steps[reached] = t
+        done |= reached
+        cells = new_cells.copy()
+        path.append(cells.copy())
+    return Rollout(np.array(path, np.int64), steps, returns, collisions, bumps, bool(done.all()))

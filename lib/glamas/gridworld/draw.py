@@ -15,8 +15,10 @@ INDEX_MARGIN = 0.5
 
 
 def draw_map(ax, gridmap: GridMap):
-    """Walls, blocked cells, the goal and the agents' numbered starts; row 0 at the top, with the
-    row and column indices (from 0, as the notebooks cite cells) along the left and top edges."""
+    """Walls, blocked cells, the goals and the agents' numbered starts; row 0 at the top, with the
+    row and column indices (from 0, as the notebooks cite cells) along the left and top edges. A
+    goal of every agent is a green 'G' (the chapter's Fig. 9); a goal of some agents is striped in
+    their colours and labelled with their numbers ('G2', 'G1,2')."""
     rows, cols = gridmap.n_rows, gridmap.n_cols
     ax.set_xlim(-INDEX_MARGIN, cols + 0.05)
     ax.set_ylim(rows + 0.05, -INDEX_MARGIN)
@@ -30,17 +32,39 @@ def draw_map(ax, gridmap: GridMap):
         r, c = gridmap.row_col(cell)
         if gridmap.blocked[cell]:
             ax.add_patch(_square(c, r, "0.35"))
-        if gridmap.is_goal[cell]:
+        if gridmap.shared_goal[cell]:
             ax.add_patch(_square(c, r, "#d9f0d3"))
             ax.text(c + 0.5, r + 0.5, "G", ha="center", va="center", fontsize=14, fontweight="bold")
+        elif gridmap.is_goal[cell]:
+            _draw_own_goal(ax, r, c, [int(a) for a in np.flatnonzero(gridmap.goal_of[:, cell])],
+                           under_a_start=cell in gridmap.starts)
     for wall in _walls(gridmap):
         ax.plot(*wall, color="black", linewidth=3, solid_capstyle="projecting", zorder=3)
     for agent, start in enumerate(gridmap.starts):
         r, c = gridmap.row_col(int(start))
-        ax.add_patch(_disc(c, r, _AGENT_COLOURS[agent % len(_AGENT_COLOURS)]))
+        ax.add_patch(_disc(c, r, agent_colour(agent)))
         ax.text(c + 0.5, r + 0.5, str(agent + 1), ha="center", va="center", color="white",
                 fontsize=11, fontweight="bold", zorder=5)
     _draw_indices(ax, rows, cols)
+
+
+def _draw_own_goal(ax, r: int, c: int, agents: list[int], under_a_start: bool):
+    """A goal cell of ``agents`` (0 for agent 1), not of every agent: a stripe per agent in its
+    colour, light, and 'G' with their numbers (at the cell's foot where a start's disc covers its
+    middle, as in ISR, CIT and CMU, where each agent's goal is the other's start)."""
+    width = 1.0 / len(agents)
+    for k, agent in enumerate(agents):
+        ax.add_patch(Rectangle((c + k * width, r), width, 1, facecolor=agent_colour(agent), alpha=0.25,
+                               edgecolor="none", zorder=1))
+    label = "G" + ",".join(str(a + 1) for a in agents)
+    size = 7 if under_a_start or len(label) > 2 else 12
+    ax.text(c + 0.5, r + (0.88 if under_a_start else 0.5), label, ha="center", va="center", fontweight="bold",
+            fontsize=size, color=agent_colour(agents[0]) if len(agents) == 1 else "black", zorder=5)
+
+
+def agent_colour(agent: int) -> str:
+    """The colour of agent ``agent`` (0 for agent 1), cycling through nine."""
+    return _AGENT_COLOURS[agent % len(_AGENT_COLOURS)]
 
 
 def _draw_indices(ax, rows: int, cols: int):
@@ -56,13 +80,13 @@ def draw_paths(ax, gridmap: GridMap, cells: np.ndarray, numbered: bool = False, 
     """The agents' cells over an episode (array (n_steps + 1, n_agents)) as offset polylines.
 
     ``numbered``: the step at which each agent enters each cell next to it (a range "5-6" where it
-    stays, the entry step alone in the goal), agent 1's numbers in the cells' upper left corners, agent 2's in the lower right.
-    ``wait_label``: a ring where an agent stays in a cell other than the goal, labelled so.
+    stays, the entry step alone in its goal), agent 1's numbers in the cells' upper left corners, agent 2's in the lower right.
+    ``wait_label``: a ring where an agent stays in a cell other than its goal, labelled so.
     """
     n = cells.shape[1]
     for agent in range(n):
         offset = 0.12 * (agent - (n - 1) / 2)
-        colour = _AGENT_COLOURS[agent % len(_AGENT_COLOURS)]
+        colour = agent_colour(agent)
         points = np.array([gridmap.row_col(int(c)) for c in cells[:, agent]], dtype=float)
         ax.plot(points[:, 1] + 0.5 + offset, points[:, 0] + 0.5 + offset, marker="o", markersize=3,
                 color=colour, linewidth=1.5, zorder=4, label=f"agent {agent + 1}")
@@ -70,7 +94,7 @@ def draw_paths(ax, gridmap: GridMap, cells: np.ndarray, numbered: bool = False, 
         if numbered:
             _number_steps(ax, gridmap, stays, agent, colour)
         if wait_label is not None:
-            _mark_waits(ax, gridmap, stays, offset, colour, wait_label if agent == 0 else None)
+            _mark_waits(ax, gridmap, stays, agent, offset, wait_label if agent == 0 else None)
 
 
 def _stays(path: np.ndarray) -> list[tuple[int, int, int]]:
@@ -92,15 +116,15 @@ def _number_steps(ax, gridmap, stays, agent, colour):
     dx, dy = _NUMBER_CORNERS[agent % len(_NUMBER_CORNERS)]
     for first, last, cell in stays:
         r, c = gridmap.row_col(cell)
-        once = first == last or gridmap.is_goal[cell]  # an agent in the goal stays there: its entry step only
+        once = first == last or gridmap.goal_of[agent, cell]  # an agent in its goal stays there: its entry step only
         text = str(first) if once else f"{first}-{last}"
         ax.text(c + dx, r + dy, text, ha="center", va="center", fontsize=6, color=colour,
                 fontweight="bold", zorder=6)
 
 
-def _mark_waits(ax, gridmap, stays, offset, colour, label):
-    """A ring on every cell (not the goal) the agent stays in for more than one step."""
-    waits = [cell for first, last, cell in stays if last > first and not gridmap.is_goal[cell]]
+def _mark_waits(ax, gridmap, stays, agent, offset, label):
+    """A ring on every cell (not its goal) the agent stays in for more than one step."""
+    waits = [cell for first, last, cell in stays if last > first and not gridmap.goal_of[agent, cell]]
     for k, cell in enumerate(waits):
         r, c = gridmap.row_col(cell)
         ax.plot(c + 0.5 + offset, r + 0.5 + offset, marker="o", markersize=13, markerfacecolor="none",

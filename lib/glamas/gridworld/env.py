@@ -19,8 +19,9 @@ from glamas.gridworld.maps import GridMap
 class GridworldEnv:
     """The chapter's gridworld game for ``gridmap.n_agents`` agents, named ``agent_1``, ``agent_2``, ...
 
-    ``bounce`` is where collided agents go ('previous' cell or 'start' cell). An agent in the goal
-    is terminated and takes no further actions; every agent is truncated after ``max_steps``.
+    ``bounce`` is where collided agents go ('previous' cell or 'start' cell). An agent that enters
+    one of its goal cells (``gridmap.goal_of``; another agent's goal is an ordinary cell for it) is
+    terminated and takes no further actions; every agent is truncated after ``max_steps``.
     """
 
     def __init__(self, gridmap: GridMap, bounce: str = "previous", max_steps: int = 1000):

@@ -1,25 +1,44 @@
-"""Gridworld maps: the text format of ``data/maps/*.txt``, its loader and the map it builds.
+"""Gridworld maps: the text format of ``data/maps/*.txt``, its loader and writer, and the map it builds.
 
 A map of R rows and C columns is drawn like a maze in 2R+1 lines of 2C+1 characters:
 
-- cell lines (odd line index): odd columns hold the cell, ``.`` free, ``G`` goal, ``#`` blocked,
-  ``1``-``9`` the start of that agent; even columns hold ``|`` (a wall between the cells left and
-  right of it) or a space (open);
+- cell lines (odd line index): odd columns hold the cell: ``.`` free, ``#`` blocked, ``1``-``9``
+  the start of that agent, ``G`` a goal of every agent, ``a``-``i`` a goal of agent 1-9 only
+  (``a`` agent 1's, ``b`` agent 2's, ...); even columns hold ``|`` (a wall between the cells left
+  and right of it) or a space (open);
 - separator lines (even line index): even columns hold ``+``; odd columns ``-`` (a wall between
   the cells above and below) or a space;
 - the border is closed: first and last lines ``+-+-...+``, cell lines begin and end with ``|``.
 
-Cells are numbered row by row, ``cell = row * n_cols + col``; row 0 is the top line. A start
-symbol stands in place of the cell symbol, so a start is always a free cell (never the goal or a
-blocked cell). Walls are symmetric by construction: one character separates two cells.
+A trailer may follow the maze (after blank lines or none) for what one symbol per cell cannot say,
+one start or goal per line, rows and columns counted from 0 as :meth:`GridMap.cell` counts them::
 
+    start 12: row 3, col 4
+    goal 1: row 7, col 0
+
+A goal line gives agent K a goal on a cell whose symbol is taken: another agent's start (in the
+ISR, CIT and CMU maps the two agents swap places, each one's goal the other's start) or another
+agent's goal. Agents beyond 9 have no symbol: their starts and goals are trailer lines.
+
+The rules on the whole: agents are numbered 1..N without gaps, each starts once, on a free cell of
+its own (no two starts on a cell); agent k's goals are the ``G`` cells, its letter's cells and its
+goal lines, at least one, none of them its start (it would be done before moving), some reachable
+from its start. Another agent's goal is an ordinary cell for agent k. Every fault is one
+:class:`MapError` naming its line and column and the fix.
+
+Cells are numbered row by row, ``cell = row * n_cols + col``; row 0 is the top line. Walls are
+symmetric by construction: one character separates two cells. :func:`map_text` writes a map in
+this format (walls drawn around blocked cells, symbols where they fit, the trailer for the rest);
+what it writes loads back to the same map.
 Every :class:`GridMap`, read from a file or built in Python, is checked by one function,
 :func:`check_layout`, when it is made.
 """
 
 import hashlib
+import re
 from collections import deque
 from dataclasses import dataclass
+from functools import cached_property
 from pathlib import Path
 
 import numpy as np
@@ -29,8 +48,16 @@ from glamas.gridworld.rules import E, N, N_ACTIONS, S, W
 from glamas.paths import MAPS
 
 FREE, GOAL, BLOCKED = ".", "G", "#"
-_CELL_SYMBOLS = "free '.', goal 'G', blocked '#' or an agent's start '1'-'9'"
+START_SYMBOLS = "123456789"
+"""The start of agent 1, 2, ... 9 in the maze."""
+GOAL_LETTERS = "abcdefghi"
+"""A goal of agent 1, 2, ... 9 alone in the maze."""
+_CELL_SYMBOLS = ("free '.', blocked '#', agent k's start '1'-'9', every agent's goal 'G' "
+                 "or agent k's own goal 'a'-'i' (a for agent 1)")
 _STEPS = {N: (-1, 0), E: (0, 1), S: (1, 0), W: (0, -1)}
+_TRAILER_LINE = re.compile(r"(start|goal) +(\d+) *: *row +(\d+) *, *col +(\d+)")
+_TRAILER_WORD = re.compile(r"\s*(start|goal)\b")
+_TRAILER_FORM = "'start K: row R, col C' or 'goal K: row R, col C'"
 
 
 class MapError(UserError):
@@ -39,7 +66,7 @@ class MapError(UserError):
 
 @dataclass(frozen=True, eq=False)
 class GridMap:
-    """A loaded gridworld: its moves as a table, its goal and blocked cells and the agents' starts."""
+    """A loaded gridworld: its moves as a table, its blocked cells, each agent's start and goals."""
 
     name: str
     """The map's name (file stem, or 'inline' for a map given as text)."""
@@ -50,8 +77,9 @@ class GridMap:
     next_cell: np.ndarray
     """int64 (n_cells, 4): the cell each action N, E, S, W leads to; the cell itself when a wall,
     the border or a blocked cell stops the move."""
-    is_goal: np.ndarray
-    """bool (n_cells,): goal cells (absorbing)."""
+    goal_of: np.ndarray
+    """bool (n_agents, n_cells): ``goal_of[i, c]``, cell c is a goal of agent i (absorbing for it;
+    an ordinary cell for the others)."""
     blocked: np.ndarray
     """bool (n_cells,): cells no agent can enter."""
     starts: np.ndarray
@@ -67,6 +95,22 @@ class GridMap:
     @property
     def n_agents(self) -> int:
         return int(self.starts.shape[0])
+
+    @cached_property
+    def is_goal(self) -> np.ndarray:
+        """bool (n_cells,): cells that are some agent's goal (drawing, and the chapter's
+        experiments, whose maps have one goal shared by every agent)."""
+        return _read_only(self.goal_of.any(axis=0))
+
+    @cached_property
+    def shared_goal(self) -> np.ndarray:
+        """bool (n_cells,): cells that are every agent's goal. No agent acts on one, and agents
+        entering one together never collide: the cells any two agents treat alike."""
+        return _read_only(self.goal_of.all(axis=0))
+
+    def goal_cells(self, agent: int) -> list[int]:
+        """The goal cells of agent ``agent`` (0 for agent 1)."""
+        return [int(c) for c in np.flatnonzero(self.goal_of[agent])]
 
     def cell(self, row: int, col: int) -> int:
         """The number of the cell at (row, col)."""
@@ -84,11 +128,22 @@ class GridMap:
         """The cells one move away from ``cell``."""
         return {int(c) for c in self.next_cell[cell] if c != cell}
 
+    def same_layout(self, other: "GridMap") -> bool:
+        """Whether ``other`` is this map under any name: same size, moves, blocked cells, starts and goals."""
+        return ((self.n_rows, self.n_cols) == (other.n_rows, other.n_cols)
+                and all(np.array_equal(getattr(self, f), getattr(other, f))
+                        for f in ("next_cell", "goal_of", "blocked", "starts")))
+
+
+def _read_only(array: np.ndarray) -> np.ndarray:
+    array.setflags(write=False)
+    return array
+
 
 def load_map(source) -> GridMap:
     """A :class:`GridMap` from a map's name in ``data/maps`` (``"tunnel_to_goal"``, with or
     without ``.txt``), a map file's path, or the map's text; raises :class:`MapError` (naming the
-    file for a map read from one). A file is parsed once per content (:func:`map_text_hash`):
+    file for a map read from one). A file is parsed once per content (:func:`map_hash`):
     the experiments ask for their map many times, and an edited file is parsed again."""
     if isinstance(source, str) and "\n" in source:
         return _parse(source.removeprefix(_BOM), "inline")
@@ -154,30 +209,61 @@ def tunnel_to_goal() -> GridMap:
     return load_map("tunnel_to_goal")
 
 
+# --- reading ------------------------------------------------------------------------------------
+
+@dataclass(frozen=True)
+class _Placement:
+    """A start or goal of one agent as the map gives it: a symbol in the maze or a trailer line."""
+
+    agent: int
+    """The agent's number, 1 up."""
+    cell: int
+    where: str
+    """Where the map gives it ("line L, column C"), for messages."""
+
+
 def _parse(text: str, name: str) -> GridMap:
     lines = text.splitlines()
     while lines and not lines[-1].strip():
         lines.pop()
-    _check_shape(lines)
-    n_rows, n_cols = (len(lines) - 1) // 2, (len(lines[0]) - 1) // 2
-    _check_border_and_joints(lines)
-    symbols = [[_cell_symbol(lines, r, c) for c in range(n_cols)] for r in range(n_rows)]
+    maze, trailer = _split_trailer(lines)
+    _check_shape(maze)
+    n_rows, n_cols = (len(maze) - 1) // 2, (len(maze[0]) - 1) // 2
+    _check_border_and_joints(maze)
+    symbols = [[_cell_symbol(maze, r, c) for c in range(n_cols)] for r in range(n_rows)]
     next_cell = np.empty((n_rows * n_cols, N_ACTIONS), dtype=np.int64)
     for r in range(n_rows):
         for c in range(n_cols):
             for action, (dr, dc) in _STEPS.items():
-                next_cell[r * n_cols + c, action] = _move(lines, symbols, r, c, dr, dc, n_cols)
+                next_cell[r * n_cols + c, action] = _move(maze, symbols, r, c, dr, dc, n_cols)
     flat = [s for row in symbols for s in row]
-    is_goal = np.array([s == GOAL for s in flat])
     blocked = np.array([s == BLOCKED for s in flat])
-    starts = _starts(flat, n_cols, name)
-    for array in (next_cell, is_goal, blocked, starts):
+    starts, goals = _maze_placements(flat, n_cols)
+    for kind, placement in _trailer_placements(trailer, n_rows, n_cols, blocked):
+        (starts if kind == "start" else goals).append(placement)
+    start_of = _starts(starts, n_cols, name)
+    goal_of = _goals(goals, start_of, [cell for cell, s in enumerate(flat) if s == GOAL], n_rows * n_cols, name)
+    gridmap = GridMap(name, n_rows, n_cols, next_cell, goal_of, blocked,
+                      np.array([start_of[k].cell for k in sorted(start_of)], dtype=np.int64))
+    for array in (next_cell, goal_of, blocked, gridmap.starts):
         array.setflags(write=False)
-    return GridMap(name, n_rows, n_cols, next_cell, is_goal, blocked, starts)
+    return gridmap
 
 
 def _where(line: int, col: int) -> str:
     return f"line {line + 1}, column {col + 1}"
+
+
+def _split_trailer(lines):
+    """(maze lines, trailer lines as (line index, text)): the maze ends at the first blank line or
+    the first 'start' or 'goal' line; blank lines after it are skipped."""
+    end = next((i for i, line in enumerate(lines) if not line.strip() or _TRAILER_WORD.match(line)), len(lines))
+    trailer = [(i, line) for i, line in enumerate(lines[end:], end) if line.strip()]
+    for i, line in trailer:
+        if line.lstrip()[:1] in ("+", "|"):
+            raise MapError(f"maze line after a blank line at {_where(i, 0)}: the maze is one block of lines; "
+                           "remove the blank line")
+    return lines[:end], trailer
 
 
 def _check_shape(lines):
@@ -214,7 +300,7 @@ def _check_border_and_joints(lines):
 def _cell_symbol(lines, r, c):
     i, j = 2 * r + 1, 2 * c + 1
     symbol = lines[i][j]
-    if symbol not in (FREE, GOAL, BLOCKED) and symbol not in "123456789":
+    if symbol not in (FREE, GOAL, BLOCKED) and symbol not in START_SYMBOLS + GOAL_LETTERS:
         raise MapError(f"unknown cell symbol {symbol!r} at {_where(i, j)}: use {_CELL_SYMBOLS}")
     return symbol
 
@@ -227,49 +313,29 @@ def _move(lines, symbols, r, c, dr, dc, n_cols):
     return (r + dr) * n_cols + (c + dc)
 
 
-def _starts(flat, n_cols, name):
-    found = {}
-    for cell, symbol in enumerate(flat):
-        if symbol.isdigit():
-            if symbol in found:
-                first = found[symbol]
-                raise MapError(f"duplicate start of agent {symbol} at {_cell_where(cell, n_cols)} "
-                               f"(already at {_cell_where(first, n_cols)}): each agent starts once")
-            found[symbol] = cell
-    if not found:
-        raise MapError(f"map {name!r} has no start: mark agent 1's start cell '1' (and '2', ... for more agents)")
-    for k in range(1, len(found) + 1):
-        if str(k) not in found:
-            raise MapError(f"agent numbers must be consecutive from 1: agent {k} has no start but "
-                           f"{max(found)} does; number the starts 1..{len(found)}")
-    return np.array([found[str(k)] for k in range(1, len(found) + 1)], dtype=np.int64)
-
-
 def _cell_where(cell, n_cols):
     r, c = divmod(cell, n_cols)
     return _where(2 * r + 1, 2 * c + 1)
 
 
 def check_layout(gridmap: GridMap) -> None:
-    """Raise MapError unless ``gridmap`` is a world the rules can play: tables of its size, a goal,
-    every agent starting on a cell of its own that is neither blocked nor a goal (an agent in a goal
-    is done before it acts), and a goal reachable from every start."""
+    """Raise MapError unless ``gridmap`` is a world the rules can play: tables of its size, every
+    agent with a goal, starting on a cell of its own that is neither blocked nor one of its goals
+    (it would be done before it acts), and a goal of its reachable from its start."""
     name, n_rows, n_cols = gridmap.name, gridmap.n_rows, gridmap.n_cols
     if not all(isinstance(n, (int, np.integer)) and not isinstance(n, bool) and n >= 1 for n in (n_rows, n_cols)):
         raise MapError(f"map {name!r}: n_rows and n_cols must be whole numbers >= 1, got {n_rows!r} and {n_cols!r}")
-    cells = gridmap.n_cells
-    for field, shape, kind in (("next_cell", (cells, N_ACTIONS), np.integer), ("is_goal", (cells,), np.bool_),
-                               ("blocked", (cells,), np.bool_), ("starts", (np.size(gridmap.starts),), np.integer)):
+    cells, agents = gridmap.n_rows * gridmap.n_cols, np.size(gridmap.starts)
+    for field, shape, kind in (("next_cell", (cells, N_ACTIONS), np.integer), ("goal_of", (agents, cells), np.bool_),
+                               ("blocked", (cells,), np.bool_), ("starts", (agents,), np.integer)):
         array = getattr(gridmap, field)
         if not (isinstance(array, np.ndarray) and np.issubdtype(array.dtype, kind) and array.shape == shape):
             raise MapError(f"map {name!r}: {field} must be an array of {kind.__name__} of shape {shape} for its "
                            f"{n_rows}x{n_cols} cells, got {array!r}")
-    if ((gridmap.next_cell < 0) | (gridmap.next_cell >= gridmap.n_cells)).any():
-        raise MapError(f"map {name!r}: next_cell leads outside the cells 0..{gridmap.n_cells - 1}")
-    if not gridmap.is_goal.any():
-        raise MapError(f"map {name!r} has no goal: mark at least one cell 'G'")
+    if ((gridmap.next_cell < 0) | (gridmap.next_cell >= cells)).any():
+        raise MapError(f"map {name!r}: next_cell leads outside the cells 0..{cells - 1}")
     _check_starts(gridmap)
-    _check_goal_reachable(gridmap)
+    _check_goals_reachable(gridmap)
 
 
 def _check_starts(gridmap: GridMap) -> None:
@@ -281,9 +347,12 @@ def _check_starts(gridmap: GridMap) -> None:
             raise MapError(f"map {gridmap.name!r}: agent {agent}'s start {start} is outside the cells "
                            f"0..{gridmap.n_cells - 1}")
         where = _cell_where(start, gridmap.n_cols)
-        if gridmap.is_goal[start]:
-            raise MapError(f"map {gridmap.name!r}: agent {agent} starts on a goal at {where}, where it is done "
-                           "before it acts; start it on a free cell")
+        if not gridmap.goal_of[agent - 1].any():
+            raise MapError(f"map {gridmap.name!r} has no goal for agent {agent}: mark at least one cell 'G', or "
+                           f"give agent {agent} its own goal")
+        if gridmap.goal_of[agent - 1, start]:
+            raise MapError(f"map {gridmap.name!r}: agent {agent} starts on its own goal at {where}, where it is done "
+                           "before it acts; start it on another cell")
         if gridmap.blocked[start]:
             raise MapError(f"map {gridmap.name!r}: agent {agent} starts on a blocked cell at {where}")
         if starts.index(start) != agent - 1:
@@ -291,16 +360,176 @@ def _check_starts(gridmap: GridMap) -> None:
                            "each agent starts on a cell of its own")
 
 
-def _check_goal_reachable(gridmap: GridMap):
-    seen = {int(g) for g in np.flatnonzero(gridmap.is_goal)}
-    frontier = deque(seen)
-    while frontier:  # backwards search from the goals: moves are symmetric, so neighbours suffice
-        cell = frontier.popleft()
-        for other in gridmap.open_neighbours(cell):
-            if other not in seen:
-                seen.add(other)
-                frontier.append(other)
-    for agent, start in enumerate(gridmap.starts, 1):
-        if int(start) not in seen:
-            raise MapError(f"no goal is reachable from agent {agent}'s start at "
-                           f"{_cell_where(int(start), gridmap.n_cols)}: open a wall on the way")
+def _check_goals_reachable(gridmap: GridMap):
+    area = _areas(gridmap)
+    for agent, start in enumerate(gridmap.starts.tolist(), 1):
+        goals = gridmap.goal_cells(agent - 1)
+        if not any(area[g] == area[start] for g in goals):
+            cells = ", ".join(_row_col_text(g, gridmap.n_cols) for g in goals)
+            raise MapError(f"no goal is reachable from agent {agent}'s start at {_cell_where(start, gridmap.n_cols)} "
+                           f"(its goals: {cells}): open a wall on the way")
+
+
+def _maze_placements(flat, n_cols):
+    """The starts ('1'-'9') and own goals ('a'-'i') the maze's symbols give."""
+    starts, goals = [], []
+    for cell, symbol in enumerate(flat):
+        if symbol in START_SYMBOLS:
+            starts.append(_Placement(START_SYMBOLS.index(symbol) + 1, cell, _cell_where(cell, n_cols)))
+        elif symbol in GOAL_LETTERS:
+            goals.append(_Placement(GOAL_LETTERS.index(symbol) + 1, cell, _cell_where(cell, n_cols)))
+    return starts, goals
+
+
+def _trailer_placements(trailer, n_rows, n_cols, blocked):
+    """(kind, placement) of every trailer line, 'start' or 'goal', each on a cell of the map that is not blocked."""
+    placements = []
+    for i, line in trailer:
+        indent = len(line) - len(line.lstrip())
+        match = _TRAILER_LINE.fullmatch(line.strip())
+        if match is None:
+            raise MapError(f"line {i + 1} after the maze is not a start or goal: expected {_TRAILER_FORM}, "
+                           f"got {line.strip()!r}")
+        kind, agent, row, col = match.group(1), *(int(match.group(k)) for k in (2, 3, 4))
+        at = {k: _where(i, indent + match.start(k)) for k in (2, 3, 4)}
+        if agent < 1:
+            raise MapError(f"agent 0 at {at[2]}: agents are numbered from 1")
+        if row >= n_rows:
+            raise MapError(f"row {row} at {at[3]} is outside the map: its rows are 0..{n_rows - 1}")
+        if col >= n_cols:
+            raise MapError(f"col {col} at {at[4]} is outside the map: its columns are 0..{n_cols - 1}")
+        cell = row * n_cols + col
+        if blocked[cell]:
+            raise MapError(f"the {kind} of agent {agent} at {at[2]} is on a blocked cell (row {row}, col {col}): "
+                           "give a free cell")
+        placements.append((kind, _Placement(agent, cell, at[2])))
+    return placements
+
+
+def _starts(placements, n_cols, name):
+    """Agent number -> its start placement; each agent starts once, no two on a cell, numbered 1..N."""
+    by_agent, by_cell = {}, {}
+    for p in placements:
+        if p.agent in by_agent:
+            raise MapError(f"duplicate start of agent {p.agent} at {p.where} "
+                           f"(already at {by_agent[p.agent].where}): each agent starts once")
+        if p.cell in by_cell:
+            other = by_cell[p.cell]
+            raise MapError(f"two starts on one cell {_row_col_text(p.cell, n_cols)}: agent {p.agent}'s at {p.where} "
+                           f"and agent {other.agent}'s at {other.where}; give each agent a cell of its own")
+        by_agent[p.agent], by_cell[p.cell] = p, p
+    if not by_agent:
+        raise MapError(f"map {name!r} has no start: mark agent 1's start cell '1' (and '2', ... for more agents)")
+    for k in range(1, len(by_agent) + 1):
+        if k not in by_agent:
+            last = max(by_agent)
+            raise MapError(f"agent numbers must be consecutive from 1: agent {k} has no start but "
+                           f"agent {last} does (at {by_agent[last].where}); number the starts 1..{len(by_agent)}")
+    return by_agent
+
+
+def _goals(placements, start_of, every_goal, n_cells, name):
+    """bool (agents, cells): each agent's goals, the shared 'G' cells and its own; checked."""
+    n_agents = len(start_of)
+    goal_of = np.zeros((n_agents, n_cells), dtype=bool)
+    goal_of[:, every_goal] = True
+    if not every_goal and not placements:
+        raise MapError(f"map {name!r} has no goal: mark at least one cell 'G' (every agent's goal), or give "
+                       f"agent k its own goal with its letter ('a' for agent 1) or a line 'goal K: row R, col C'")
+    given = {}
+    for p in placements:
+        if p.agent not in start_of:
+            raise MapError(f"a goal of agent {p.agent} at {p.where}, but agent {p.agent} has no start; "
+                           f"the map's agents are 1..{n_agents}: give it a start or remove the goal")
+        if goal_of[p.agent - 1, p.cell]:
+            first = given.get((p.agent, p.cell), "a 'G' cell")
+            raise MapError(f"the goal of agent {p.agent} at {p.where} is given twice (also at {first}); remove one")
+        goal_of[p.agent - 1, p.cell] = True
+        given[(p.agent, p.cell)] = p.where
+    for agent, start in sorted(start_of.items()):
+        if not goal_of[agent - 1].any():
+            letter = f"'{GOAL_LETTERS[agent - 1]}' or " if agent <= len(GOAL_LETTERS) else ""
+            raise MapError(f"agent {agent} (start at {start.where}) has no goal: mark its goal cell {letter}'G' "
+                           f"(every agent's), or add a line 'goal {agent}: row R, col C' after the maze")
+        if goal_of[agent - 1, start.cell]:
+            where = given.get((agent, start.cell), "a 'G' cell")
+            raise MapError(f"agent {agent} starts on its own goal (start at {start.where}, goal at {where}): "
+                           "it would be done before it moves; move its start or its goal")
+    return goal_of
+
+
+def _row_col_text(cell, n_cols):
+    r, c = divmod(int(cell), n_cols)
+    return f"(row {r}, col {c})"
+
+
+def _areas(gridmap: GridMap) -> list[int]:
+    """Each cell's area: cells an agent can walk between share one (moves are symmetric)."""
+    area = [-1] * gridmap.n_cells
+    for first in range(gridmap.n_cells):
+        if area[first] >= 0:
+            continue
+        area[first], frontier = first, deque([first])
+        while frontier:
+            for other in gridmap.open_neighbours(frontier.popleft()):
+                if area[other] < 0:
+                    area[other] = first
+                    frontier.append(other)
+    return area
+
+
+# --- writing ------------------------------------------------------------------------------------
+
+def map_text(gridmap: GridMap, cells=None) -> str:
+    """``gridmap`` in the format of this module, agent k on cell ``cells[k - 1]`` (default: its
+    start): the maze, then a trailer line for every start and goal no symbol can hold (agents
+    beyond 9; goals on a start cell or on another agent's goal). A goal of every agent is 'G', a
+    goal of some agents the letter of the lowest-numbered of them (up to 9) and goal lines for the
+    others. Walls are drawn where no move crosses between two cells, around blocked cells too.
+    What it writes for the starts loads back to ``gridmap`` (:meth:`GridMap.same_layout`)."""
+    cells = gridmap.starts if cells is None else np.asarray(cells)
+    symbols, trailer = _cell_symbols(gridmap, [int(c) for c in cells])
+    lines = ["+" + "-+" * gridmap.n_cols]
+    for r in range(gridmap.n_rows):
+        cell_line, below = "|", "+"
+        for c in range(gridmap.n_cols):
+            cell = gridmap.cell(r, c)
+            right = c == gridmap.n_cols - 1 or _wall(gridmap, cell, cell + 1)
+            down = r == gridmap.n_rows - 1 or _wall(gridmap, cell, cell + gridmap.n_cols)
+            cell_line += symbols[cell] + ("|" if right else " ")
+            below += ("-" if down else " ") + "+"
+        lines += [cell_line, below]
+    return "\n".join(lines + trailer) + "\n"
+
+
+def _cell_symbols(gridmap: GridMap, cells: list[int]) -> tuple[list[str], list[str]]:
+    """Each cell's symbol and the trailer lines for what no symbol holds (starts, then goals, by agent)."""
+    symbols = ["#" if b else FREE for b in gridmap.blocked.tolist()]
+    starts, goals = [], []
+    for agent, cell in enumerate(cells, 1):
+        if agent <= len(START_SYMBOLS):
+            symbols[cell] = START_SYMBOLS[agent - 1]
+        else:
+            starts.append(_trailer_line("start", agent, gridmap, cell))
+    for cell in range(gridmap.n_cells):
+        owners = [int(a) + 1 for a in np.flatnonzero(gridmap.goal_of[:, cell])]
+        if not owners or symbols[cell] != FREE:
+            goals += [(a, _trailer_line("goal", a, gridmap, cell)) for a in owners]
+        elif len(owners) == gridmap.n_agents:
+            symbols[cell] = GOAL
+        elif owners[0] <= len(GOAL_LETTERS):
+            symbols[cell] = GOAL_LETTERS[owners[0] - 1]
+            goals += [(a, _trailer_line("goal", a, gridmap, cell)) for a in owners[1:]]
+        else:
+            goals += [(a, _trailer_line("goal", a, gridmap, cell)) for a in owners]
+    return symbols, starts + [line for _, line in sorted(goals, key=lambda g: g[0])]
+
+
+def _trailer_line(kind: str, agent: int, gridmap: GridMap, cell: int) -> str:
+    row, col = gridmap.row_col(cell)
+    return f"{kind} {agent}: row {row}, col {col}"
+
+
+def _wall(gridmap: GridMap, a: int, b: int) -> bool:
+    """A wall between neighbouring cells a and b: no move crosses between them."""
+    return b not in gridmap.open_neighbours(a) and a not in gridmap.open_neighbours(b)

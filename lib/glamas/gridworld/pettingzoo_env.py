@@ -9,8 +9,9 @@ gymnasium spaces:
   col) in agent order]``, GridworldEnv's ``{"position", "others"}`` dict flattened, in
   ``MultiDiscrete([n_rows, n_cols] * n_agents)``.
 
-An agent that enters the goal is terminated and leaves ``agents`` (the goal is absorbing); the
-live agents are truncated after ``max_steps`` steps. The game is deterministic: ``reset``'s
+An agent that enters its goal is terminated and leaves ``agents`` (its goal is absorbing; each
+agent's goal cells are the map's, ``gridmap.goal_of``, and another agent's goal is an ordinary cell
+for it); the live agents are truncated after ``max_steps`` steps. The game is deterministic: ``reset``'s
 seed only seeds the spaces' samplers, so a seeded run of sampled actions repeats exactly.
 """
 
@@ -27,17 +28,18 @@ except ImportError as error:
 
 from glamas.errors import UserError
 from glamas.gridworld.env import GridworldEnv
-from glamas.gridworld.maps import GridMap, load_map, tunnel_to_goal
+from glamas.gridworld.maps import GridMap, load_map, map_text, tunnel_to_goal
 from glamas.gridworld.rules import N_ACTIONS
 
 
 class GridworldParallelEnv(ParallelEnv):
     """The gridworld game for ``gridmap.n_agents`` agents ``agent_1``, ``agent_2``, ...
 
-    ``gridmap`` (a GridMap, or a map file's path or text) defaults to the chapter's TunnelToGoal
-    (Fig. 9); ``bounce`` and ``max_steps`` as
-    in GridworldEnv; ``render_mode`` None or 'ansi' (``render()`` returns the map as text, in
-    the format of ``data/maps``, with each agent's number on its cell).
+    ``gridmap`` (a GridMap, or a map's name in ``data/maps``, a map file's path or the map's text:
+    :func:`glamas.gridworld.load_map`) defaults to the chapter's TunnelToGoal (Fig. 9); ``bounce``
+    and ``max_steps`` as in GridworldEnv; ``render_mode`` None or 'ansi' (``render()`` returns the
+    map as text, in the format of ``data/maps``, with each agent on its cell:
+    :func:`glamas.gridworld.map_text`).
     """
 
     metadata = {"name": "glamas_gridworld_v0", "render_modes": ["ansi"], "is_parallelizable": True}
@@ -94,7 +96,7 @@ class GridworldParallelEnv(ParallelEnv):
     def render(self):
         if self.render_mode is None:
             raise UserError("render() needs render_mode='ansi' when the environment is made")
-        return map_text(self.gridmap, self._game.cells)
+        return map_text(self.gridmap, self._game.cells).rstrip("\n")
 
     def _flatten(self, observations: dict) -> dict:
         return {name: np.array([*obs["position"], *(x for cell in obs["others"] for x in cell)], dtype=np.int64)
@@ -102,30 +104,7 @@ class GridworldParallelEnv(ParallelEnv):
 
 
 def _as_map(gridmap) -> GridMap:
-    """The map to play on: TunnelToGoal for None, a GridMap as it is, else a map file's path or text."""
+    """The map to play on: TunnelToGoal for None, a GridMap as it is, else a map's name, path or text."""
     if gridmap is None:
         return tunnel_to_goal()
     return gridmap if isinstance(gridmap, GridMap) else load_map(gridmap)
-
-
-def map_text(gridmap: GridMap, cells) -> str:
-    """The map in the text format of ``data/maps`` with agent k's number on cell ``cells[k - 1]``."""
-    symbol = {c: str(k + 1) for k, c in enumerate(int(c) for c in cells)}
-    lines = ["+" + "-+" * gridmap.n_cols]
-    for r in range(gridmap.n_rows):
-        cell_line, below = "|", "+"
-        for c in range(gridmap.n_cols):
-            cell = gridmap.cell(r, c)
-            cell_line += symbol.get(cell, "G" if gridmap.is_goal[cell] else "#" if gridmap.blocked[cell] else ".")
-            cell_line += "|" if c == gridmap.n_cols - 1 or _wall(gridmap, cell, cell + 1) else " "
-            below += ("-" if r == gridmap.n_rows - 1 or _wall(gridmap, cell, cell + gridmap.n_cols) else " ") + "+"
-        lines += [cell_line, below]
-    return "\n".join(lines)
-
-
-def _wall(gridmap: GridMap, a: int, b: int) -> bool:
-    """A wall between neighbouring cells a and b: neither move enters the other cell, though both
-    cells are open (the goal's own moves do not count: it is absorbing)."""
-    if gridmap.blocked[a] or gridmap.blocked[b]:
-        return False
-    return b not in gridmap.open_neighbours(a) and a not in gridmap.open_neighbours(b)

@@ -1,24 +1,34 @@
 """The rules of the chapter's gridworld (Section 5.3), compiled for the simulation kernels.
 
-Agents move N, E, S or W. Entering a goal cell pays +100 and the goal is absorbing: an agent in
-it no longer acts. A move into a wall, a blocked cell or the border is a bump: -1 and the agent
-stays. Two acting agents collide when they target the same non-goal cell (a bumped agent's target
-is its own cell) or swap cells; each pays -10 per collision it is in and bounces back.
+Agents move N, E, S or W. Each agent has its own goal cells (``GridMap.goal_of``; the chapter's
+two agents share one). Entering one of its goal cells pays an agent +100 and is absorbing: an agent
+in its goal no longer acts and has left the game, so no agent collides with it (another agent may
+walk through the cell). Another agent's goal is an ordinary cell for an agent. A move into a wall,
+a blocked cell or the border is a bump: -1 and the agent stays. Two acting agents collide when they
+target the same cell, unless it is a goal of both (a bumped agent's target is its own cell), or
+swap cells; each pays -10 per collision it is in and bounces back.
+
+At goal cells: agents entering a cell that is the goal of both together do not collide (both are
+done, as the chapter's two agents entering their shared goal); agents entering a cell that is the
+goal of only one of them collide, as on any other cell, and both bounce (the cell is an ordinary
+one for the other agent, and the chapter's collision is two agents aiming at one cell).
 
 The chapter says only that collided agents are "bounced back to their original position";
 ``bounce`` chooses the cell they bounce to: the cell they moved from (``BOUNCE_PREVIOUS``, the
 default; the chapter uses the same words for wall bumps, where the agent just stays) or their
-start cell (``BOUNCE_START``).
+start cell (``BOUNCE_START``). Neither is ever the agent's own goal, so a collided agent never
+arrives.
 
 N agents (the chapter has two): a bounced agent can land on a cell another agent has just
 entered (A follows B, B collides with C and bounces back onto A). Such agents collide as well:
-each pair sharing a non-goal cell is one more collision (-10 each) and both bounce. This repeats
-until no two acting agents share a non-goal cell. Bounce cells are distinct, so every round
-bounces at least one agent that had not yet bounced, no pair collides twice in a step, and the
-loop ends within N rounds. k agents aiming at the same cell make k(k-1)/2 collisions.
+each pair sharing a cell that is not a goal of both is one more collision (-10 each) and both
+bounce. This repeats until no two acting agents share such a cell. Bounce cells are distinct, so
+every round bounces at least one agent that had not yet bounced, no pair collides twice in a step,
+and the loop ends within N rounds. k agents aiming at the same cell (a goal of none of them) make
+k(k-1)/2 collisions.
 
-Precondition of :func:`step`: the acting agents are on distinct non-goal cells (true from the
-start cells on, since the rules preserve it).
+Precondition of :func:`step`: the acting agents are on distinct cells, none on one of its own
+goals (true from the start cells on, since the rules preserve it).
 """
 
 from typing import NamedTuple
@@ -44,8 +54,8 @@ class World(NamedTuple):
 
     next_cell: np.ndarray
     """int (cells, 4): the cell each action leads to (the cell itself for a bump)."""
-    is_goal: np.ndarray
-    """bool (cells,): goal cells."""
+    goal_of: np.ndarray
+    """bool (agents, cells): ``goal_of[i, c]``, cell c is a goal of agent i."""
     starts: np.ndarray
     """int (agents,): each agent's start cell."""
     bounce: int
@@ -56,7 +66,7 @@ class World(NamedTuple):
 
 def world(gridmap, bounce: str = "previous") -> World:
     """The kernels' view of ``gridmap`` with the collision rule ``bounce`` ('previous' or 'start')."""
-    return World(gridmap.next_cell, gridmap.is_goal, gridmap.starts, BOUNCE_MODES[bounce], gridmap.n_cols)
+    return World(gridmap.next_cell, gridmap.goal_of, gridmap.starts, BOUNCE_MODES[bounce], gridmap.n_cols)
 
 
 @njit(cache=True, inline="always")
@@ -78,14 +88,14 @@ def step(world, cells, done, actions, new_cells, rewards, bumped, collided, reac
     collisions.
 
     ``cells``, ``done`` and ``actions`` are the agents' current cells, whether each is already in
-    the goal (then its action is ignored) and their actions. Writes each agent's ``new_cells``,
+    its goal (then its action is ignored) and their actions. Writes each agent's ``new_cells``,
     ``rewards`` (goal +100, bump -1, -10 per collision, summed), and whether it ``bumped``,
-    ``collided`` or ``reached`` the goal in this step. Returns the number of colliding pairs.
+    ``collided`` or ``reached`` its goal in this step. Returns the number of colliding pairs.
     Inlined like every piece of the episode loops: left as a call, it cost sparse MAQ's loop of
     four agents 164 against 98 ns per step (the loops are compiled without reference counting,
     glamas.learners.episode, so the two-agent paths beside it are not slowed).
     """
-    next_cell, is_goal, starts, bounce = world.next_cell, world.is_goal, world.starts, world.bounce
+    next_cell, goal_of, starts, bounce = world.next_cell, world.goal_of, world.starts, world.bounce
     n = cells.shape[0]
     acting = 0
     for i in range(n):
@@ -100,14 +110,14 @@ def step(world, cells, done, actions, new_cells, rewards, bumped, collided, reac
         reached[i] = False
         acting += 0 if is_done else 1
 
-    # First round: the moves themselves (same non-goal target, or a swap).
+    # First round: the moves themselves (same target, a goal of not both; or a swap).
     n_collisions = 0
     for i in range(n if acting > 1 else 0):  # a collision takes two acting agents
         new_i, cell_i, done_i = new_cells[i], cells[i], done[i]
-        goal_i = is_goal[new_i]
+        goal_i = goal_of[i, new_i]
         for j in range(i + 1, n):
             new_j, cell_j, done_j = new_cells[j], cells[j], done[j]
-            same_target = new_i == new_j and not goal_i
+            same_target = new_i == new_j and not (goal_i and goal_of[j, new_j])
             hit = not (done_i or done_j) and (same_target or (new_i == cell_j and new_j == cell_i))
             n_collisions += _collide_if(hit, i, j, rewards, collided)
 
@@ -122,17 +132,17 @@ def step(world, cells, done, actions, new_cells, rewards, bumped, collided, reac
         found = 0
         for i in range(n):
             new_i, done_i = new_cells[i], done[i]
-            goal_i = is_goal[new_i]
+            goal_i = goal_of[i, new_i]
             for j in range(i + 1, n):
                 new_j, done_j, hit_i, hit_j = new_cells[j], done[j], collided[i], collided[j]
-                shared = new_i == new_j and not goal_i
+                shared = new_i == new_j and not (goal_i and goal_of[j, new_j])
                 # both already at their (distinct) bounce cells: only a broken precondition gets there
                 again = not (done_i or done_j) and shared and not (hit_i and hit_j)
                 found += _collide_if(again, i, j, rewards, collided)
         n_collisions += found
 
     for i in range(n):
-        arrived = not done[i] and is_goal[new_cells[i]]
+        arrived = not done[i] and goal_of[i, new_cells[i]]
         reached[i] = arrived
         rewards[i] += GOAL_REWARD if arrived else 0.0
     return n_collisions
@@ -140,15 +150,17 @@ def step(world, cells, done, actions, new_cells, rewards, bumped, collided, reac
 
 @njit(cache=True, inline="always")
 def step_pair(world, cells, done, actions, new_cells, rewards, bumped, collided, reached, pair):
-    """:func:`step` for the agents ``pair = (i, j)`` when every other agent is in the goal (the
+    """:func:`step` for the agents ``pair = (i, j)`` when every other agent is in its goal (the
     chapter's two agents are (0, 1), and one of them may be in the goal too); fills agent i's and
     j's entries of the output arrays. Two agents collide at most once and bounce to distinct
-    cells, so the later rounds of :func:`step` never find anything.
+    cells, so the later rounds of :func:`step` never find anything; a bounce cell is never the
+    agent's goal (module docstring), so an agent arrives when its target is its goal and it did
+    not collide.
 
     Every array is read and written outside the branches, the rules applied to scalars in
     between, as in :func:`step`: the compiler keeps the scalars in registers.
     """
-    next_cell, is_goal, starts, bounce = world.next_cell, world.is_goal, world.starts, world.bounce
+    next_cell, goal_of, starts, bounce = world.next_cell, world.goal_of, world.starts, world.bounce
     i, j = pair
     cell_i, cell_j, done_i, done_j = cells[i], cells[j], done[i], done[j]
     target_i, target_j = next_cell[cell_i, actions[i]], next_cell[cell_j, actions[j]]  # a done agent's is ignored
@@ -157,8 +169,8 @@ def step_pair(world, cells, done, actions, new_cells, rewards, bumped, collided,
     new_j = cell_j if done_j else target_j
     bump_i = not done_i and new_i == cell_i
     bump_j = not done_j and new_j == cell_j
-    target_is_goal = is_goal[new_i]
-    same_target = new_i == new_j and not target_is_goal
+    goal_i, goal_j = goal_of[i, new_i], goal_of[j, new_j]
+    same_target = new_i == new_j and not (goal_i and goal_j)
     hit = not done_i and not done_j and (same_target or (new_i == cell_j and new_j == cell_i))
     reward_i = BUMP_PENALTY if bump_i else 0.0
     reward_j = BUMP_PENALTY if bump_j else 0.0
@@ -166,9 +178,8 @@ def step_pair(world, cells, done, actions, new_cells, rewards, bumped, collided,
         reward_i += COLLISION_PENALTY
         reward_j += COLLISION_PENALTY
         new_i, new_j = (cell_i, cell_j) if bounce == BOUNCE_PREVIOUS else (start_i, start_j)
-    goal_i, goal_j = is_goal[new_i], is_goal[new_j]
-    arrived_i = not done_i and goal_i
-    arrived_j = not done_j and goal_j
+    arrived_i = not done_i and not hit and goal_i
+    arrived_j = not done_j and not hit and goal_j
     if arrived_i:
         reward_i += GOAL_REWARD
     if arrived_j:
@@ -183,12 +194,12 @@ def step_pair(world, cells, done, actions, new_cells, rewards, bumped, collided,
 
 @njit(cache=True, inline="always")
 def step_alone(world, cells, actions, new_cells, rewards, bumped, collided, reached, i):
-    """:func:`step` when agent i is the only one acting (the others are in the goal): no
+    """:func:`step` when agent i is the only one acting (the others are in their goals): no
     collision is possible; fills agent i's entries of the output arrays, returns 0."""
     cell = cells[i]
     new = world.next_cell[cell, actions[i]]
     bump = new == cell
-    arrived = world.is_goal[new]
+    arrived = world.goal_of[i, new]
     new_cells[i] = new
     bumped[i] = bump
     collided[i] = False
@@ -198,9 +209,10 @@ def step_alone(world, cells, actions, new_cells, rewards, bumped, collided, reac
 
 
 @njit(cache=True, inline="always")
-def would_collide(next_cell, is_goal, cells, done, actions, i, j):
-    """Whether agents i and j would collide playing ``actions`` (same non-goal target or swap);
-    never when one of them is done (its action, which must be one of the four, is ignored).
+def would_collide(next_cell, goal_of, cells, done, actions, i, j):
+    """Whether agents i and j would collide playing ``actions`` (same target, a goal of not both,
+    or a swap); never when one of them is done (its action, which must be one of the four, is
+    ignored). ``goal_of``: the world's (agents, cells) goals.
 
     Used by 2observe (Alg. 4) to check the agents' preferred actions; other agents are ignored.
     """
@@ -208,17 +220,24 @@ def would_collide(next_cell, is_goal, cells, done, actions, i, j):
     target_i, target_j = next_cell[cell_i, actions[i]], next_cell[cell_j, actions[j]]
     done_i, done_j = done[i], done[j]
     acting = not (done_i or done_j)
-    target_is_goal = is_goal[target_i]
-    same_target = target_i == target_j and not target_is_goal
+    goal_i, goal_j = goal_of[i, target_i], goal_of[j, target_j]
+    same_target = target_i == target_j and not (goal_i and goal_j)
     return acting and (same_target or (target_i == cell_j and target_j == cell_i))
 
 
 @njit(cache=True, inline="always")
-def could_collide(next_cell, is_goal, a, b):
+def could_collide(next_cell, shared_goal, a, b):
     """Whether two acting agents on cells ``a`` and ``b`` could collide in this step: some joint
-    action of theirs makes them target the same non-goal cell (a bump targets its own cell) or
-    swap cells. On a 4-connected grid this needs a Manhattan distance of at most 2, and a wall
-    between them can rule it out.
+    action of theirs makes them target the same cell (a bump targets its own cell) that is not in
+    ``shared_goal``, or swap cells. On a 4-connected grid this needs a Manhattan distance of at
+    most 2, and a wall between them can rule it out.
+
+    ``shared_goal`` (bool, cells) is where two agents entering together do not collide: the goals
+    of every agent (GridMap.shared_goal, :func:`shared_goals`), whoever the two agents are. For two
+    agents these are the goals of both, and the answer is exact; with more agents it is exact for
+    every pair whose common goals are every agent's (also when no two agents share a goal), and
+    otherwise it may call in range a pair whose only possible collision would be entering a goal
+    of both together, which is none.
 
     This is 2observe's "within each other's range of interference" (Section 5.1), computed from
     the rules and the map; it does not depend on what the agents then choose.
@@ -227,7 +246,7 @@ def could_collide(next_cell, is_goal, a, b):
         target_a = next_cell[a, action_a]
         for action_b in range(N_ACTIONS):
             target_b = next_cell[b, action_b]
-            if target_a == target_b and not is_goal[target_a]:
+            if target_a == target_b and not shared_goal[target_a]:
                 return True
             if target_a == b and target_b == a:
                 return True
@@ -235,15 +254,26 @@ def could_collide(next_cell, is_goal, a, b):
 
 
 @njit(cache=True)
-def in_range_table(next_cell, is_goal):
+def in_range_table(next_cell, shared_goal):
     """:func:`could_collide` for every pair of cells, ``table[a, b]``: made once per run, so that a
     kernel looks the answer up instead of trying the 16 joint actions every step."""
     n_cells = next_cell.shape[0]
     table = np.zeros((n_cells, n_cells), np.bool_)
     for a in range(n_cells):
         for b in range(n_cells):
-            table[a, b] = could_collide(next_cell, is_goal, a, b)
+            table[a, b] = could_collide(next_cell, shared_goal, a, b)
     return table
+
+
+@njit(cache=True)
+def shared_goals(goal_of):
+    """bool (cells,): the cells that are a goal of every agent (GridMap.shared_goal), from the
+    world's (agents, cells) goals."""
+    shared = np.ones(goal_of.shape[1], np.bool_)
+    for i in range(goal_of.shape[0]):
+        for c in range(goal_of.shape[1]):
+            shared[c] = shared[c] and goal_of[i, c]
+    return shared
 
 
 @njit(cache=True, inline="always")
@@ -251,7 +281,7 @@ def shared_reward(rewards, reached, all_done_after):
     """The MMDP learner's single reward for one step (Section 5.3).
 
     The agents' penalties summed (their rewards without the individual goal rewards), plus +100
-    when this step puts the last agent in the goal: the chapter pays the MMDP learner +100 when
+    when this step puts the last agent in its goal: the chapter pays the MMDP learner +100 when
     both agents are in.
     """
     total = 0.0

@@ -1,7 +1,7 @@
 """What every learner's episode loop shares: buffers, the episode bookkeeping and the binned log.
 
 An episode (the chapter's "iteration", Section 5.3) starts with every agent on its start cell
-and ends when all agents are in the goal, or at the step cap. The per-episode measurements are
+and ends when every agent is in its goal, or at the step cap. The per-episode measurements are
 averaged over blocks of episodes straight into ``log`` (one row per block), so a 200,000-episode
 run stays small. The blocks are given by their ``edges`` (block k holds the episodes
 ``edges[k] <= episode < edges[k + 1]``): :func:`uniform_edges` for blocks of one size,

@@ -79,12 +79,13 @@ class Coordination(NamedTuple):
 
 def coordination_index(gridmap, distance: int) -> np.ndarray:
     """int64 (cells ** 2,): the row of each pair of cells (a, b) in a pair's joint table, -1 where
-    the two agents act alone. Coordination states: two distinct cells, neither the goal nor
-    blocked, at Manhattan distance <= ``distance``; rows numbered in (a, b) order."""
+    the two agents act alone. Coordination states: two distinct cells, neither blocked nor a goal
+    of every agent (no agent acts there; a goal of some agents is an ordinary cell for the others),
+    at Manhattan distance <= ``distance``; rows numbered in (a, b) order."""
     if isinstance(distance, bool) or not isinstance(distance, (int, np.integer)) or distance < 1:
         raise UserError(f"the coordination distance must be a whole number >= 1, got {distance!r}")
     n = gridmap.n_cells
-    usable = ~(gridmap.is_goal | gridmap.blocked)
+    usable = ~(gridmap.shared_goal | gridmap.blocked)
     index = np.full(n * n, -1, dtype=np.int64)
     rows = 0
     for a in range(n):

@@ -244,7 +244,7 @@ def yield_at_random(preferred, actions, pair, state):
 
 
 @njit(cache=True, inline="always")
-def first_level(next_cell, is_goal, cells, done, choices, preferred, pair):
+def first_level(next_cell, goal_of, cells, done, choices, preferred, pair):
     """Alg. 4's if-condition for the agents ``pair = (i, j)``, their GLA ``choices`` and
     Q-preferred actions ``preferred``: (collision coming, both coordinated). When both hold, one
     agent yields (:func:`yield_at_random`).
@@ -253,7 +253,7 @@ def first_level(next_cell, is_goal, cells, done, choices, preferred, pair):
     5.2's check, made only when both chose to coordinate.
     """
     i, j = pair
-    coming = rules.would_collide(next_cell, is_goal, cells, done, preferred, i, j)
+    coming = rules.would_collide(next_cell, goal_of, cells, done, preferred, i, j)
     choice_i, choice_j = choices[i], choices[j]  # both read: arrays outside branches (glamas.learners.episode)
     return coming, choice_i == COORDINATE and choice_j == COORDINATE
 
@@ -308,10 +308,10 @@ def random_order(members, count, state):
 
 
 @njit(cache=True, inline="always")
-def collision_coming(next_cell, is_goal, cells, done, preferred, i):
+def collision_coming(next_cell, goal_of, cells, done, preferred, i):
     """Whether agent i's preferred action would collide with another agent's preferred action."""
     for j in range(cells.shape[0]):
-        if j != i and rules.would_collide(next_cell, is_goal, cells, done, preferred, i, j):
+        if j != i and rules.would_collide(next_cell, goal_of, cells, done, preferred, i, j):
             return True
     return False
 
@@ -337,7 +337,7 @@ def need_of(need, in_range, cells, done, coming, collided, i):
 
 
 @njit(cache=True, inline="always")
-def coordinate_group(next_cell, is_goal, cells, done, choices, preferred, actions, order, kept, state):
+def coordinate_group(next_cell, goal_of, cells, done, choices, preferred, actions, order, kept, state):
     """Section 5.2's coordination for a group (module docstring): fill ``actions`` from the
     ``preferred`` ones; return how many coordinating agents were in a coming collision.
 
@@ -351,7 +351,7 @@ def coordinate_group(next_cell, is_goal, cells, done, choices, preferred, action
             continue
         for j in range(n):
             if j != i and choices[j] == COORDINATE and rules.would_collide(
-                    next_cell, is_goal, cells, done, preferred, i, j):
+                    next_cell, goal_of, cells, done, preferred, i, j):
                 order[count] = i
                 count += 1
                 break
@@ -361,7 +361,7 @@ def coordinate_group(next_cell, is_goal, cells, done, choices, preferred, action
         kept[i] = True
         for m in range(k):
             j = order[m]
-            if kept[j] and rules.would_collide(next_cell, is_goal, cells, done, preferred, i, j):
+            if kept[j] and rules.would_collide(next_cell, goal_of, cells, done, preferred, i, j):
                 kept[i] = False
                 break
         if not kept[i]:
@@ -377,7 +377,7 @@ def per_run(world):
     rules.would_collide reads it), GLA probabilities and GLA input."""
     n = world.starts.shape[0]
     agents = (np.empty(n, np.int64), np.zeros(n, np.int64), np.empty((n, 2)), np.ones((n, N_GLA_INPUTS)))
-    return rules.in_range_table(world.next_cell, world.is_goal), ep.buffers(n), agents
+    return rules.in_range_table(world.next_cell, rules.shared_goals(world.goal_of)), ep.buffers(n), agents
 
 
 @njit(cache=True, inline="always")
@@ -409,7 +409,7 @@ def pair_step(world, learning, automata, q, u, need_counts, pair, state, arrays)
     The GLAs see ``[delta * gla_delta_scale, 1]``. ``rule_distance`` >= 0 replaces the GLAs by the
     fixed rule "coordinate when delta < rule_distance" (a diagnostic).
     """
-    next_cell, is_goal, n_agents = world.next_cell, world.is_goal, world.starts.shape[0]
+    next_cell, goal_of, n_agents = world.next_cell, world.goal_of, world.starts.shape[0]
     alpha, gamma, exploit = learning.q_learning_rate, learning.discount, learning.exploit_prob
     temperature, L, bounding = automata.gla_temperature, automata.gla_L, automata.gla_bounding
     need, rule_distance, feedback = automata.gla_need, automata.rule_distance, automata.gla_feedback
@@ -428,7 +428,7 @@ def pair_step(world, learning, automata, q, u, need_counts, pair, state, arrays)
         choices[i] = choices[j] = COORDINATE if delta < rule_distance else ACT_ALONE
     preferred[i] = epsilon_greedy(q[i, cells[i]], exploit, state)
     preferred[j] = epsilon_greedy(q[j, cells[j]], exploit, state)
-    coming, both = first_level(next_cell, is_goal, cells, done, choices, preferred, pair)
+    coming, both = first_level(next_cell, goal_of, cells, done, choices, preferred, pair)
     actions[i], actions[j] = preferred[i], preferred[j]
     if both and coming:
         yield_at_random(preferred, actions, pair, state)
@@ -458,7 +458,7 @@ def group_step(world, learning, automata, q, u, need_counts, state, arrays):
     collision is coming, its need, the coordination order and who keeps its action
     (:func:`coordinate_group`), and the distance table."""
     in_range, buffers, agents, group = arrays
-    next_cell, is_goal, n_agents = world.next_cell, world.is_goal, world.starts.shape[0]
+    next_cell, goal_of, n_agents = world.next_cell, world.goal_of, world.starts.shape[0]
     alpha, gamma = learning.q_learning_rate, learning.discount
     learn_first_level = automata.rule_distance < 0
     cells, done, actions, new_cells, rewards, bumped, collided, reached, acc = buffers
@@ -479,8 +479,8 @@ def group_step(world, learning, automata, q, u, need_counts, state, arrays):
         if not done[i]:
             preferred[i] = epsilon_greedy(q[i, cells[i]], learning.exploit_prob, state)
     for i in range(n_agents):
-        coming[i] = collision_coming(next_cell, is_goal, cells, done, preferred, i)
-    coordinate_group(next_cell, is_goal, cells, done, choices, preferred, actions, order, kept, state)
+        coming[i] = collision_coming(next_cell, goal_of, cells, done, preferred, i)
+    coordinate_group(next_cell, goal_of, cells, done, choices, preferred, actions, order, kept, state)
     paired = 0
     for i in range(n_agents):
         if nearest[i] != NOBODY and choices[i] == COORDINATE and choices[nearest[i]] == COORDINATE:
