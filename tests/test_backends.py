@@ -14,9 +14,10 @@ from glamas.experiments import gridworld, single_gla
 from glamas.learners import and_network as and_network_learner
 from glamas.learners import registry, two_observe
 from glamas.learners import single_gla as single_gla_learner
+from glamas.qlearning import QSettings
 
 SINGLE = single_gla.SingleGLAConfig(iterations=600, runs=7, record_points=6)
-GRID = gridworld.GridworldConfig(episodes=40, runs=3, bins=10, q_initial=0.5, max_steps=200)
+GRID = gridworld.GridworldConfig(episodes=40, runs=3, bins=10, q=QSettings(q_initial=0.5), max_steps=200)
 
 
 def _arrays(result) -> dict:
@@ -244,6 +245,6 @@ def test_a_batch_run_before_takes_its_outputs_instead_of_running_again(monkeypat
     with pytest.raises(AssertionError, match="ran a batch"):  # another seed: other runs
         gridworld.run(GRID, seed=1, workers=2)
     with pytest.raises(AssertionError, match="ran a batch"):  # another setting
-        gridworld.run(dataclasses.replace(GRID, q_initial=0.25), workers=2)
+        gridworld.run(dataclasses.replace(GRID, q=QSettings(q_initial=0.25)), workers=2)
     with pytest.raises(ValueError, match="max_bytes must be a whole number >= 0, got -1"):
         parallel.reuse_batches(-1)

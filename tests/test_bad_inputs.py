@@ -29,6 +29,7 @@ import glamas
 from glamas import cli, errors, figures, memory, parallel, plotting, provenance, results, sources
 from glamas.experiments import and_network, gridworld, gridworld_optimum, registry, scaling, single_gla
 from glamas.gridworld import MapError, load_map
+from glamas.learners import two_observe
 from glamas.paths import MAPS, REPO, RESULTS
 
 COMMITTED = (REPO / "paper_figures" / "output", RESULTS)
@@ -262,14 +263,14 @@ def test_a_big_map_for_the_joint_learners_is_refused_before_allocating(tmp_path)
         lines.append("+" + ("-+" if r == size - 1 else " +") * size)
     path = tmp_path / "big.txt"
     path.write_text("\n".join(lines) + "\n")
-    config = gridworld.GridworldConfig(map_file=str(path), runs=20, episodes=10, bins=10)
+    config = gridworld.GridworldConfig(map=str(path), runs=20, episodes=10, bins=10)
     with pytest.raises(memory.MemoryEstimateError, match="this run needs about .* GiB .* more than"):
         memory.check(config)
 
 
 def test_the_joint_optimum_of_a_six_agent_map_is_refused_before_allocating():
     with pytest.raises(memory.MemoryEstimateError, match="this run needs about .* GiB"):
-        gridworld_optimum.run(gridworld_optimum.GridworldOptimumConfig(map_name="warehouse_6"))
+        gridworld_optimum.run(gridworld_optimum.GridworldOptimumConfig(map="warehouse_6"))
 
 
 def test_the_paper_scale_defaults_fit_the_memory_estimate():
@@ -340,10 +341,10 @@ def test_truncated_result_file_is_refused(tmp_path):
 def test_result_of_an_edited_map_is_stale(tmp_path):
     path = tmp_path / "map.txt"
     path.write_bytes(_tunnel_bytes())
-    config = gridworld.GridworldConfig(map_file=str(path), runs=1, episodes=10, bins=10)
+    config = gridworld.GridworldConfig(map=str(path), runs=1, episodes=10, bins=10)
     stored = results.save(tmp_path / "gw.npz", config, {"x": np.zeros(1)})
     path.write_bytes(_tunnel_bytes() + b"\n")
-    with pytest.raises(results.StaleResultError, match="the map file of map_file changed since it was made"):
+    with pytest.raises(results.StaleResultError, match="the map file of map changed since it was made"):
         results.load(stored, config)
 
 
@@ -405,14 +406,15 @@ def test_importers_at_once_refresh_the_kernel_cache_once(tmp_path):
     (lambda: single_gla.SingleGLAConfig(runs="10"), "SingleGLAConfig.runs must be a whole number, got '10'"),
     (lambda: single_gla.SingleGLAConfig(iterations=2 ** 40), "iterations must be at most 2147483647"),
     (lambda: and_network.ANDNetworkConfig(learning_rate="fast"), "ANDNetworkConfig.learning_rate must be a finite number"),
-    (lambda: gridworld.GridworldConfig(map_file=None), "GridworldConfig.map_file must be a string, got None"),
-    (lambda: gridworld.GridworldConfig(coordination_penalty_per_cell=math.inf),
-     "GridworldConfig.coordination_penalty_per_cell must be a finite number, got inf"),
-    (lambda: gridworld.GridworldConfig(gla_learning_rate=math.nan), "gla_learning_rate must be a finite number"),
+    (lambda: gridworld.GridworldConfig(map=None), "GridworldConfig.map must be a string, got None"),
+    (lambda: two_observe.GLASettings(coordination_penalty_per_cell=math.inf),
+     "GLASettings.coordination_penalty_per_cell must be a finite number, got inf"),
+    (lambda: two_observe.GLASettings(gla_learning_rate=math.nan), "gla_learning_rate must be a finite number"),
+    (lambda: gridworld.GridworldConfig(q=None), "GridworldConfig.q must be a QSettings, got None"),
     (lambda: gridworld_optimum.GridworldOptimumConfig(epsilon=math.inf),
      "GridworldOptimumConfig.epsilon must be a finite number, got inf"),
     (lambda: scaling.ScalingConfig(memory_budget_gib="4"), "ScalingConfig.memory_budget_gib must be a finite number"),
-    (lambda: scaling.ScalingConfig(learning=None), "ScalingConfig.learning must be a LearningSettings, got None"),
+    (lambda: scaling.ScalingConfig(q={"discount": 0.9}), "ScalingConfig.q must be a QSettings, got {'discount': 0.9}"),
 ])
 def test_wrong_types_and_non_finite_settings_are_refused_with_the_field(make, message):
     with pytest.raises(ValueError, match=re.escape(message)):

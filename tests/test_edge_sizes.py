@@ -51,10 +51,9 @@ def _nine_agents(tmp_path) -> str:
 
 
 def test_nine_agents_skip_the_learners_beyond_the_budget_and_run_the_others(tmp_path):
-    config = scaling.ScalingConfig(agents=(9,), map_pattern=_nine_agents(tmp_path), episodes=100, runs=1)
+    config = scaling.ScalingConfig(agents=(9,), map=_nine_agents(tmp_path), episodes=100, runs=1)
     gridmap = config.gridmap(9)
-    settings = config.settings("mmdp")
-    assert registry.get("mmdp").bytes_per_run(settings, gridmap) == 36 ** 9 * 4 ** 9 * 8  # Python ints: exact
+    assert registry.get("mmdp").bytes_per_run(config.setup("mmdp"), gridmap) == 36 ** 9 * 4 ** 9 * 8  # Python ints: exact
     result = scaling.run(config, workers=parallel.Threads(1))
     names = result.names()
     assert not result.ran[names.index("mmdp"), 0] and not result.ran[names.index("joint_state"), 0]
@@ -74,11 +73,11 @@ def test_an_epsilon_too_coarse_for_an_optimum_is_refused():
 
 
 @pytest.mark.parametrize("change, message", [
-    (lambda g: {"starts": np.array([np.flatnonzero(g.is_goal)[0], g.starts[1]])}, "agent 1 starts on a goal"),
+    (lambda g: {"starts": np.array([np.flatnonzero(g.is_goal)[0], g.starts[1]])}, "agent 1 starts on its own goal"),
     (lambda g: {"starts": np.array([g.starts[0], g.starts[0]])}, "agents 1 and 2 both start at"),
     (lambda g: {"starts": np.array([g.starts[0], 99])}, "agent 2's start 99 is outside the cells 0..24"),
     (lambda g: {"starts": [1, 2]}, "starts must be an array of integer of shape (2,)"),
-    (lambda g: {"is_goal": np.zeros(g.n_cells, bool)}, "has no goal"),
+    (lambda g: {"goal_of": np.zeros((2, g.n_cells), bool)}, "has no goal for agent 1"),
     (lambda g: {"next_cell": g.next_cell[:5]}, "next_cell must be an array of integer of shape (25, 4)"),
 ])
 def test_a_map_built_in_python_is_checked_as_a_map_file_is(change, message):

@@ -17,6 +17,7 @@ import pytest
 
 from glamas import committed, errors
 from glamas.paths import REPO
+from glamas.experiments import registry
 
 LAYOUT = ("lib", "data", "paper_figures", "docs", "README.md")
 """What of the repository the commands read: the package, the committed files, the ledger's pages."""
@@ -147,6 +148,7 @@ def test_verify_usage_errors_are_one_line_on_stderr():
 # --- the advice about committed files --------------------------------------------------------------
 
 def test_every_committed_result_has_a_script_that_computes_it():
+    registry.experiments()  # each experiment tells glamas.committed its scripts as it registers
     for path in sorted((REPO / "data" / "results").glob("*.npz")):
         script = committed.computing_script(path.name)
         assert committed.RUNS_ITS_EXPERIMENT in (REPO / "paper_figures" / f"{script}.py").read_text()
@@ -154,6 +156,7 @@ def test_every_committed_result_has_a_script_that_computes_it():
 
 
 def test_advice_is_for_committed_files_only(tmp_path):
+    registry.experiments()
     assert committed.advice(tmp_path / "gridworld.npz") is None
     assert committed.advice(REPO / "data" / "results" / "scaling.npz", "--force").startswith(
         "recompute it with `python paper_figures/scaling_performance.py --force`")

@@ -124,7 +124,7 @@ def test_experiment_measure_and_config_errors():
     assert metrics["optimal_total_steps"] == 21 and metrics["optimal_collisions"] == 0
     assert metrics["value_gap"] < 1e-8 and metrics["selfish_collisions"] >= 1
     with pytest.raises(ValueError, match="no map file nowhere; give a map file's path or the name of a map in data/maps"):
-        gridworld_optimum.GridworldOptimumConfig(map_name="nowhere")
+        gridworld_optimum.GridworldOptimumConfig(map="nowhere")
     with pytest.raises(ValueError, match=r"gamma must be a float in \(0, 1\)"):
         gridworld_optimum.GridworldOptimumConfig(gamma=1.5)
     with pytest.raises(ValueError, match="bounce must be one of"):

@@ -13,17 +13,39 @@ from glamas import claims
 from glamas.curves import convergence_episode, convergence_grid, convergence_ratio, final, grid_verdict
 from glamas.experiments import gridworld as gw
 from glamas.gridworld import MapError
+from glamas.learners import two_observe
+from glamas.qlearning import QSettings
 from glamas.paths import REPO
 
 FIGURES = ("fig10", "fig11a", "fig11b", "fig12a", "fig12b")
+
+
+def setting(config, path: str):
+    """The setting at a dotted ``path`` of ``config`` ('q.q_learning_rate', 'settings.two_observe.gla_L')."""
+    value = config
+    for part in path.split("."):
+        value = value[part] if isinstance(value, dict) else getattr(value, part)
+    return value
 
 
 def test_config_defaults_are_the_chapter_parameters():
     config = gw.GridworldConfig()
     stated = claims.parameters("gridworld")
     assert stated  # the chapter states some of them
-    for field, entry in stated.items():
-        assert getattr(config, field) == entry["value"], field
+    for path, entry in stated.items():
+        assert setting(config, path) == entry["value"], path
+
+
+Q_FIELDS = {field.name for field in dataclasses.fields(QSettings)}
+GLA_FIELDS = {field.name for field in dataclasses.fields(two_observe.GLASettings)}
+
+
+def configured(**changes) -> gw.GridworldConfig:
+    """The experiment's config with ``changes``, each to the settings class that owns it."""
+    q = {k: v for k, v in changes.items() if k in Q_FIELDS}
+    gla = {k: v for k, v in changes.items() if k in GLA_FIELDS}
+    rest = {k: v for k, v in changes.items() if k not in Q_FIELDS | GLA_FIELDS}
+    return gw.GridworldConfig(q=QSettings(**q), settings={"two_observe": two_observe.GLASettings(**gla)}, **rest)
 
 
 @pytest.mark.parametrize("changes, message", [
@@ -35,11 +57,12 @@ def test_config_defaults_are_the_chapter_parameters():
     ({"exploit_prob": 1.5}, "exploit_prob must be a number in (0, 1]"),
     ({"discount": 0}, "discount must be a number in (0, 1]"),
     ({"bounce": "wall"}, "bounce must be one of ['previous', 'start']"),
-    ({"learners": ("independent", "sarsa")}, "learners must be distinct names from"),
-    ({"learners": ()}, "learners must be distinct names from"),
+    ({"learners": ("independent", "sarsa")}, "learners must be distinct names of registered learners"),
+    ({"learners": ()}, "learners must be distinct names of registered learners"),
     ({"gla_temperature": -1.0}, "GLA temperature must be a finite number > 0"),
     ({"gla_bounding": "soft"}, "GLA bounding must be one of"),
     ({"gla_init_range": 2.0, "gla_L": 1.0}, "gla_init_range must be in [0, gla_L=1.0]"),
+    ({"gla_init_range": 9.0}, "gla_init_range (9.0) must be at most the GLA box L = 8 on map 'tunnel_to_goal'"),
     ({"gla_feedback": ((1, 0, 0), (0, 1, 0))}, "gla_feedback must be a 2x2 table"),
     ({"gla_feedback": "ones"}, "gla_feedback must be a 2x2 table"),
     ({"coordination_penalty_per_cell": -0.1}, "coordination_penalty_per_cell must be a number >= 0"),
@@ -48,22 +71,32 @@ def test_config_defaults_are_the_chapter_parameters():
 ])
 def test_bad_configurations_are_rejected_with_a_message(changes, message):
     with pytest.raises(ValueError, match=re.escape(message)):
-        gw.GridworldConfig(**changes)
+        configured(**changes)
 
 
-def test_map_file_errors_name_the_problem(tmp_path):
+def test_settings_are_held_by_learner_name_and_completed_with_defaults():
+    config = gw.GridworldConfig(learners=("independent", "two_observe", "cq"))
+    assert set(config.settings) == {"two_observe", "cq"}  # the independent learners have none of their own
+    assert config.own("two_observe") == two_observe.GLASettings() and config.own("independent") is None
+    assert dataclasses.replace(config, learners=("independent",)).settings == {}  # only the trained learners' kept
+    with pytest.raises(ValueError, match=r"settings for \['sarsa'\], which are no registered learners"):
+        gw.GridworldConfig(settings={"sarsa": two_observe.GLASettings()})
+    with pytest.raises(ValueError, match="learner 'cq' takes settings of its own of type Settings, got GLASettings"):
+        gw.GridworldConfig(learners=("cq",), settings={"cq": two_observe.GLASettings()})
+
+
+def test_a_map_by_name_or_path_with_any_number_of_agents(tmp_path):
     with pytest.raises(MapError, match="no map file"):
-        gw.GridworldConfig(map_file="no_such_map.txt")
-    three = tmp_path / "three.txt"
-    three.write_text("+-+-+-+\n|1 2 3|\n+ + + +\n|. G .|\n+-+-+-+\n")
-    with pytest.raises(ValueError, match="written for two agents; map .* has 3"):
-        gw.GridworldConfig(map_file=str(three))
-
-
-def test_map_file_by_name_or_path():
+        gw.GridworldConfig(map="no_such_map")
     assert gw.GridworldConfig().gridmap().name == "tunnel_to_goal"
     path = REPO / "data" / "maps" / "tunnel_to_goal.txt"
-    assert gw.GridworldConfig(map_file=str(path)).gridmap().n_cells == 25
+    assert gw.GridworldConfig(map=str(path)).gridmap().n_cells == 25
+    config = gw.GridworldConfig(map="tunnel_to_goal_3", learners=("independent", "two_observe"), runs=1, episodes=20,
+                                bins=5, max_steps=500)
+    result = gw.run(config, workers=1)
+    assert result.log.shape[-1] == 2 * 3 + 4 and result.gla_parameters.shape[1] == 3
+    assert gw.optimum(config)["steps"] == pytest.approx(11.0)  # 10, 11 and 12 steps
+    assert gw.optimum(gw.GridworldConfig(map="tunnel_to_goal_4")) is None  # too large to tabulate
 
 
 def test_final_and_convergence_episode_on_a_made_up_curve():
@@ -108,7 +141,7 @@ def test_coordination_probability_is_eq15_of_the_final_parameters(small):
     u[:, :, 1] = [-0.5, 0.75]  # coordinate: x.u = -0.5 delta + 0.75; act alone: 0
     made_up = dataclasses.replace(result, gla_parameters=u)
     p = gw.coordination_probability(made_up, config, [0, 1, 2, 4])
-    expected = 1 / (1 + np.exp(-(-0.5 * np.array([0, 1, 2, 4]) + 0.75) / config.gla_temperature))
+    expected = 1 / (1 + np.exp(-(-0.5 * np.array([0, 1, 2, 4]) + 0.75) / config.own("two_observe").gla_temperature))
     assert np.allclose(p, expected)
 
 
@@ -181,3 +214,9 @@ def test_a_convergence_ratio_is_decided_only_when_its_interval_excludes_one():
     _, low, high = convergence_ratio(noisy, slow, episodes, "run_mean")
     assert low <= 1 <= high
     assert grid_verdict(convergence_grid(noisy, slow, episodes, "run_mean")) == "undecidable"
+
+
+def test_the_step_ticks_derived_from_the_map_are_tunnel_to_goals_on_tunnel_to_goal():
+    assert gw.step_ticks(gw.GridworldConfig().gridmap()) == ((10, 20, 50, 100, 1000), (10, 11, 12, 14, 16))
+    log_ticks, tail = gw.step_ticks(gw.GridworldConfig(map="cmu").gridmap())  # 31 steps alone
+    assert log_ticks[0] == 31 and tail == (31, 34, 37, 43, 49)

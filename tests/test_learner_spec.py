@@ -1,15 +1,17 @@
-"""A learner is declared once: a toy learner defined and registered in this file alone runs in the
-related-work comparison and in the scaling study by its name, and the registry keeps every
-library learner's seeds whatever else is registered."""
+"""A learner is declared once: a toy learner with a setting of its own, defined and registered in
+this file alone, runs in the gridworld experiments and in the scaling study by its name, its
+setting held by its name in their configs; the registry keeps every learner's seeds whatever else
+is registered, listed or trained, and in whatever order."""
 
 import ast
-from dataclasses import replace
+from dataclasses import dataclass, replace
+from typing import NamedTuple
 
 import numpy as np
 import pytest
 from numba import njit
 
-from glamas import parallel, rng
+from glamas import checks, parallel, rng
 from glamas.experiments import gridworld as gw
 from glamas.experiments import related_work as rw
 from glamas.experiments import scaling as sc
@@ -20,9 +22,30 @@ from glamas.learners.spec import Learner
 from glamas.paths import REPO
 
 
+@dataclass(frozen=True)
+class WalkSettings:
+    """The random walkers' own setting."""
+
+    stay_prob: float = 0.0
+    """Probability that an acting agent takes no step (it walks into a wall, the rules' bump)."""
+
+    def __post_init__(self):
+        checks.field_types(self)
+        if not 0.0 <= self.stay_prob <= 1.0:
+            raise ValueError(f"stay_prob must be in [0, 1], got {self.stay_prob!r}")
+
+
+class Walk(NamedTuple):
+    """The walkers' setting as their kernel reads it, named as WalkSettings."""
+
+    stay_prob: float
+
+
 @njit(cache=True, nogil=True)
-def random_walk(world, learning, schedule, q, log, state):
-    """Agents that never learn: every acting agent moves in a direction drawn uniformly."""
+def random_walk(world, learning, walk, schedule, q, log, state):
+    """Agents that never learn: every acting agent moves in a direction drawn uniformly, or, with
+    probability ``walk.stay_prob``, bumps into the border (a move north from the top row, else a
+    move that stays)."""
     n_agents = world.starts.shape[0]
     cells, done, actions, new_cells, rewards, bumped, collided, reached, acc = ep.buffers(n_agents)
     for episode in range(schedule.episodes):
@@ -31,6 +54,10 @@ def random_walk(world, learning, schedule, q, log, state):
         while t < schedule.max_steps and not ep.all_done(done):
             for i in range(n_agents):
                 actions[i] = rng.integer(state, rules.N_ACTIONS)
+                if rng.uniform(state) < walk.stay_prob:
+                    for a in range(rules.N_ACTIONS):
+                        if world.next_cell[cells[i], a] == cells[i]:
+                            actions[i] = a
             collisions = rules.step(world, cells, done, actions, new_cells, rewards, bumped, collided, reached)
             t += 1
             ep.end_step(t, cells, done, new_cells, rewards, reached, collisions, acc)
@@ -38,7 +65,8 @@ def random_walk(world, learning, schedule, q, log, state):
 
 
 RANDOM_WALK = Learner(name="random_walk", label="random walkers", kernel=random_walk,
-                      table_shape=lambda n_cells, n_agents: (n_agents, n_cells, rules.N_ACTIONS))
+                      table_shape=lambda n_cells, n_agents: (n_agents, n_cells, rules.N_ACTIONS),
+                      defaults=WalkSettings(), inputs=lambda setup, gridmap: (Walk(setup.own.stay_prob),))
 
 
 @pytest.fixture()
@@ -48,47 +76,78 @@ def registered():
     registry.unregister(RANDOM_WALK.name)
 
 
-def test_a_registered_learner_runs_beside_the_chapters_learners(registered):
-    chapter = gw.GridworldConfig(learners=("independent",), episodes=60, runs=2, bins=6, max_steps=2000)
-    config = rw.RelatedWorkConfig(gridworld=chapter, learners=("sparse_maq", "random_walk"))
+SMALL = {"episodes": 60, "runs": 2, "bins": 6, "max_steps": 2000}
+
+
+def test_a_registered_learner_runs_beside_the_library_learners_with_its_own_setting(registered):
+    config = rw.RelatedWorkConfig(learners=("independent", "sparse_maq", "random_walk"), **SMALL)
+    assert config.own("random_walk") == WalkSettings()  # its defaults, held by its name
     result = rw.run(config, seed=1, workers=parallel.Threads(1))
     assert result.names() == ["independent", "sparse_maq", "random_walk"]
     walk = result.curves("random_walk", "steps")
     assert np.isfinite(walk).all() and (walk >= 10).all()
     assert result.local_entries[-1] == 25 * 4 and result.reward_samples[-1] == 0
     # registering it changed nobody's seeds: the library learners' curves are those without it
-    alone = rw.run(rw.RelatedWorkConfig(gridworld=chapter, learners=("sparse_maq",)), seed=1, workers=parallel.Threads(1))
+    alone = rw.run(replace(config, learners=("independent", "sparse_maq")), seed=1, workers=parallel.Threads(1))
     assert np.array_equal(result.log[:2], alone.log)
+    # its setting reaches its kernel: walkers that mostly stay take longer
+    slow = gw.run(gw.GridworldConfig(learners=("random_walk",), settings={"random_walk": WalkSettings(stay_prob=0.9)},
+                                     **SMALL), seed=1, workers=parallel.Threads(1))
+    assert slow.steps("random_walk").mean() > 2 * walk.mean()
+    with pytest.raises(ValueError, match=r"stay_prob must be in \[0, 1\]"):
+        WalkSettings(stay_prob=2.0)
 
 
 def test_a_registered_learner_joins_the_scaling_study(registered):
-    config = sc.ScalingConfig(agents=(2, 3), methods=("independent", "random_walk"), episodes=40, runs=2, bin_size=20)
+    config = sc.ScalingConfig(agents=(2, 3), learners=("independent", "random_walk"), episodes=40, runs=2, bin_size=20)
     result = sc.run(config, seed=0, workers=parallel.Threads(1))
     assert result.ran.all() and result.table_shapes[1].tolist() == [[2, 35, 4], [3, 35, 4]]
     assert np.isfinite(result.curves("random_walk", 3, "collisions")).all()
 
 
+def test_reordering_the_registry_or_the_learners_changes_no_result():
+    config = gw.GridworldConfig(learners=("independent", "two_observe", "cq"), **SMALL)
+    first = gw.run(config, seed=2, workers=parallel.Threads(1))
+    order = list(registry.LEARNERS.items())
+    try:
+        registry.LEARNERS.clear()
+        registry.LEARNERS.update(reversed(order))
+        again = gw.run(replace(config, learners=("cq", "two_observe", "independent")), seed=2, workers=parallel.Threads(1))
+    finally:
+        registry.LEARNERS.clear()
+        registry.LEARNERS.update(order)
+    for name in config.learners:
+        assert np.array_equal(first.curves(name, "reward"), again.curves(name, "reward")), name
+    assert np.array_equal(first.gla_parameters, again.gla_parameters)
+
+
 def test_unknown_learners_are_refused_by_name():
-    with pytest.raises(ValueError, match="learners must be distinct names from"):
+    with pytest.raises(ValueError, match="learners must be distinct names of registered learners"):
         rw.RelatedWorkConfig(learners=("random_walk",))
     with pytest.raises(ValueError, match="no learner 'random_walk'"):
         registry.get("random_walk")
 
 
-def test_a_learner_of_no_family_or_with_anothers_seeds_is_refused(registered):
+def test_a_learner_of_no_family_without_a_slot_or_with_anothers_seeds_is_refused(registered):
     with pytest.raises(ValueError, match="a learner's family must be one of"):
         registry.register(replace(RANDOM_WALK, name="walker", family="mine"))
+    with pytest.raises(ValueError, match="must declare its seed_slot"):
+        registry.register(replace(RANDOM_WALK, name="walker", family="chapter"))
     # walker_384911 falls on random_walk's seed slot (crc32 of the name modulo NAME_SLOTS)
     with pytest.raises(ValueError, match="would draw the seeds of 'random_walk'; choose another name"):
         registry.register(replace(RANDOM_WALK, name="walker_384911"))
     assert "walker" not in registry.LEARNERS and "walker_384911" not in registry.LEARNERS
 
 
-def test_library_seeds_are_the_committed_formulas():
-    assert [registry.master_seed(5, gw.LEARNERS, name) for name in gw.LEARNERS] == [20, 21, 22, 23]
-    assert [registry.master_seed(5, rw.RELATED_LEARNERS, name, "related") for name in rw.RELATED_LEARNERS] == \
-        [2 ** 32 + 10, 2 ** 32 + 11]
-    assert registry.master_seed(0, (), "random_walk", "other") != registry.master_seed(1, (), "random_walk", "other")
+def test_library_seeds_are_the_committed_formulas(registered):
+    """Each library learner's declared slot gives the seeds of the committed results: the chapter's
+    four learners key * 4 + 0..3, the related-work learners 2**32 + key * 2 + 0..1, the scaling
+    study's five chapter slots key * 5 + 0..4."""
+    assert [registry.master_seed(5, name) for name in gw.CHAPTER_LEARNERS] == [20, 21, 22, 23]
+    assert [registry.master_seed(5, name) for name in rw.RELATED_LEARNERS] == [2 ** 32 + 10, 2 ** 32 + 11]
+    assert [sc.seed_of(2, name, 3) for name in sc.CHAPTER_METHODS] == [(2 * 16 + 3) * 5 + k for k in range(5)]
+    assert registry.master_seed(0, "random_walk") != registry.master_seed(1, "random_walk")
+    assert registry.master_seed(5, "two_observe_rule") >= registry.SEED_OFFSETS["other"]  # beyond the stride of 4
 
 
 def test_every_compiled_function_takes_at_most_ten_parameters():

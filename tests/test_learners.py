@@ -35,7 +35,7 @@ def small_result():
 
 
 def test_every_learner_runs_and_its_log_is_consistent(small_result):
-    for name in gw.LEARNERS:
+    for name in gw.CHAPTER_LEARNERS:
         steps = small_result.curves(name, "steps")
         assert np.isfinite(small_result.log).all()
         assert (steps >= 10).all(), name  # 10 moves is the shortest path of either agent
@@ -122,7 +122,7 @@ def test_both_coordinate_without_a_collision_coming_keeps_the_preferred_actions(
 
 
 def test_gla_feedback_table_and_needless_coordination_penalty():
-    table = np.array(gw.GridworldConfig().gla_feedback)
+    table = np.array(two_observe.GLASettings().gla_feedback)
     assert gla_feedback(table, 0.1, ACT_ALONE, False, False, 3) == 1.0
     assert gla_feedback(table, 0.1, ACT_ALONE, True, False, 3) == 0.0
     assert gla_feedback(table, 0.1, COORDINATE, True, True, 2) == 1.0
@@ -145,7 +145,7 @@ def test_two_observe_counts_its_observed_steps_by_distance(small_result):
 def test_fixed_rule_first_level_replaces_the_glas():
     def ruled(distance):
         config = gw.GridworldConfig(episodes=200, runs=2, bins=2, learners=("two_observe",),
-                                    rule_distance=distance)
+                                    settings={"two_observe": two_observe.GLASettings(rule_distance=distance)})
         return gw.run(config, seed=2, workers=1)
     never, always = ruled(0), ruled(99)
     assert (never.curves("two_observe", "coordinations") == 0).all()
@@ -160,7 +160,7 @@ def test_fixed_rule_first_level_replaces_the_glas():
 
 def test_the_initial_glas_are_drawn_in_the_init_range(small_result):
     u = small_result.gla_initial
-    assert 0 < np.abs(u).max() <= SMALL.gla_init_range
+    assert 0 < np.abs(u).max() <= SMALL.own("two_observe").gla_init_range
     assert not np.array_equal(u, small_result.gla_parameters)  # learning moved them
 
 
@@ -214,7 +214,7 @@ def test_need_before_the_move_under_each_reading(tunnel_entrance, need, preferre
 def test_outcome_reading_feeds_back_the_collision_that_happened():
     """Under 'outcome', coordinating is rewarded only on a step with a collision: when the
     yielding agent's random move still collides, or when only one agent coordinated."""
-    table = np.array(gw.GridworldConfig(gla_need="outcome").gla_feedback)
+    table = np.array(two_observe.GLASettings(gla_need="outcome").gla_feedback)
     assert gla_feedback(table, 0.1, COORDINATE, True, False, 2) == 1.0  # collided: coordinating was right
     assert gla_feedback(table, 0.1, COORDINATE, False, True, 2) == pytest.approx(-0.2)  # avoided: "no need"
     assert gla_feedback(table, 0.1, ACT_ALONE, False, False, 2) == 1.0

@@ -158,9 +158,10 @@ def test_2observe_pair_step_plays_the_group_step_for_two_agents(reading):
     which steps with pair_step, plays what run plays for two agents."""
     learner = registry.get("two_observe")
     assert learner.kernel_for(2) is two_observe.run_two and learner.kernel_for(3) is two_observe.run
-    config = gw.GridworldConfig(learners=("two_observe",), gla_feedback=((1.0, 0.0), (1.0, 1.0)), **reading)
+    own = two_observe.GLASettings(gla_feedback=((1.0, 0.0), (1.0, 1.0)), **reading)
+    config = gw.GridworldConfig(learners=("two_observe",), settings={"two_observe": own})
     g = config.gridmap()
-    world, learning, automata, _ = spec.kernel_inputs(learner, config, g, config.schedule())
+    world, learning, automata, _ = spec.kernel_inputs(learner, config.setup("two_observe"), g, config.schedule())
     free = [c for c in range(g.n_cells) if not (g.is_goal[c] or g.blocked[c])]
     pairs = [(a, b) for a in free for b in free if a != b]
     draws = np.random.default_rng(5)
@@ -214,7 +215,7 @@ def test_small_study_runs_every_method_that_fits_and_skips_the_rest(small_result
     assert (r.curves("two_observe_rule", 3, "coordinations") > 0).all()  # the rule coordinates
     assert r.bytes_needed[2, 1] == 2 * 42875 * 64 * 8
     steps = r.curves("independent", 3, "steps")
-    assert (steps >= 10).all() and (steps <= SMALL.learning.max_steps).all()
+    assert (steps >= 10).all() and (steps <= SMALL.max_steps).all()
 
 
 def test_same_seed_same_study_for_one_and_two_workers(small_result):
@@ -224,11 +225,10 @@ def test_same_seed_same_study_for_one_and_two_workers(small_result):
 
 def test_n_agent_kernels_run_on_the_warehouse():
     g = load_map(MAPS / "warehouse_4.txt")
-    settings = gw.GridworldConfig(max_steps=500)
     for learner in (independent.LEARNER, joint_state.LEARNER, mmdp.LEARNER):
         if learner is mmdp.LEARNER:
             g = load_map(MAPS / "warehouse_3.txt")
-        outputs = spec.train(learner, settings, g, ep.Schedule(20, ep.uniform_edges(20, 10), 500), 1, 2, workers=1)
+        outputs = spec.train(learner, learner.setup(), g, ep.Schedule(20, ep.uniform_edges(20, 10), 500), 1, 2, workers=1)
         assert (outputs["log"][0, :, :g.n_agents] >= 1).all() and np.abs(outputs["q"]).sum() > 0
 
 
@@ -264,17 +264,16 @@ def test_pivot_table_has_a_row_per_method_and_counts_capped_runs(small_result):
 
 
 @pytest.mark.parametrize("kwargs, message", [
-    ({"agents": (1, 2)}, "agents must be distinct whole numbers from 2"),
+    ({"agents": (1, 2)}, "agents must be distinct whole numbers >= 2"),
     ({"agents": (2, 2)}, "agents must be distinct"),
-    ({"methods": ("mmdp", "sarsa")}, "methods must be distinct names"),
+    ({"learners": ("mmdp", "sarsa")}, "learners must be distinct names of registered learners"),
     ({"episodes": 250, "bin_size": 100}, "bin_size (100) must divide episodes (250)"),
     ({"runs": 0}, "runs must be a whole number >= 1"),
     ({"memory_budget_gib": 0}, "memory_budget_gib must be a number > 0"),
-    ({"rule_distance": -1}, "rule_distance must be a whole number >= 0"),
-    ({"map_pattern": "warehouse.txt"}, "map_pattern must contain '{n}'"),
-    ({"map_pattern": "warehouse_{n}.txt", "agents": (7,)}, "no map file"),
-    ({"map_pattern": "warehouse_3.txt{n}"}, "no map file"),
-    ({"learning": {"max_steps": 10}}, "learning must be a LearningSettings"),
+    ({"map": "warehouse"}, "map must contain '{n}'"),
+    ({"map": "warehouse_{n}", "agents": (7,)}, "no map file"),
+    ({"map": "warehouse_3.txt{n}"}, "no map file"),
+    ({"q": {"discount": 0.5}}, "q must be a QSettings"),
 ])
 def test_config_errors_name_the_problem(kwargs, message):
     with pytest.raises(Exception, match=None) as error:
@@ -285,7 +284,7 @@ def test_config_errors_name_the_problem(kwargs, message):
 def test_a_map_with_the_wrong_number_of_agents_is_refused(tmp_path):
     (tmp_path / "w_2.txt").write_text((MAPS / "warehouse_3.txt").read_text())
     with pytest.raises(ValueError, match="has 3 agents, the study expects 2"):
-        sc.ScalingConfig(agents=(2,), map_pattern=str(tmp_path / "w_{n}.txt"))
+        sc.ScalingConfig(agents=(2,), map=str(tmp_path / "w_{n}.txt"))
 
 
 def test_plots_refuse_unknown_metrics_and_agents(small_result):

@@ -19,8 +19,8 @@ from glamas.learners import cq, registry, sparse_maq
 from glamas.paths import REPO
 
 ALPHA, GAMMA = 0.5, 0.9
-SMALL = rw.RelatedWorkConfig(gridworld=gw.GridworldConfig(learners=("independent", "mmdp"), episodes=400,
-                                                          runs=2, bins=20), cq_solo_episodes=50)
+SMALL = rw.RelatedWorkConfig(learners=("independent", "mmdp", "sparse_maq", "cq"), episodes=400, runs=2, bins=20,
+                             settings={"cq": cq.Settings(cq_solo_episodes=50)})
 
 
 # --- sparse tabular MAQ ------------------------------------------------------------------------
@@ -36,7 +36,7 @@ def test_coordination_states_are_the_close_joint_states():
         assert a != b and goal not in (a, b) and 1 <= rules_distance(g, a, b) <= 2
     assert index[g.cell(1, 4) * 25 + g.cell(3, 4)] >= 0  # the tunnel entrance, distance 2
     assert index[g.cell(0, 0) * 25 + g.cell(4, 0)] == -1  # the starts, distance 4
-    assert sparse_maq.pair_table_shape(SMALL, g) == (1, rows.size, 16)
+    assert sparse_maq.pair_table_shape(SMALL.setup("sparse_maq"), g) == (1, rows.size, 16)
 
 
 def rules_distance(g, a, b):
@@ -110,7 +110,7 @@ def test_the_test_flags_rewards_that_drop_when_the_other_agent_is_near():
 def test_fewest_flagged_collisions_is_where_the_test_starts_to_flag():
     config = rw.RelatedWorkConfig()
     assert rw.fewest_flagged_collisions(config) == 4  # as in the test above: 3 in 30 is not flagged
-    strict = dataclasses.replace(config, cq_significance=0.001)
+    strict = dataclasses.replace(config, settings={"cq": cq.Settings(cq_significance=0.001)})
     assert rw.fewest_flagged_collisions(strict) > 4
 
 
@@ -158,15 +158,15 @@ def test_small_run_logs_both_learners_and_cq_marks_only_close_joint_states(small
     assert small.joint_entries[2].tolist() == [(index.max() + 1) * 16 / 2] * 2
     assert small.joint_entries[3].tolist() == (small.cq_marked.sum(axis=(2, 3)).mean(axis=1) * 4).tolist()
     assert small.local_entries.tolist() == [100.0, 0.0, 100.0, 100.0]
-    assert small.reward_samples.tolist() == [0, 0, 0, 25 * 4 * SMALL.cq_window]
+    assert small.reward_samples.tolist() == [0, 0, 0, 25 * 4 * SMALL.own("cq").cq_window]
 
 
 def test_chapter_learners_keep_their_seeds_and_results_do_not_depend_on_workers(small):
-    chapter = gw.run(SMALL.gridworld, seed=3, workers=1)
+    chapter = gw.run(gw.GridworldConfig(learners=("independent", "mmdp"), episodes=400, runs=2, bins=20), seed=3, workers=1)
     assert np.array_equal(small.log[:2], chapter.log)
     two = rw.run(SMALL, seed=3, workers=2)
     assert np.array_equal(small.log, two.log) and np.array_equal(small.cq_marked, two.cq_marked)
-    seeds = [registry.master_seed(3, rw.RELATED_LEARNERS, name, "related") for name in rw.RELATED_LEARNERS]
+    seeds = [registry.master_seed(3, name) for name in rw.RELATED_LEARNERS]
     assert seeds[0] != seeds[1] and min(seeds) >= 2 ** 32
 
 
@@ -189,16 +189,23 @@ def test_final_interval_is_the_final_mean_with_a_band_over_runs(small):
 
 @pytest.mark.parametrize("changes, message", [
     ({"learners": ("cq", "cq")}, "learners must be distinct names"),
-    ({"learners": ("two_observe",)}, "learners must be distinct names"),
-    ({"coordination_distance": 0}, "coordination_distance must be a whole number >= 1"),
-    ({"cq_window": 1}, "cq_window must be a whole number >= 2"),
-    ({"cq_solo_episodes": 2.5}, "cq_solo_episodes must be a whole number >= 1"),
-    ({"cq_significance": 5}, "cq_significance must be a number in (0, 1)"),
-    ({"gridworld": {"episodes": 10}}, "gridworld must be a GridworldConfig"),
+    ({"learners": ("q_lambda",)}, "learners must be distinct names"),
+    ({"settings": {"sparse_maq": {"coordination_distance": 0}}}, "learner 'sparse_maq' takes settings of its own of type Settings"),
 ])
 def test_bad_configurations_are_rejected_with_a_message(changes, message):
     with pytest.raises(ValueError, match=message.replace("(", r"\(").replace(")", r"\)")):
         dataclasses.replace(SMALL, **changes)
+
+
+@pytest.mark.parametrize("make, message", [
+    (lambda: sparse_maq.Settings(coordination_distance=0), "coordination_distance must be a whole number >= 1"),
+    (lambda: cq.Settings(cq_window=1), "cq_window must be a whole number >= 2"),
+    (lambda: cq.Settings(cq_solo_episodes=2.5), "cq_solo_episodes must be a whole number >= 1"),
+    (lambda: cq.Settings(cq_significance=5), "cq_significance must be a number in (0, 1)"),
+])
+def test_bad_settings_are_rejected_with_a_message(make, message):
+    with pytest.raises(ValueError, match=message.replace("(", r"\(").replace(")", r"\)")):
+        make()
 
 
 def test_figure_scripts_share_one_result_and_are_byte_reproducible(tmp_path):

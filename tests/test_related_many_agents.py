@@ -10,7 +10,6 @@ from glamas.experiments import scaling as sc
 from glamas.gridworld import load_map, rules
 from glamas.gridworld.rules import E, S, W
 from glamas.learners import cq, spec, sparse_maq
-from glamas.learners.settings import LearnerSettings
 from glamas.learners import episode as ep
 from glamas.learners.sparse_maq import NO_PARTNER
 from glamas.paths import MAPS
@@ -141,8 +140,8 @@ def test_index_for_many_agents_and_its_errors():
 def test_cq_marks_with_many_agents_pair_an_agent_with_a_near_agent():
     g = load_map(MAPS / "warehouse_3.txt")
     n = g.n_agents
-    settings = LearnerSettings(max_steps=1000, cq_window=30, cq_significance=0.05, cq_solo_episodes=200)
-    outputs = spec.train(cq.LEARNER, settings, g, ep.Schedule(400, ep.uniform_edges(400, 100), 1000), 1, 2,
+    setup = cq.LEARNER.setup(own=cq.Settings(cq_window=30, cq_significance=0.05, cq_solo_episodes=200))
+    outputs = spec.train(cq.LEARNER, setup, g, ep.Schedule(400, ep.uniform_edges(400, 100), 1000), 1, 2,
                          workers=parallel.Threads(1))
     q_aug, marked, log = outputs["q_aug"], outputs["marked"], outputs["log"]
     own, other = np.nonzero(marked[0].any(axis=0))
@@ -155,8 +154,8 @@ def test_cq_marks_with_many_agents_pair_an_agent_with_a_near_agent():
 
 # --- the scaling study -------------------------------------------------------------------------
 
-SMALL = sc.ScalingConfig(agents=(2, 3), episodes=200, runs=2, bin_size=100, methods=sc.RELATED_METHODS,
-                         cq_solo_episodes=100)
+SMALL = sc.ScalingConfig(agents=(2, 3), episodes=200, runs=2, bin_size=100, learners=sc.RELATED_METHODS,
+                         settings={"cq": cq.Settings(cq_solo_episodes=100)})
 
 
 @pytest.fixture(scope="module")
@@ -187,15 +186,3 @@ def test_the_related_claims_get_measured_values(small):
     assert m["collisions_sparse_maq_max"] == max(m["collisions_sparse_maq_2"], m["collisions_sparse_maq_3"])
     assert "parameters_cq_over_two_observe_min" not in m  # 2observe did not run
     assert 1 < m["growth_factor_sparse_maq"] < 10
-
-
-@pytest.mark.parametrize("kwargs, message", [
-    ({"coordination_distance": 0}, "coordination_distance must be a whole number >= 1"),
-    ({"cq_window": 1}, "cq_window must be a whole number >= 2"),
-    ({"cq_solo_episodes": 2.5}, "cq_solo_episodes must be a whole number >= 1"),
-    ({"cq_significance": 1.5}, "cq_significance must be a number in (0, 1)"),
-])
-def test_config_errors_name_the_problem(kwargs, message):
-    with pytest.raises(ValueError) as error:
-        sc.ScalingConfig(agents=(2,), **kwargs)
-    assert message in str(error.value)

@@ -22,7 +22,7 @@ SCRATCH_OUT = REPO / "out" / "figures"
 """Where the figures of a run that is not at the paper-scale defaults go by default."""
 SCRATCH_RESULTS = REPO / "out" / "results"
 """Where the result files of a run that is not at the paper-scale defaults go by default."""
-PAPER_SCALE_OPTIONS = ("runs", "iterations", "seed")
+PAPER_SCALE_OPTIONS = ("runs", "iterations", "seed", "map")
 """The options that change a result: at their defaults, a run reproduces the committed outputs."""
 MAX_SEED = 2 ** 63 - 1
 WORKERS_PER_CORE = 4
@@ -55,10 +55,11 @@ _positive_int = _whole_number_in(1, MAX_COUNT, "must be at least 1")
 _seed = _whole_number_in(0, MAX_SEED, "must be 0 or more")
 
 
-def figure_parser(description: str, *, runs: int | None = None, iterations: int | None = None, seed: int = 0):
+def figure_parser(description: str, *, runs: int | None = None, iterations: int | None = None, seed: int = 0,
+                  maps: bool = False):
     """An argument parser with --runs, --iterations, --seed, --workers, --backend, --scheduler,
     --out, --results, --force, --rerun and --no-compute, at the paper-scale defaults ``runs``,
-    ``iterations`` and ``seed``.
+    ``iterations`` and ``seed``; with ``maps``, also --map (the experiment runs on a map it names).
 
     ``runs`` None: a figure that runs no experiment (a map, a table of settings). It takes the same
     options, so that every figure script takes one command line (``make reproduce``, ``make
@@ -75,6 +76,9 @@ def figure_parser(description: str, *, runs: int | None = None, iterations: int 
     option("--iterations", type=_positive_int, default=iterations,
            help=f"learning iterations per run (default {iterations})")
     option("--seed", type=_seed, default=seed, help=f"master seed (default {seed})")
+    if maps:
+        option("--map", default=None, help="the map to run on: a map's name in data/maps (for example isr, "
+               "tunnel_to_goal_3) or a map file's path (default: the experiment's own, the paper-scale one)")
     option("--workers", type=_positive_int, default=None,
            help="worker processes (threads with --backend threads) for the runs (default: one per core); "
                 "results do not depend on it")
@@ -83,12 +87,12 @@ def figure_parser(description: str, *, runs: int | None = None, iterations: int 
                 "cluster; results are bit-identical")
     option("--scheduler", metavar="ADDRESS", default=None,
            help="address of a Dask scheduler (e.g. tcp://HOST:8786); implies --backend dask")
-    scratch = f" at the paper-scale --runs/--iterations/--seed, else {SCRATCH_OUT.relative_to(REPO)}"
+    scratch = f" at the paper-scale --runs/--iterations/--seed/--map, else {SCRATCH_OUT.relative_to(REPO)}"
     parser.add_argument("--out", type=Path, default=None, help=f"directory for the PNG and PDF (default "
                         f"{DEFAULT_OUT.relative_to(REPO)}{scratch if experiment else ''})")
     option("--results", type=Path, default=None,
            help=f"directory for the result file (default {RESULTS.relative_to(REPO)} at the paper-scale "
-                f"--runs/--iterations/--seed, else {SCRATCH_RESULTS.relative_to(REPO)})")
+                f"--runs/--iterations/--seed/--map, else {SCRATCH_RESULTS.relative_to(REPO)})")
     option("--force", action="store_true", help="replace a result file that another configuration made")
     option("--rerun", action="store_true",
            help="run the experiment even if --results holds a result of this configuration (or an unreadable file)")
@@ -150,7 +154,7 @@ def _choose_directories(parser, args) -> None:
     for option in unset:
         setattr(args, option, defaults[option])
     if unset and not paper_scale:
-        print(f"note: not the paper-scale --runs/--iterations/--seed: writing to "
+        print(f"note: not the paper-scale --runs/--iterations/--seed/--map: writing to "
               f"{SCRATCH_OUT.parent.relative_to(REPO)}/ (--out and --results choose)", file=sys.stderr)
 
 

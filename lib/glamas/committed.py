@@ -10,6 +10,10 @@ from pathlib import Path
 
 from glamas.paths import FIGURES, REPO, RESULTS, SCRIPTS
 
+SCRIPTS_OF: dict = {}
+"""Result file name (``gridworld.npz``) -> the figure scripts of its experiment, in order: filled
+by :func:`glamas.experiments.registry.register` as each experiment registers, so that this module,
+which result files use, stands below the experiments."""
 RUNS_ITS_EXPERIMENT = "figures.figure("
 """What the source of a figure script that runs its experiment calls (the others call
 figures.fixed_figure: a map, a table of settings)."""
@@ -47,14 +51,9 @@ def figure_advice(name: str) -> str:
 def computing_script(result_file: str) -> str | None:
     """The figure script (its name, ``fig11a``) that computes the result file ``result_file``
     (``gridworld.npz``): the first of its experiment's scripts that runs the experiment; None for a
-    file of no experiment."""
-    from glamas.experiments import registry  # here: the registry imports glamas.results, which imports this module
-
-    for experiment in registry.experiments():
-        if experiment.stored and experiment.file(RESULTS).name == result_file:
-            return next((name for name in experiment.figures
-                         if RUNS_ITS_EXPERIMENT in (SCRIPTS / f"{name}.py").read_text()), None)
-    return None
+    file of no registered experiment (:data:`SCRIPTS_OF`)."""
+    return next((name for name in SCRIPTS_OF.get(result_file, ())
+                 if RUNS_ITS_EXPERIMENT in (SCRIPTS / f"{name}.py").read_text()), None)
 
 
 def shown(path: Path) -> str:

@@ -40,13 +40,15 @@ def figure(experiment: Experiment, name: str, description: str, argv=None, size:
 
 def parse(description: str, experiment: Experiment, argv=None, min_runs: int = 1):
     """The shared options at ``experiment``'s paper-scale defaults, parsed (:func:`glamas.cli.parse`),
-    and the experiment's configuration at --runs and --iterations: ``(args, config)``.
+    and the experiment's configuration at --runs and --iterations (and --map): ``(args, config)``.
     ``description`` is the script's docstring; its first paragraph is the --help text."""
-    parser = cli.figure_parser(_summary(description), runs=experiment.runs, iterations=experiment.iterations)
+    parser = cli.figure_parser(_summary(description), runs=experiment.runs, iterations=experiment.iterations,
+                               maps=experiment.map_field is not None)
     args = cli.parse(parser, argv)
     if args.runs < min_runs:
         parser.error(f"--runs must be at least {min_runs}: the figure shows {min_runs} runs")
-    return args, experiment.configure(args.runs, args.iterations)
+    config = experiment.configure(args.runs, args.iterations)
+    return args, config if getattr(args, "map", None) is None else experiment.on_map(config, args.map)
 
 
 def load_or_run(args, experiment: Experiment, config):

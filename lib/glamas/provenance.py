@@ -1,8 +1,8 @@
 """What a result depends on beyond its configuration: the map files it read and the library's
 version.
 
-A config names its map (``map_file``, ``map_name`` or ``map_pattern`` with ``agents``), not its
-content; an edited map or library would otherwise serve an old result as if it were current.
+A config names its map (its field ``map``, with ``{n}`` for each of its ``agents`` in the
+scaling study), not its content; an edited map or library would otherwise serve an old result as if it were current.
 The library is recorded by its version, ``glamas.__version__``, which a change that alters what
 an experiment computes must raise (the tests that recompute the committed results catch a change
 that forgets to): a hash of the sources would make every committed result stale at every edit of a
@@ -23,18 +23,17 @@ def record(config) -> dict:
 
 
 def map_files(config, prefix: str = "") -> list[tuple[str, str]]:
-    """(field, map name or path) of every map file a config (and the configs inside it) reads."""
+    """(field, map name or path) of every map file a config (and the configs inside it) reads: its
+    field ``map``, one per number of agents where it holds ``{n}``."""
     found = []
     for field in dataclasses.fields(config):
         value, name = getattr(config, field.name), prefix + field.name
         if dataclasses.is_dataclass(value):
             found += map_files(value, f"{name}.")
-        elif field.name == "map_file" and isinstance(value, str):
-            found.append((name, value))
-        elif field.name == "map_name" and isinstance(value, str):
-            found.append((name, value))
-        elif field.name == "map_pattern" and isinstance(value, str):
+        elif field.name == "map" and isinstance(value, str) and "{n}" in value:
             found += [(f"{name}[n={n}]", value.format(n=n)) for n in getattr(config, "agents", ())]
+        elif field.name == "map" and isinstance(value, str):
+            found.append((name, value))
     return found
 
 

@@ -15,7 +15,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Callable
 
-from glamas import results
+from glamas import committed, results
 from glamas.errors import UserError
 
 REGISTRY: dict = {}
@@ -53,6 +53,9 @@ class Experiment:
     stored: bool = True
     """Whether its result is stored in a file; False for one computed in a second when needed."""
     copies: int = 1
+    map_field: str | None = None
+    """The dotted path of its configuration's map (``"map"``, ``"gridworld.map"``), which a command
+    line's --map sets (:meth:`on_map`); None for an experiment that runs on no map."""
     """How many results of the configuration one run makes (for the memory check before it)."""
     to_arrays: Callable | None = None
     """``to_arrays(result) -> dict`` for a result that is not one dataclass of arrays."""
@@ -77,6 +80,14 @@ class Experiment:
         carries_config = "config" in {f.name for f in dataclasses.fields(self.result)}
         return self.result(config=config, **arrays) if carries_config else self.result(**arrays)
 
+    def on_map(self, config, name: str):
+        """``config`` with its map (:attr:`map_field`) set to ``name``: a map's name in data/maps or a path."""
+        head, _, rest = self.map_field.partition(".")
+        if not rest:
+            return dataclasses.replace(config, **{head: name})
+        inner = Experiment.on_map(dataclasses.replace(self, map_field=rest), getattr(config, head), name)
+        return dataclasses.replace(config, **{head: inner})
+
     def paper_scale(self):
         """The configuration of the committed result (the paper-scale --runs and --iterations)."""
         return self.configure(self.runs, self.iterations)
@@ -100,6 +111,8 @@ def register(experiment: Experiment) -> Experiment:
     if known is not None and known.run.__module__ != experiment.run.__module__:
         raise UserError(f"an experiment named {experiment.name!r} is registered already; choose another name")
     REGISTRY[experiment.name] = experiment
+    if experiment.stored:
+        committed.SCRIPTS_OF[experiment.file(".").name] = experiment.figures
     return experiment
 
 

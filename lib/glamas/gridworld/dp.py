@@ -110,6 +110,11 @@ MAX_TABLE_ENTRIES = 50_000_000
 """The most (joint state, joint action) entries :func:`joint_mdp` tabulates (about 2 GB for three agents)."""
 
 
+def tabulable(gridmap: GridMap) -> bool:
+    """Whether :func:`joint_mdp` tabulates ``gridmap``'s joint MMDP (at most MAX_TABLE_ENTRIES entries)."""
+    return (gridmap.n_cells * N_ACTIONS) ** gridmap.n_agents <= MAX_TABLE_ENTRIES
+
+
 def tabulated_bytes(gridmap: GridMap) -> int:
     """The bytes of :func:`joint_mdp`'s tables for ``gridmap``: per (joint state, joint action) the
     next state, shared reward and collisions (8 bytes each), each agent's reward (8) and bumped
@@ -124,7 +129,7 @@ def joint_mdp(gridmap: GridMap, bounce: str = "previous") -> JointMDP:
     if bounce not in rules.BOUNCE_MODES:
         raise UserError(f"bounce must be one of {sorted(rules.BOUNCE_MODES)}, got {bounce!r}")
     n_states = gridmap.n_cells ** gridmap.n_agents
-    if n_states * N_ACTIONS ** gridmap.n_agents > MAX_TABLE_ENTRIES:
+    if not tabulable(gridmap):
         raise UserError(f"the joint MMDP of {gridmap.name!r} has {n_states} states x "
                          f"{N_ACTIONS ** gridmap.n_agents} joint actions ({tabulated_bytes(gridmap) / 1e9:,.1f} GB of "
                          "tables): too large to tabulate; use searched_optimum or optimum_bounds, or fewer agents")

@@ -6,7 +6,7 @@ on (the plots' on first use) and registers the study."""
 from pathlib import Path
 
 from glamas.experiments.faces import plots_on_first_use
-from glamas.experiments.fig10_readings.analysis import DELTAS, coordinating_share, summary, table, verdict_table
+from glamas.experiments.fig10_readings.analysis import coordinating_share, deltas, summary, table, verdict_table
 from glamas.experiments.fig10_readings.experiment import READINGS, ReadingsConfig, ReadingsResult, run, scaled
 from glamas.experiments.gridworld.experiment import GridworldConfig
 from glamas.experiments.registry import Experiment, register
@@ -16,12 +16,12 @@ PLOTS = ("plot_coordination", "plot_collisions")
 """The drawing functions of :mod:`.plots` this face hands on."""
 __getattr__ = plots_on_first_use(__name__, PLOTS)
 
-__all__ = ["DELTAS", "EXPERIMENT", "READINGS", "ReadingsConfig", "ReadingsResult", "coordinating_share", "load",
+__all__ = ["EXPERIMENT", "READINGS", "ReadingsConfig", "ReadingsResult", "coordinating_share", "deltas", "load",
            "run", "summary", "table", "verdict_table", *PLOTS]
 
 EXPERIMENT = register(Experiment("fig10_readings", ReadingsConfig, run, scaled, GridworldConfig.runs,
                                  GridworldConfig.episodes, ReadingsResult, figures=("fig10_readings",),
-                                 chapter=False))
+                                 chapter=False, map_field="gridworld.map"))
 """The readings of Fig. 10 (no claims of its own: :func:`summary` judges each reading by Sec. 5.3's)."""
 
 

@@ -10,10 +10,13 @@ import numpy as np
 from glamas.experiments.fig10_readings.experiment import ReadingsConfig, ReadingsResult
 from glamas.experiments.gridworld import analysis as gw_analysis
 from glamas.experiments.gridworld.experiment import GridworldConfig, GridworldResult
+from glamas.learners import two_observe
 
 
-DELTAS = np.arange(1, 9)
-"""The distances at which the learned P(coordinate | delta) is reported (TunnelToGoal: 1 to 8)."""
+def deltas(config: GridworldConfig) -> np.ndarray:
+    """The distances at which the learned P(coordinate | delta) is reported: 1 to the map's largest
+    (TunnelToGoal: 1 to 8)."""
+    return np.arange(1, two_observe.largest_distance(config.gridmap()) + 1)
 
 
 def with_baselines(result: ReadingsResult, k: int, baselines: GridworldResult) -> GridworldResult:
@@ -23,7 +26,7 @@ def with_baselines(result: ReadingsResult, k: int, baselines: GridworldResult) -
 
 def summary(result: ReadingsResult, config: ReadingsConfig, baselines: GridworldResult | None = None) -> list[dict]:
     """Per reading: final steps, reward, collisions and coordinations, the share of final GLAs that
-    coordinate (P(coordinate) > 1/2) at each of DELTAS, the shares of GLAs stuck on a saturated
+    coordinate (P(coordinate) > 1/2) at each of :func:`deltas`, the shares of GLAs stuck on a saturated
     wrong choice at the start and at the end (as :func:`glamas.experiments.gridworld.measure` finds
     them) and, given the ``baselines``, the Section 5.3 claim rows."""
     rows = []
@@ -31,10 +34,10 @@ def summary(result: ReadingsResult, config: ReadingsConfig, baselines: Gridworld
         alone = result.gridworld_result(k)
         reading = config.reading(name)
         m = gw_analysis.measure(alone)
-        learns = reading.rule_distance is None
+        learns = reading.own("two_observe").rule_distance is None
         row = {"reading": name, "steps": m["steps_two_observe"], "reward": m["reward_two_observe"],
                "collisions": m["collisions_two_observe"], "coordinations": m["coordinations_two_observe"],
-               "coordinating": coordinating_share(alone, reading),
+               "deltas": deltas(reading), "coordinating": coordinating_share(alone, reading),
                "stuck_at_start": m["stuck_at_start_share_two_observe"] if learns else math.nan,
                "stuck_at_end": m["stuck_at_end_share_two_observe"] if learns else math.nan}
         if baselines is not None:
@@ -44,17 +47,17 @@ def summary(result: ReadingsResult, config: ReadingsConfig, baselines: Gridworld
 
 
 def coordinating_share(result: GridworldResult, config: GridworldConfig) -> np.ndarray:
-    """At each of DELTAS, the share of 2observe's final GLAs that coordinate (probability above
+    """At each of :func:`deltas`, the share of 2observe's final GLAs that coordinate (probability above
     1/2; the fixed rule's 0 or 1): how many GLAs learned to coordinate there, not an average
     probability, which would read a mix of GLAs at 0 and at 1 as one soft GLA."""
-    return (gw_analysis.coordination_probability(result, config, DELTAS) > 0.5).mean(axis=(0, 1))
+    return (gw_analysis.coordination_probability(result, config, deltas(config)) > 0.5).mean(axis=(0, 1))
 
 
 def table(rows: list[dict]) -> str:
     """The readings side by side: final values, the share of GLAs coordinating at each distance,
     the shares of stuck GLAs at the start and the end, and the claim count."""
     head = (f"{'reading':36s} {'steps':>6s} {'reward':>6s} {'collis.':>7s} {'coord.':>6s}  "
-            f"coordinating at delta = {', '.join(str(d) for d in DELTAS)}   stuck start/end")
+            f"coordinating at delta = {', '.join(str(d) for d in rows[0]['deltas'])}   stuck start/end")
     if "claims" in rows[0]:
         head += "   claims reproduced"
     lines = [head]

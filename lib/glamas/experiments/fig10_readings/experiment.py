@@ -29,8 +29,8 @@ READINGS = {
     "outcome, L=8": {"gla_need": "outcome"},
     "no GLA: fixed rule delta <= 2": {"rule_distance": 3},
 }
-"""Each reading as its changes to the 2observe defaults of GridworldConfig (the first is the
-default: need = in range, L = 8, delta in cells, parameters initialised in [-0.1, 0.1], the
+"""Each reading as its changes to 2observe's default settings (glamas.learners.two_observe.GLASettings;
+the first is the default: need = in range, L = 8 (the box derived from TunnelToGoal), delta in cells, parameters initialised in [-0.1, 0.1], the
 symmetric 1/0 table). 'init 1' starts the parameters in [-1, 1], 'unit delta' divides delta by the
 map's largest distance. 'sampled, L=1' is the reading this repository used before the text's own
 "range of interference" was read into it. The last is not a reading but the reference: the first
@@ -61,7 +61,8 @@ class ReadingsConfig:
 
     def reading(self, name: str) -> gw_experiment.GridworldConfig:
         """2observe's configuration under reading ``name``."""
-        return replace(self.gridworld, **READINGS[name])
+        settings = replace(self.gridworld.own("two_observe"), **READINGS[name])
+        return replace(self.gridworld, settings={"two_observe": settings})
 
 
 @dataclass(frozen=True)
@@ -84,7 +85,7 @@ class ReadingsResult:
     def gridworld_result(self, k: int) -> gw_experiment.GridworldResult:
         """Reading k's 2observe as a GridworldResult of one learner."""
         return gw_experiment.GridworldResult(config=self.config.reading(self.config.readings[k]),
-                                             learners=np.array([gw_experiment.LEARNERS.index("two_observe")]),
+                                             learners=np.array(["two_observe"]),
                                              log=self.log[k:k + 1], table_shapes=np.zeros((1, 3), np.int64),
                                              gla_parameters=self.gla_parameters[k], gla_initial=self.gla_initial[k],
                                              need_counts=self.need_counts[k], episodes=self.episodes)

@@ -3,7 +3,6 @@ coordinate at each distance, and the final collisions, reading by reading."""
 
 import numpy as np
 
-from glamas.experiments.fig10_readings.analysis import DELTAS
 from glamas.experiments.fig10_readings.experiment import READINGS
 from glamas.plotting import legend_below
 
@@ -19,9 +18,10 @@ def plot_coordination(ax, rows: list[dict]):
     """The share of final GLAs that coordinate at each distance under each reading, against the
     rule "coordinate when the agents could collide this step" (delta <= 2)."""
     for k, row in enumerate(rows):
-        ax.plot(DELTAS, row["coordinating"], "o-", label=f"{k + 1}: {row['reading']}", color=_colour(row),
+        ax.plot(row["deltas"], row["coordinating"], "o-", label=f"{k + 1}: {row['reading']}", color=_colour(row),
                 linewidth=2.5 if k == 0 else 1.2)
-    ax.step(DELTAS, (DELTAS <= 2).astype(float), where="mid", color="black", linestyle="--",
+    x = rows[0]["deltas"]
+    ax.step(x, (x <= 2).astype(float), where="mid", color="black", linestyle="--",
             label="could collide (delta <= 2)")
     ax.set_xlabel("delta (Manhattan distance between the agents)")
     ax.set_ylabel("share of GLAs that coordinate (P > 1/2)")

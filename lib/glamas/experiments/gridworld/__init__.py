@@ -13,17 +13,17 @@ from glamas.experiments.gridworld.analysis import (claim_rows, convergence_compa
                                                    measure, need_probability, optimum, state_action_spaces,
                                                    state_action_table, stuck_by_start, summary_table, with_learner,
                                                    zero_collisions_table)
-from glamas.experiments.gridworld.experiment import (LEARNERS, GridworldConfig, GridworldResult, learner_bytes,
+from glamas.experiments.gridworld.experiment import (CHAPTER_LEARNERS, GridworldConfig, GridworldResult, learner_bytes,
                                                      result_of, run, scaled, trainings)
 from glamas.experiments.registry import Experiment, register
 from glamas.paths import RESULTS
 
 PLOTS = ("plot_steps", "plot_reward", "plot_collisions", "plot_coordinations", "plot_feedback_table",
-         "plot_coordination_probability")
+         "plot_coordination_probability", "step_ticks")
 """The drawing functions of :mod:`.plots` this face hands on."""
 __getattr__ = plots_on_first_use(__name__, PLOTS)
 
-__all__ = ["EXPERIMENT", "LEARNERS", "GridworldConfig", "GridworldResult", "claim_rows", "convergence_comparison",
+__all__ = ["CHAPTER_LEARNERS", "EXPERIMENT", "GridworldConfig", "GridworldResult", "claim_rows", "convergence_comparison",
            "convergence_report", "convergence_spread", "coordination_probability", "in_range_share",
            "learner_bytes", "load", "matches_committed", "measure", "need_probability", "optimum", "result_of",
            "run", "state_action_spaces", "state_action_table", "stuck_by_start", "summary_table", "trainings",
@@ -32,7 +32,7 @@ __all__ = ["EXPERIMENT", "LEARNERS", "GridworldConfig", "GridworldResult", "clai
 EXPERIMENT = register(Experiment("gridworld", GridworldConfig, run, scaled, GridworldConfig.runs,
                                  GridworldConfig.episodes, GridworldResult,
                                  claim_rows=lambda result, config: claim_rows(result),
-                                 figures=("fig9", "fig10", "fig11a", "fig11b", "fig12a", "fig12b")))
+                                 figures=("fig9", "fig10", "fig11a", "fig11b", "fig12a", "fig12b"), map_field="map"))
 """The chapter's experiment of Section 5.3 (Fig. 9 and 10 draw its map and its GLAs' feedback)."""
 
 

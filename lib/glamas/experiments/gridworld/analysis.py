@@ -100,19 +100,13 @@ def in_range_distances(gridmap: GridMap) -> tuple[np.ndarray, np.ndarray]:
     return deltas[seen & (share > 0)], deltas[seen & (share == 0) & (deltas > 0)]
 
 
-def chapter_settings(result: GridworldResult) -> GridworldConfig:
-    """The chapter learners' settings that made ``result`` (a related-work result keeps them as its
-    configuration's ``gridworld``)."""
-    return getattr(result.config, "gridworld", result.config)
-
-
 def first_level_shares(result: GridworldResult) -> dict:
     """What 2observe's GLAs learned, GLA by GLA (Sec. 5.1: the first level decides whether the
     agents are within each other's range of interference): the share of final GLAs that coordinate
     (P(coordinate) > 1/2) at every in-range distance, that act alone at every out-of-range one,
     and the share of GLAs saturated on the wrong choice somewhere (:func:`stuck_share`) at the
     start of the runs and at their end."""
-    config = chapter_settings(result)
+    config = result.config
     near, far = in_range_distances(config.gridmap())
     p_near = coordination_probabilities(result.gla_parameters, config, near)
     p_far = coordination_probabilities(result.gla_parameters, config, far)
@@ -140,7 +134,7 @@ def stuck_glas(u: np.ndarray, config: GridworldConfig) -> np.ndarray:
 def stuck_by_start(result: GridworldResult) -> dict:
     """How 2observe's GLAs that end stuck (:func:`stuck_glas`) started: counts of all GLAs, of those
     saturated on a wrong choice at the start, of those stuck at the end, and of those both."""
-    config = chapter_settings(result)
+    config = result.config
     start, end = stuck_glas(result.gla_initial, config), stuck_glas(result.gla_parameters, config)
     return {"GLAs": int(start.size), "saturated at the start": int(start.sum()),
             "stuck at the end": int(end.sum()), "stuck at the end, saturated at the start": int((start & end).sum())}
@@ -166,7 +160,7 @@ def with_learner(result: GridworldResult, other: GridworldResult, name: str) -> 
     k, j = result.names().index(name), other.names().index(name)
     log = result.log.copy()
     log[k] = other.log[j]
-    learned = registry.get(name).outputs(other.config, other.config.gridmap())
+    learned = registry.get(name).outputs(other.config.setup(name), other.config.gridmap())
     first_level = {"gla_parameters": "u", "gla_initial": "u", "need_counts": "need_counts"}
     return replace(result, log=log, **{field: getattr(other, field) for field, key in first_level.items() if key in learned})
 
@@ -187,7 +181,7 @@ def state_action_spaces(result: GridworldResult) -> list[dict]:
     gridmap = result.config.gridmap()
     for name, (tables, states, actions) in zip(result.names(), result.table_shapes):
         q_per_agent = tables * states * actions / gridmap.n_agents
-        gla_per_agent = registry.get(name).gla_parameters(result.config, gridmap) // gridmap.n_agents
+        gla_per_agent = registry.get(name).gla_parameters(result.config.setup(name), gridmap) // gridmap.n_agents
         rows.append({"learner": name, "tables": int(tables), "states": int(states),
                      "actions": int(actions), "q_entries_per_agent": q_per_agent,
                      "gla_parameters_per_agent": gla_per_agent})
@@ -201,12 +195,15 @@ def coordination_probability(result: GridworldResult, config: GridworldConfig, d
 
 def coordination_probabilities(u: np.ndarray, config: GridworldConfig, deltas) -> np.ndarray:
     """P(coordinate | delta) (eq. 15) of the GLA parameters ``u`` (runs, agents, 2, 2), shape
-    (runs, agents, len(deltas)); under the fixed rule (``rule_distance``), its 0 or 1."""
-    if config.rule_distance is not None:
-        rule = (np.asarray(deltas) < config.rule_distance).astype(float)
+    (runs, agents, len(deltas)) under 2observe's settings in ``config``; under the fixed rule
+    (``rule_distance``), its 0 or 1."""
+    settings, gridmap = first_level_settings(config), config.gridmap()
+    if settings.rule_distance is not None:
+        rule = (np.asarray(deltas) < settings.rule_distance).astype(float)
         return np.broadcast_to(rule, u.shape[:2] + rule.shape).copy()
-    p = config.gla_params()
-    contexts = [np.array([delta * config.delta_scale(), 1.0]) for delta in deltas]
+    p = two_observe.gla_params(settings, gridmap)
+    scale = two_observe.delta_scale(settings.gla_delta_scale, gridmap)
+    contexts = [np.array([delta * scale, 1.0]) for delta in deltas]
     probs = np.empty(2)
     out = np.empty(u.shape[:2] + (len(deltas),))
     for r in range(u.shape[0]):
@@ -217,10 +214,19 @@ def coordination_probabilities(u: np.ndarray, config: GridworldConfig, deltas) -
     return out
 
 
-def optimum(config: GridworldConfig) -> dict:
+def first_level_settings(config: GridworldConfig) -> two_observe.GLASettings:
+    """2observe's own settings in ``config`` (its defaults if it is not trained there)."""
+    return config.setup("two_observe").own
+
+
+def optimum(config: GridworldConfig) -> dict | None:
     """The reference the learners are drawn against: the episode of the optimal joint policy
-    (value iteration on the MMDP, gamma = config.discount), agent means, no exploration."""
-    episode = dp.optimal_rollout(config.gridmap(), config.discount, config.bounce)
+    (value iteration on the MMDP, gamma = the Q-learners' discount), agent means, no exploration;
+    None where the joint MMDP is too large to tabulate (:func:`glamas.gridworld.dp.tabulable`)."""
+    gridmap = config.gridmap()
+    if not dp.tabulable(gridmap):
+        return None
+    episode = dp.optimal_rollout(gridmap, config.q.discount, config.bounce)
     return {"steps": float(episode.steps_to_goal.mean()), "reward": float(episode.returns.mean()),
             "collisions": float(episode.collisions)}
 

@@ -4,8 +4,9 @@ GLAs learned, each drawn on a given matplotlib Axes in the styles of :mod:`glama
 import numpy as np
 from matplotlib.ticker import NullFormatter
 
-from glamas.experiments.gridworld.analysis import coordination_probability, need_probability
+from glamas.experiments.gridworld.analysis import coordination_probability, first_level_settings, need_probability
 from glamas.experiments.gridworld.experiment import GridworldConfig
+from glamas.gridworld import dp
 from glamas.learners import registry
 from glamas.plotting import drawn_underneath, legend_below, learner_style, plot_mean_band
 
@@ -42,24 +43,35 @@ def _legend_rank(label: str, names) -> int:
     return ranks.get(label, len(ranks))
 
 
-STEP_TICKS = (10, 20, 50, 100, 1000)
-"""Fig. 11a's log-axis ticks: the scale of the steps, from the first episodes down to the goal."""
-STEP_TAIL_TICKS = (10, 11, 12, 14, 16)
-"""The zoomed tail's ticks: the final steps the text compares (the optimum is about 10.5)."""
+STEP_SCALE = (1, 2, 5, 10, 100)
+"""Fig. 11a's log-axis ticks in units of the map's shortest path (:func:`step_ticks`): the scale of
+the steps, from the first episodes down to the goal."""
+TAIL_OFFSETS = (0, 1, 2, 4, 6)
+"""The zoomed tail's ticks above the map's shortest path, in tenths of it (at least 1 step each):
+the final steps the text compares."""
 TAIL_FROM = 100
 """The zoom shows the episodes from this one on, after the first drop of every learner."""
 
 
+def step_ticks(gridmap) -> tuple[tuple, tuple]:
+    """The ticks of Fig. 11a on ``gridmap``: (log axis, zoomed tail), from the agents' mean shortest
+    path alone s (glamas.gridworld.dp.shortest_steps): s times STEP_SCALE, and s plus TAIL_OFFSETS
+    times max(1, s // 10). On TunnelToGoal (s = 10): (10, 20, 50, 100, 1000) and (10, 11, 12, 14, 16)."""
+    s = int(dp.shortest_steps(gridmap).mean())
+    return tuple(s * k for k in STEP_SCALE), tuple(s + k * max(1, s // 10) for k in TAIL_OFFSETS)
+
+
 def plot_steps(ax, result, optimum=None):
-    """Fig. 11a: steps from start to goal, mean of both agents (mean and 95 % band over runs), on
-    a log axis with ticks at round values, and the tail (episode 100 on) zoomed on a linear axis
-    in an inset, where the learners' final steps differ by one or two; a run of fewer episodes
-    has no tail, and no inset."""
+    """Fig. 11a: steps from start to goal, mean of the agents (mean and 95 % band over runs), on
+    a log axis with ticks at round values (:func:`step_ticks`), and the tail (episode 100 on)
+    zoomed on a linear axis in an inset, where the learners' final steps differ by one or two; a
+    run of fewer episodes has no tail, and no inset."""
     _plot_learners(ax, result, result.steps, "steps to goal (mean of the agents)",
                    None if optimum is None else optimum["steps"])
-    _round_log_ticks(ax, STEP_TICKS)
+    log_ticks, tail_ticks = step_ticks(result.config.gridmap())
+    _round_log_ticks(ax, log_ticks)
     if result.episodes[-1] >= TAIL_FROM:
-        _plot_step_tail(ax, result, optimum)
+        _plot_step_tail(ax, result, optimum, tail_ticks)
 
 
 def _round_log_ticks(ax, ticks):
@@ -69,9 +81,9 @@ def _round_log_ticks(ax, ticks):
     ax.yaxis.set_minor_formatter(NullFormatter())
 
 
-def _plot_step_tail(ax, result, optimum):
-    """An inset in the empty upper right (every curve is below 20 steps there): the steps from
-    TAIL_FROM on, linear axis, ticks at STEP_TAIL_TICKS."""
+def _plot_step_tail(ax, result, optimum, ticks):
+    """An inset in the empty upper right (every curve is below twice the shortest path there): the
+    steps from TAIL_FROM on, linear axis, at ``ticks``."""
     tail = ax.inset_axes([0.5, 0.4, 0.47, 0.5])
     keep = result.episodes >= TAIL_FROM
     for name in sorted(result.names(), key=lambda name: not drawn_underneath(name)):
@@ -79,8 +91,8 @@ def _plot_step_tail(ax, result, optimum):
     if optimum is not None:
         tail.axhline(optimum["steps"], color="black", linestyle="--", linewidth=1)
     tail.set_xscale("log")
-    tail.set_yticks(STEP_TAIL_TICKS)
-    tail.set_ylim(STEP_TAIL_TICKS[0] - 0.5, STEP_TAIL_TICKS[-1] + 2)
+    tail.set_yticks(ticks)
+    tail.set_ylim(ticks[0] - 0.5, ticks[-1] + 2)
     tail.grid(axis="y", linewidth=0.4, color="0.85")
     tail.tick_params(labelsize="x-small")
     tail.set_title(f"from episode {TAIL_FROM}, linear axis", fontsize="x-small")
@@ -128,16 +140,17 @@ NEED_LABELS = {"in_range": ("cannot collide this step", "could collide this step
 
 
 def plot_feedback_table(ax, config: GridworldConfig):
-    """Fig. 10 (lost, reconstructed): the GLA feedback actually used."""
-    f, c = config.gla_feedback, config.coordination_penalty_per_cell
+    """Fig. 10 (lost, reconstructed): the GLA feedback 2observe's settings in ``config`` use."""
+    settings = first_level_settings(config)
+    f, c = settings.gla_feedback, settings.coordination_penalty_per_cell
     cells = [[f"{f[0][0]:g}", f"{f[0][1]:g}"],
              [f"{f[1][0]:g}  ({f[1][0]:g} - {c:g}·δ if both coordinate)", f"{f[1][1]:g}"]]
     ax.axis("off")
-    no_need, need = NEED_LABELS[config.gla_need]
+    no_need, need = NEED_LABELS[settings.gla_need]
     table = ax.table(cellText=cells, rowLabels=["act alone", "coordinate"],
                      colLabels=[f"no need ({no_need})", f"need ({need})"], loc="center", cellLoc="center")
     table.scale(1, 2)
-    ax.set_title(f"Fig. 10, reconstructed: 2observe's GLA feedback (need = {config.gla_need})", fontsize="medium")
+    ax.set_title(f"Fig. 10, reconstructed: 2observe's GLA feedback (need = {settings.gla_need})", fontsize="medium")
 
 
 def plot_coordination_probability(ax, result, config: GridworldConfig):
@@ -153,7 +166,7 @@ def plot_coordination_probability(ax, result, config: GridworldConfig):
     ax.step(deltas, (deltas <= 2).astype(float), where="mid", color="black", linestyle="--",
             label="coordinate when delta <= 2 (could collide)")
     ax.plot(deltas, need_probability(result)[1:], "s:", color="tab:gray",
-            label=f"P(need | delta), observed ({config.gla_need})")
+            label=f"P(need | delta), observed ({first_level_settings(config).gla_need})")
     ax.set_xlabel("delta (Manhattan distance between the agents)")
     ax.set_ylabel("probability")
     ax.set_ylim(-0.03, 1.03)

@@ -17,5 +17,5 @@ __all__ = ["EXPERIMENT", "GridworldOptimumConfig", "GridworldOptimumResult", "cl
 EXPERIMENT = register(Experiment("gridworld_optimum", GridworldOptimumConfig, run,
                                  lambda runs, iterations: GridworldOptimumConfig(), 1, 1, GridworldOptimumResult,
                                  claim_rows=lambda result, config: claim_rows(result), figures=("fig9_optimum",),
-                                 stored=False))
+                                 stored=False, map_field="map"))
 """The exact optimum of Fig. 9's map: computed in a second whenever it is needed, never stored."""

@@ -15,7 +15,7 @@ from glamas.errors import UserError
 class GridworldOptimumConfig:
     """Which map to solve and how (the chapter states none of gamma, epsilon or the bounce cell)."""
 
-    map_name: str = "tunnel_to_goal"
+    map: str = "tunnel_to_goal"
     """A map's name in data/maps or a map file's path (Fig. 9 is 'tunnel_to_goal')."""
     gamma: float = 0.9
     """Discount factor of the DP; the chapter gives none. 0.9 makes a yielding agent bump once
@@ -41,8 +41,8 @@ class GridworldOptimumConfig:
             raise UserError(f"selfish_steps must be a positive integer, got {self.selfish_steps!r}")
 
     def gridmap(self) -> GridMap:
-        """The map: ``map_name`` as a name in data/maps or a path (:func:`glamas.gridworld.load_map`)."""
-        return load_map(self.map_name)
+        """The map (:func:`glamas.gridworld.load_map`)."""
+        return load_map(self.map)
 
     def memory_bytes(self) -> int:
         """Bytes of glamas.gridworld.dp's tables per joint state and action: next state, reward,
@@ -102,7 +102,7 @@ def run(config: GridworldOptimumConfig, seed: int = 0, workers=None, progress=No
     for algorithm, episode in (("value", optimal), ("policy", by_policy_iteration)):
         if not episode.finished:  # an epsilon within the bound, still too coarse for this gamma and map
             raise UserError(f"the policy that {algorithm} iteration found with epsilon={config.epsilon:g} does not bring "
-                            f"every agent to the goal of {config.map_name!r}: lower epsilon")
+                            f"every agent to the goal of {config.map!r}: lower epsilon")
     return GridworldOptimumResult(
         gridmap=gridmap,
         optimal=optimal,

@@ -11,7 +11,7 @@ from glamas.experiments.registry import Experiment, register
 from glamas.experiments.related_work.analysis import (claim_rows, fewest_flagged_collisions, final_interval,
                                                       marked_distances, measure, summary_table, usable_joint_states)
 from glamas.experiments.related_work.experiment import (CHAPTER_LEARNERS, RELATED_LEARNERS, RelatedWorkConfig,
-                                                        RelatedWorkResult, learner_codes, run, scaled)
+                                                        RelatedWorkResult, run, scaled)
 from glamas.paths import RESULTS
 
 PLOTS = ("plot_curve", "note_cq_solo_phase", "plot_coordinations", "plot_size_and_reward", "plot_marked_distances")
@@ -19,13 +19,13 @@ PLOTS = ("plot_curve", "note_cq_solo_phase", "plot_coordinations", "plot_size_an
 __getattr__ = plots_on_first_use(__name__, PLOTS)
 
 __all__ = ["CHAPTER_LEARNERS", "EXPERIMENT", "RELATED_LEARNERS", "RelatedWorkConfig", "RelatedWorkResult",
-           "claim_rows", "fewest_flagged_collisions", "final_interval", "learner_codes", "load", "marked_distances",
+           "claim_rows", "fewest_flagged_collisions", "final_interval", "load", "marked_distances",
            "measure", "run", "summary_table", "usable_joint_states", *PLOTS]
 
 EXPERIMENT = register(Experiment("related_work", RelatedWorkConfig, run, scaled, GridworldConfig.runs,
                                  GridworldConfig.episodes, RelatedWorkResult, claim_rows=claim_rows,
                                  figures=("related_collisions", "related_coordinations", "related_reward",
-                                          "related_sizes", "related_steps"), chapter=False))
+                                          "related_sizes", "related_steps"), chapter=False, map_field="map"))
 """The related-work comparison (its result file is shared by the related_* figure scripts)."""
 
 

@@ -14,14 +14,14 @@ from glamas.learners import cq, registry
 
 def usable_joint_states(config: RelatedWorkConfig) -> int:
     """Joint states in which both agents act: ordered pairs of distinct cells, neither the goal nor blocked."""
-    g = config.gridworld.gridmap()
+    g = config.gridmap()
     usable = int((~(g.is_goal | g.blocked)).sum())
     return usable * (usable - 1)
 
 
 def marked_distances(result: RelatedWorkResult, config: RelatedWorkConfig) -> np.ndarray:
     """Manhattan distance of every joint state a CQ agent marked (all runs and agents pooled)."""
-    n_cols = config.gridworld.gridmap().n_cols
+    n_cols = config.gridmap().n_cols
     _, _, own, other = np.nonzero(result.cq_marked)
     return np.abs(own // n_cols - other // n_cols) + np.abs(own % n_cols - other % n_cols)
 
@@ -38,7 +38,8 @@ def measure(result: RelatedWorkResult, config: RelatedWorkConfig) -> dict:
         m["marked_joint_states_cq"] = float(per_agent)
         m["marked_fraction_cq"] = float(per_agent / usable_joint_states(config))
         distances = marked_distances(result, config)
-        m["marked_within_coordination_distance_cq"] = float((distances <= config.coordination_distance).mean()) if distances.size else 0.0
+        within = distances <= config.setup("sparse_maq").own.coordination_distance
+        m["marked_within_coordination_distance_cq"] = float(within.mean()) if distances.size else 0.0
     for name in set(names) & set(RELATED_LEARNERS):
         if "mmdp" in names:
             m[f"reward_{name}_over_mmdp"] = ratio(m[f"reward_{name}"], m["reward_mmdp"])
@@ -66,8 +67,9 @@ def fewest_flagged_collisions(config: RelatedWorkConfig) -> int:
     """The fewest collisions among the ``cq_window`` recent rewards of a state-action that
     CQ-learning's test flags against a baseline without any (``cq_window`` equal rewards, as of a
     state-action that never collided alone); the other recent rewards equal the baseline's."""
-    window = config.cq_window
-    t_critical = cq.t_critical_values(2 * window - 2, config.cq_significance)
+    settings = config.setup("cq").own
+    window = settings.cq_window
+    t_critical = cq.t_critical_values(2 * window - 2, settings.cq_significance)
     baseline = np.array([window, 0.0, 0.0])
     for k in range(1, window + 1):
         penalties = k * rules.COLLISION_PENALTY
@@ -82,9 +84,9 @@ def summary_table(result: RelatedWorkResult, config: RelatedWorkConfig) -> str:
     m = measure(result, config)
     lines = [f"{'learner':24s} {'steps':>6s} {'reward':>7s} {'collisions':>10s} {'coordinations':>13s} "
              f"{'converged by':>12s} {'Q entries/agent':>15s} {'samples/agent':>13s} {'GLA params/agent':>16s}"]
-    settings, gridmap = config.settings(), config.gridmap()
+    gridmap = config.gridmap()
     for k, name in enumerate(result.names()):
-        gla_parameters = registry.get(name).gla_parameters(settings, gridmap) // gridmap.n_agents
+        gla_parameters = registry.get(name).gla_parameters(config.setup(name), gridmap) // gridmap.n_agents
         lines.append(f"{registry.label(name):24s} {m[f'steps_{name}']:6.2f} {m[f'reward_{name}']:7.1f} "
                      f"{m[f'collisions_{name}']:10.3f} {m[f'coordinations_{name}']:13.2f} "
                      f"{m[f'convergence_{name}']:12.0f} {m[f'q_entries_{name}']:15.0f} "

@@ -15,63 +15,27 @@ import numpy as np
 from glamas import parallel
 from glamas.experiments.gridworld import experiment as gw_experiment
 from glamas.gridworld import GridMap
-from glamas.learners import cq, registry, spec
-from glamas.learners.settings import LearnerSettings, RelatedSettings, combine
-from glamas.errors import UserError
+from glamas.learners import cq, registry
 
-
-RELATED_LEARNERS = registry.family("related")
-"""The related-work learners (glamas.learners.registry), in the order their seeds are drawn."""
+RELATED_LEARNERS = ("sparse_maq", "cq")
+"""The related-work learners."""
 CHAPTER_LEARNERS = ("independent", "mmdp", "two_observe")
 """The chapter's learners the comparison trains by default (the joint-state learners are left out)."""
 
 
 @dataclass(frozen=True)
-class RelatedWorkConfig(RelatedSettings):
-    """The comparison's settings: the chapter's experiment plus the related-work learners' own
-    (:class:`glamas.learners.settings.RelatedSettings`)."""
+class RelatedWorkConfig(gw_experiment.GridworldConfig):
+    """The comparison's settings: those of the chapter's experiment
+    (:class:`glamas.experiments.gridworld.GridworldConfig`), training the chapter's learners and the
+    related-work learners by default; every learner uses the same map, schedule and Q-learning settings."""
 
-    gridworld: gw_experiment.GridworldConfig = gw_experiment.GridworldConfig(learners=CHAPTER_LEARNERS)
-    """The chapter's experiment (map, episodes, runs, Q-learning settings) and which of its learners
-    to train; the related-work learners use the same map, schedule and Q-learning settings."""
-    learners: tuple = RELATED_LEARNERS
-    """Which learners beyond the chapter's to train: distinct names of registered learners, such
-    as sparse_maq and cq (may be empty)."""
-
-    def __post_init__(self):
-        super().__post_init__()
-        learners = tuple(self.learners)
-        if len(set(learners)) != len(learners) or not set(learners) <= set(registry.beyond_the_chapter()):
-            raise UserError(f"learners must be distinct names from {registry.beyond_the_chapter()}, "
-                             f"got {self.learners!r}")
-        object.__setattr__(self, "learners", learners)
-        # two agents: GridworldConfig already rejects other maps
-
-    def settings(self) -> LearnerSettings:
-        """Every learner's settings: the chapter experiment's and the related-work learners' own."""
-        return combine(self.gridworld, self)
-
-    def gridmap(self) -> GridMap:
-        return self.gridworld.gridmap()
-
-    def memory_bytes(self) -> int:
-        """Bytes of the chapter's learners' runs and of the related-work learners' runs."""
-        base, gridmap, settings = self.gridworld, self.gridmap(), self.settings()
-        related = base.runs * sum(gw_experiment.learner_bytes(name, settings, gridmap, base.bins)
-                                  for name in self.learners)
-        return base.memory_bytes() + related
-
-
-def learner_codes() -> tuple:
-    """The learners a :class:`RelatedWorkResult`'s codes index: the chapter's four (codes 0-3),
-    then every registered learner beyond them (the related-work learners 4 and 5)."""
-    return gw_experiment.LEARNERS + registry.beyond_the_chapter()
+    learners: tuple = CHAPTER_LEARNERS + RELATED_LEARNERS
+    """Which learners to train: distinct names of registered learners."""
 
 
 @dataclass(frozen=True)
 class RelatedWorkResult(gw_experiment.GridworldResult):
-    """A :class:`~glamas.experiments.gridworld.GridworldResult` over the chapter's and other
-    learners (codes into :func:`learner_codes`), with what each learner stores."""
+    """A :class:`~glamas.experiments.gridworld.GridworldResult` with what each learner stores."""
 
     config: RelatedWorkConfig
     """The configuration that produced the arrays."""
@@ -86,55 +50,38 @@ class RelatedWorkResult(gw_experiment.GridworldResult):
     """bool (runs, agents, own cell, other's cell): the joint states each CQ agent learned to
     observe (all False if CQ did not run)."""
 
-    def names(self) -> list[str]:
-        codes = learner_codes()
-        return [codes[k] for k in self.learners]
-
 
 def run(config: RelatedWorkConfig = RelatedWorkConfig(), seed: int = 0, workers=None,
         progress=None) -> RelatedWorkResult:
-    """Train the chapter's learners as :func:`glamas.experiments.gridworld.run` does (same seeds, so
-    the same results) and the related-work learners of ``config``, ``config.gridworld.runs`` runs
-    each, all on one pool of workers."""
-    base, settings = config.gridworld, config.settings()
-    gridmap, schedule = base.gridmap(), base.schedule()
-    chapter = gw_experiment.trainings(base, seed)
-    related = [spec.batch(registry.get(name), settings, gridmap, schedule, base.runs,
-                          registry.master_seed(seed, RELATED_LEARNERS, name, registry.get(name).family))
-               for name in config.learners]
-    parallel.run_many([batch for batch, _ in chapter + related], workers=workers, progress=progress)
-    chapter_result = gw_experiment.result_of(base, [outputs for _, outputs in chapter], seed)
-    shapes = np.array([outputs["q"].shape[1:] for _, outputs in related], dtype=np.int64).reshape(-1, 3)
-    learned = np.array([registry.get(name).joint_learned(outputs, settings, gridmap)
-                        for name, (_, outputs) in zip(config.learners, related)]).reshape(-1, base.runs)
-    log = np.array([outputs["log"] for _, outputs in related]).reshape((-1,) + chapter_result.log.shape[1:])
-    marked = next((outputs["marked"] for _, outputs in related if "marked" in outputs),
-                  np.stack([cq.outputs(settings, gridmap)["marked"]] * base.runs))
-    names = chapter_result.names() + list(config.learners)
-    shapes = np.concatenate([chapter_result.table_shapes, shapes])
-    learned = np.concatenate([np.zeros((len(chapter_result.names()), base.runs)), learned])
-    return RelatedWorkResult(
-        config=config, learners=np.array([learner_codes().index(name) for name in names], dtype=np.int64),
-        log=np.concatenate([chapter_result.log, log]), table_shapes=shapes,
-        gla_parameters=chapter_result.gla_parameters, gla_initial=chapter_result.gla_initial,
-        need_counts=chapter_result.need_counts,
-        episodes=chapter_result.episodes, **storage(names, shapes, learned, settings, gridmap), cq_marked=marked)
+    """Train every learner of ``config`` as :func:`glamas.experiments.gridworld.run` does (same
+    seeds, so the chapter's learners give the same results), all on one pool of workers, and
+    measure what each stores."""
+    work = gw_experiment.trainings(config, seed)
+    parallel.run_many([batch for batch, _ in work], workers=workers, progress=progress)
+    outputs = [outputs for _, outputs in work]
+    base = gw_experiment.result_of(config, outputs, seed)
+    gridmap = config.gridmap()
+    learned = np.array([registry.get(name).joint_learned(out, config.setup(name), gridmap)
+                        for name, out in zip(config.learners, outputs)]).reshape(-1, config.runs)
+    marked = (outputs[config.learners.index("cq")]["marked"] if "cq" in config.learners
+              else np.stack([cq.outputs(config.setup("cq"), gridmap)["marked"]] * config.runs))
+    return RelatedWorkResult(**{name: getattr(base, name) for name in base.__dataclass_fields__},
+                             **storage(config, base.table_shapes, learned, gridmap), cq_marked=marked)
 
 
-def storage(names: list, shapes: np.ndarray, learned: np.ndarray, settings, gridmap: GridMap) -> dict:
+def storage(config: RelatedWorkConfig, shapes: np.ndarray, learned: np.ndarray, gridmap: GridMap) -> dict:
     """What each agent stores, per learner: its Q entries over its own cells, its Q entries over
     joint states per run (its joint Q tables, and the joint values ``learned`` beyond them), and
     its reward samples."""
     n_agents = gridmap.n_agents
-    joint = [registry.get(name).joint_tables for name in names]
+    joint = [registry.get(name).joint_tables for name in config.learners]
     local = [0.0 if is_joint else float(np.prod(shape[1:])) for is_joint, shape in zip(joint, shapes)]
     tables = [np.prod(shape) / n_agents if is_joint else 0.0 for is_joint, shape in zip(joint, shapes)]
-    samples = [registry.get(name).reward_samples(settings, gridmap) // n_agents for name in names]
+    samples = [registry.get(name).reward_samples(config.setup(name), gridmap) // n_agents for name in config.learners]
     return {"local_entries": np.array(local), "joint_entries": np.array(tables)[:, None] + learned / n_agents,
             "reward_samples": np.array(samples, dtype=np.int64)}
 
 
 def scaled(runs: int, episodes: int) -> RelatedWorkConfig:
-    """The comparison at ``runs`` and ``episodes``, beside the chapter's learners it trains by default."""
-    return RelatedWorkConfig(gridworld=gw_experiment.GridworldConfig(learners=CHAPTER_LEARNERS, runs=runs,
-                                                                     episodes=episodes))
+    """The comparison at ``runs`` and ``episodes``."""
+    return RelatedWorkConfig(runs=runs, episodes=episodes)

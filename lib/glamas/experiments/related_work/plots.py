@@ -14,7 +14,7 @@ from glamas.plotting import legend_below, legend_right, learner_style, plot_mean
 def plot_curve(ax, result: RelatedWorkResult, config: RelatedWorkConfig, plot):
     """One of the chapter's curves for the comparison: ``plot`` (:func:`glamas.experiments.gridworld.plot_steps`,
     ``plot_reward`` or ``plot_collisions``) against the map's optimum, CQ-learning's solo phase noted."""
-    plot(ax, result, gw_analysis.optimum(config.gridworld))
+    plot(ax, result, gw_analysis.optimum(config))
     note_cq_solo_phase(ax, result, config)
 
 
@@ -22,7 +22,8 @@ def note_cq_solo_phase(ax, result: RelatedWorkResult, config: RelatedWorkConfig)
     """Say, above the axes, that CQ-learning's curve starts after the episodes each of its agents
     first learned alone: its episode 1 is not the others' episode 1."""
     if "cq" in result.names():
-        ax.set_title(f"CQ-learning's curve starts after {config.cq_solo_episodes} episodes in which each of its "
+        solo = config.setup("cq").own.cq_solo_episodes
+        ax.set_title(f"CQ-learning's curve starts after {solo} episodes in which each of its "
                      "agents\nfirst learned alone (not on the x axis): it starts from what they learned there",
                      fontsize="small", color=learner_style("cq")["color"])
 
@@ -76,13 +77,13 @@ def _plot_with_samples(ax, name: str, entries: float, reward: float, samples: in
 def plot_marked_distances(ax, result: RelatedWorkResult, config: RelatedWorkConfig):
     """Per Manhattan distance between the agents: the joint states a CQ agent learned to observe
     (mean per agent and run) beside the coordination states sparse MAQ is given in advance."""
-    gridmap = config.gridworld.gridmap()
-    given = np.flatnonzero(sparse_maq.coordination_index(gridmap, config.coordination_distance) >= 0)
+    gridmap, distance = config.gridmap(), config.setup("sparse_maq").own.coordination_distance
+    given = np.flatnonzero(sparse_maq.coordination_index(gridmap, distance) >= 0)
     own, other = np.divmod(given, gridmap.n_cells)
     given_distances = np.abs(own // gridmap.n_cols - other // gridmap.n_cols) + np.abs(own % gridmap.n_cols - other % gridmap.n_cols)
     marked = marked_distances(result, config)
     per_agent = result.cq_marked.shape[0] * result.cq_marked.shape[1]
-    distances = np.arange(1, max(config.coordination_distance, marked.max(initial=1)) + 1)
+    distances = np.arange(1, max(distance, marked.max(initial=1)) + 1)
     ax.bar(distances - 0.2, [(given_distances == d).sum() for d in distances], width=0.4, **learner_style("sparse_maq"),
            label="sparse MAQ: coordination states (given)")
     ax.bar(distances + 0.2, [(marked == d).sum() / per_agent for d in distances], width=0.4, **learner_style("cq"),

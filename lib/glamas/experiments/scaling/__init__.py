@@ -22,7 +22,7 @@ __all__ = ["CHAPTER_METHODS", "EXPERIMENT", "METHODS", "RELATED_METHODS", "Scali
 
 EXPERIMENT = register(Experiment("scaling", ScalingConfig, run, scaled, ScalingConfig.runs, ScalingConfig.episodes,
                                  ScalingResult, claim_rows=lambda result, config: claim_rows(result),
-                                 figures=("scaling_performance", "scaling_sizes"), chapter=False))
+                                 figures=("scaling_performance", "scaling_sizes"), chapter=False, map_field="map"))
 """The scaling study (its result file is shared by the scaling_* figure scripts)."""
 
 

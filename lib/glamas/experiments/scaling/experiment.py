@@ -18,118 +18,108 @@ state, measured) and CQ its reward windows; all of it counts in their values per
 """
 
 import math
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field
 
 import numpy as np
 
 from glamas import checks, memory, parallel
-from glamas.gridworld import GridMap, load_map
+from glamas.errors import UserError
+from glamas.experiments.gridworld.experiment import own_settings
+from glamas.gridworld import BOUNCE_MODES, GridMap, load_map
 from glamas.learners import episode as ep
 from glamas.learners import registry, spec
-from glamas.learners.settings import LearnerSettings, LearningSettings, RelatedSettings, combine
-from glamas.learners.spec import Learner
-from glamas.errors import UserError
+from glamas.qlearning import QSettings
 
-
-@dataclass(frozen=True)
-class Variant:
-    """A method of the study that is a registered learner with one setting changed."""
-
-    learner: str
-    """The learner it runs."""
-    label: str
-    """Its name in figures and tables."""
-
-
-VARIANTS = {"two_observe_rule": Variant("two_observe", "2observe, fixed rule")}
-"""The study's variants: 'two_observe_rule' is a diagnostic outside the chapter, 2observe with its
-GLAs replaced by the rule "coordinate when delta < ScalingConfig.rule_distance"."""
-CHAPTER_METHODS = registry.family("chapter") + tuple(VARIANTS)
-RELATED_METHODS = registry.family("related")
+CHAPTER_METHODS = ("independent", "joint_state", "mmdp", "two_observe", "two_observe_rule")
+"""The chapter's learners and the fixed-rule variant of 2observe ('two_observe_rule', a diagnostic
+outside the chapter: its GLAs replaced by the rule "coordinate when delta < 3")."""
+RELATED_METHODS = ("sparse_maq", "cq")
+"""The related-work learners, in their N-agent forms."""
 METHODS = CHAPTER_METHODS + RELATED_METHODS
-"""The study's methods by default."""
-
-
-def known_methods() -> tuple:
-    """What a ScalingConfig can train, and what a ScalingResult's codes index: METHODS, then every
-    other registered learner."""
-    return METHODS + registry.family("other")
-
-
-MAX_AGENTS = 9
-"""The map format numbers agents 1-9."""
+"""The study's learners by default."""
+SEED_STRIDES = {"chapter": len(CHAPTER_METHODS), "related": len(RELATED_METHODS)}
+"""Seed slots per seed key (:func:`glamas.learners.registry.master_seed`): the study reserves a
+fifth chapter slot, for the fixed-rule variant (its slot 4)."""
 METRICS = ("steps", "reward", "collisions", "coordinations", "capped")
 """What the study keeps of each episode log (glamas.learners.episode.METRICS, agent means)."""
 
 
 @dataclass(frozen=True)
-class ScalingConfig(RelatedSettings):
-    """Settings of the scaling study: the learners' settings (``learning`` and the related-work
-    learners' own, :class:`glamas.learners.settings.RelatedSettings`), the maps and the schedule."""
+class ScalingConfig:
+    """Settings of the scaling study: the maps, the learners and their settings (the shared
+    Q-learning settings and each learner's own, by its name), the collision rule and the schedule."""
 
     agents: tuple = (2, 3, 4, 5, 6)
-    """Numbers of agents N; map ``map_pattern.format(n=N)`` is used for each."""
-    map_pattern: str = "warehouse_{n}.txt"
-    """Map file name (in data/maps, or a path) with ``{n}`` for the number of agents."""
-    methods: tuple = METHODS
-    """Learners to train: distinct names of :func:`known_methods` (the registered learners and VARIANTS)."""
-    rule_distance: int = 3
-    """The fixed rule's distance for 'two_observe_rule' (3: delta at most 2, where every collision
-    of two agents comes from)."""
+    """Numbers of agents N; map ``map.format(n=N)`` is used for each."""
+    map: str = "warehouse_{n}"
+    """A map's name in data/maps or a map file's path, with ``{n}`` for the number of agents."""
+    learners: tuple = METHODS
+    """Learners to train: distinct names of registered learners (glamas.learners.registry)."""
+    q: QSettings = QSettings()
+    """Tabular Q-learning, shared by every learner (the Section 5.3 experiment's)."""
+    settings: dict = field(default_factory=dict)
+    """Each learner's own settings by its name, completed with the defaults of every trained learner
+    (as :attr:`glamas.experiments.gridworld.GridworldConfig.settings`)."""
+    bounce: str = "previous"
+    """Where a collided agent goes (glamas.gridworld.rules)."""
+    max_steps: int = 1000
+    """Step cap per episode: with three or more agents an agent often gets trapped early on (see
+    the notebook), and 1000 steps keep such episodes from taking the run's time."""
     episodes: int = 20_000
     """Episodes per run (each until every agent is in the goal, or the step cap)."""
     runs: int = 10
-    """Independent runs per (method, N)."""
+    """Independent runs per (learner, N)."""
     bin_size: int = 100
     """Episodes averaged into one point of the learning curves; must divide ``episodes``."""
     memory_budget_gib: float = 4.0
-    """Memory the Q tables of all runs of one (method, N) may take, in GiB (a sixth of a 24 GiB
+    """Memory the Q tables of all runs of one (learner, N) may take, in GiB (a sixth of a 24 GiB
     workstation, leaving room for other work); a learner whose tables would need more is skipped at that N."""
-    learning: LearningSettings = field(default_factory=lambda: LearningSettings(max_steps=1000))
-    """Q-learning, GLA and collision settings (the Section 5.3 experiment's defaults, with a
-    1000-step cap per episode: with three or more agents an agent often gets trapped early on, see
-    the notebook)."""
 
     def __post_init__(self):
-        super().__post_init__()
-        checks.whole_numbers(self, {"episodes": 1, "runs": 1, "bin_size": 1})
+        checks.field_types(self)
+        checks.whole_numbers(self, {"max_steps": 1, "episodes": 1, "runs": 1, "bin_size": 1})
         if self.episodes % self.bin_size:
             raise UserError(f"bin_size ({self.bin_size}) must divide episodes ({self.episodes}); "
-                             "choose a bin size such as 100 that divides the episode count")
+                            "choose a bin size such as 100 that divides the episode count")
         agents = tuple(self.agents) if isinstance(self.agents, (tuple, list)) else None
         if (not agents or len(set(agents)) != len(agents)
-                or not all(isinstance(n, int) and 2 <= n <= MAX_AGENTS for n in agents)):
-            raise UserError(f"agents must be distinct whole numbers from 2 to {MAX_AGENTS}, got {self.agents!r}")
+                or not all(isinstance(n, int) and not isinstance(n, bool) and n >= 2 for n in agents)):
+            raise UserError(f"agents must be distinct whole numbers >= 2, got {self.agents!r}")
         object.__setattr__(self, "agents", tuple(sorted(agents)))
-        methods = tuple(self.methods) if isinstance(self.methods, (tuple, list)) else ()
-        if not methods or len(set(methods)) != len(methods) or not set(methods) <= set(known_methods()):
-            raise UserError(f"methods must be distinct names from {known_methods()}, got {self.methods!r}")
-        object.__setattr__(self, "methods", methods)
-        if isinstance(self.rule_distance, bool) or not isinstance(self.rule_distance, int) or self.rule_distance < 0:
-            raise UserError(f"rule_distance must be a whole number >= 0, got {self.rule_distance!r}")
+        learners = tuple(self.learners) if isinstance(self.learners, (tuple, list)) else ()
+        if not learners or len(set(learners)) != len(learners) or not set(learners) <= set(registry.LEARNERS):
+            raise UserError(f"learners must be distinct names of registered learners ({', '.join(registry.LEARNERS)}), "
+                            f"got {self.learners!r}")
+        object.__setattr__(self, "learners", learners)
+        object.__setattr__(self, "settings", own_settings(learners, self.q, self.settings))
+        if self.bounce not in BOUNCE_MODES:
+            raise UserError(f"bounce must be one of {sorted(BOUNCE_MODES)}, got {self.bounce!r}")
         if not (isinstance(self.memory_budget_gib, (int, float)) and self.memory_budget_gib > 0):
             raise UserError(f"memory_budget_gib must be a number > 0, got {self.memory_budget_gib!r}")
-        if "{n}" not in self.map_pattern:
-            raise UserError(f"map_pattern must contain '{{n}}' for the number of agents, got {self.map_pattern!r}")
+        if "{n}" not in self.map:
+            raise UserError(f"map must contain '{{n}}' for the number of agents, got {self.map!r}")
         for n in self.agents:
             gridmap = self.gridmap(n)
             if gridmap.n_agents != n:
                 raise UserError(f"map {gridmap.name!r} has {gridmap.n_agents} agents, the study expects {n}: "
-                                 f"give each map file exactly N starts 1..N")
+                                "give each map exactly N agents")
 
     def gridmap(self, n: int) -> GridMap:
-        """The map with ``n`` agents: ``map_pattern`` as a name in data/maps or a path
-        (:func:`glamas.gridworld.load_map`)."""
-        return load_map(self.map_pattern.format(n=n))
+        """The map with ``n`` agents (:func:`glamas.gridworld.load_map` of ``map.format(n=n)``)."""
+        return load_map(self.map.format(n=n))
+
+    def setup(self, name: str) -> spec.Setup:
+        """What learner ``name`` runs with: the Q-learning settings and its own."""
+        return registry.get(name).setup(self.q, self.settings.get(name))
 
     def memory_bytes(self) -> int:
         """Bytes of the largest runs held at once and of every log. A run's tables live in the
         worker that fills it, one run per worker at a time: at most the runs of the largest
         learner that fits the budget at once, whatever the number of workers."""
         budget = self.memory_budget_gib * 2 ** 30
-        needs = [memory_needed(self, method, self.gridmap(n)) for n in self.agents for method in self.methods]
+        needs = [memory_needed(self, name, self.gridmap(n)) for n in self.agents for name in self.learners]
         largest = max((need for need in needs if need <= budget), default=0)
-        logs = len(self.methods) * len(self.agents) * self.runs * self.n_bins * len(METRICS)
+        logs = len(self.learners) * len(self.agents) * self.runs * self.n_bins * len(METRICS)
         return largest * memory.WORKING_COPIES + logs * memory.BYTES_PER_VALUE
 
     @property
@@ -138,28 +128,19 @@ class ScalingConfig(RelatedSettings):
 
     def schedule(self) -> ep.Schedule:
         """The runs' schedule: ``bin_size`` episodes per block of the learning curves."""
-        return ep.Schedule(self.episodes, ep.uniform_edges(self.episodes, self.bin_size), self.learning.max_steps)
-
-    def settings(self, method: str) -> LearnerSettings:
-        """The settings ``method`` runs with: ``learning`` and the related-work learners' own, and
-        for the fixed-rule variant its rule distance."""
-        settings = combine(self.learning, self)
-        return replace(settings, rule_distance=self.rule_distance) if method in VARIANTS else settings
+        return ep.Schedule(self.episodes, ep.uniform_edges(self.episodes, self.bin_size), self.max_steps)
 
 
-def learner_of(method: str) -> Learner:
-    """The registered learner a method runs (a variant's learner, or the method itself)."""
-    return registry.get(VARIANTS[method].learner if method in VARIANTS else method)
+def label(name: str) -> str:
+    """A learner's name in the study's figures and tables (its N-agent form's, where that differs)."""
+    learner = registry.get(name)
+    return learner.n_agent_label or learner.label
 
 
-def label(method: str) -> str:
-    """A method's name in figures and tables (its N-agent form's, where that differs)."""
-    return VARIANTS[method].label if method in VARIANTS else (learner_of(method).n_agent_label or registry.label(method))
-
-
-def memory_needed(config: ScalingConfig, method: str, gridmap: GridMap) -> int:
-    """Bytes the tables of all of ``config.runs`` runs on ``gridmap`` take together (CQ: with its marks)."""
-    return config.runs * learner_of(method).bytes_per_run(config.settings(method), gridmap)
+def memory_needed(config: ScalingConfig, name: str, gridmap: GridMap) -> int:
+    """Bytes the tables of all of ``config.runs`` runs of learner ``name`` on ``gridmap`` take together
+    (CQ: with its marks)."""
+    return config.runs * registry.get(name).bytes_per_run(config.setup(name), gridmap)
 
 
 @dataclass(frozen=True)
@@ -168,8 +149,8 @@ class ScalingResult:
 
     config: ScalingConfig
     """The configuration that produced the arrays."""
-    methods: np.ndarray
-    """int (methods,): index into :func:`known_methods` of each method, in the order of the other arrays."""
+    learners: np.ndarray
+    """str (learners,): the learners' names, in the order of the other arrays."""
     agents: np.ndarray
     """int (agents,): the numbers of agents N."""
     ran: np.ndarray
@@ -194,8 +175,7 @@ class ScalingResult:
     """int (bins,): the episode count at the end of each block."""
 
     def names(self) -> list[str]:
-        known = known_methods()
-        return [known[k] for k in self.methods]
+        return [str(name) for name in self.learners]
 
     def curves(self, method: str, n: int, metric: str) -> np.ndarray:
         """(runs, bins) block means of one of METRICS for one method and number of agents."""
@@ -211,13 +191,11 @@ class ScalingResult:
         return self.q_entries() + self.gla_parameters + self.joint_entries + self.reward_samples
 
 
-def seed_of(seed: int, method: str, n_agents: int) -> int:
-    """Master seed of one (method, N) (:func:`glamas.learners.registry.master_seed` with the key
-    ``16 seed + N``): distinct for every (seed, method, N), and a method gets the same streams at a
-    given N whatever else is trained with it."""
-    family = learner_of(method).family
-    members = RELATED_METHODS if family == "related" else CHAPTER_METHODS
-    return registry.master_seed(seed * 16 + n_agents, members, method, family)
+def seed_of(seed: int, name: str, n_agents: int) -> int:
+    """Master seed of one (learner, N) (:func:`glamas.learners.registry.master_seed` with the key
+    ``16 seed + N`` and SEED_STRIDES): distinct for every (seed, learner, N), and a learner gets the
+    same streams at a given N whatever else is trained or registered."""
+    return registry.master_seed(seed * 16 + n_agents, name, SEED_STRIDES)
 
 
 def _as_int64(count: int) -> int:
@@ -227,11 +205,11 @@ def _as_int64(count: int) -> int:
 
 
 def run(config: ScalingConfig = ScalingConfig(), seed: int = 0, workers=None, progress=None) -> ScalingResult:
-    """Train every method at every N that fits the memory budget (``config.runs`` runs each), all
+    """Train every learner at every N that fits the memory budget (``config.runs`` runs each), all
     runs on one pool of workers (:func:`glamas.parallel.run_many`). Each run's Q tables stay in the
     worker that fills them (the study keeps learning curves and table sizes), so memory holds
     the tables of the runs in progress only."""
-    m, a = len(config.methods), len(config.agents)
+    m, a = len(config.learners), len(config.agents)
     ran = np.zeros((m, a), dtype=bool)
     shapes = np.zeros((m, a, 3), dtype=np.int64)
     glas = np.zeros((m, a), dtype=np.int64)
@@ -244,25 +222,24 @@ def run(config: ScalingConfig = ScalingConfig(), seed: int = 0, workers=None, pr
     trainings = {}
     for j, n in enumerate(config.agents):
         gridmap = config.gridmap(n)
-        for k, method in enumerate(config.methods):
-            learner, settings = learner_of(method), config.settings(method)
+        for k, name in enumerate(config.learners):
+            learner, setup = registry.get(name), config.setup(name)
             shapes[k, j] = [_as_int64(size) for size in learner.table_shape(gridmap.n_cells, n)]
-            glas[k, j] = learner.gla_parameters(settings, gridmap)
-            joints[k, j], samples[k, j] = learner.joint_room(settings, gridmap), learner.reward_samples(settings, gridmap)
-            needed[k, j] = _as_int64(memory_needed(config, method, gridmap))
+            glas[k, j] = learner.gla_parameters(setup, gridmap)
+            joints[k, j], samples[k, j] = learner.joint_room(setup, gridmap), learner.reward_samples(setup, gridmap)
+            needed[k, j] = _as_int64(memory_needed(config, name, gridmap))
             if needed[k, j] <= budget:
-                batch, outputs = spec.batch(learner, settings, gridmap, schedule, config.runs, seed_of(seed, method, n),
-                                            keep_q=False)
-                trainings[k, j] = learner, settings, gridmap, batch, outputs
+                batch, outputs = spec.batch(learner, setup, gridmap, schedule, config.runs, seed_of(seed, name, n),
+                                            bounce=config.bounce, keep_q=False)
+                trainings[k, j] = learner, setup, gridmap, batch, outputs
     # One run per job: runs differ widely in length (some spend most episodes at the step cap),
     # and small jobs keep every worker busy until the last runs are done.
     parallel.run_many([batch for *_, batch, _ in trainings.values()], workers=workers, progress=progress, chunk=1)
-    for (k, j), (learner, settings, gridmap, _, outputs) in trainings.items():
-        joints[k, j] = learner.joint_learned(outputs, settings, gridmap).mean()
+    for (k, j), (learner, setup, gridmap, _, outputs) in trainings.items():
+        joints[k, j] = learner.joint_learned(outputs, setup, gridmap).mean()
         ran[k, j] = True
         log[k, j] = agent_means(outputs["log"])
-    codes = np.array([known_methods().index(name) for name in config.methods], dtype=np.int64)
-    return ScalingResult(config=config, methods=codes, agents=np.array(config.agents, dtype=np.int64), ran=ran,
+    return ScalingResult(config=config, learners=np.array(config.learners), agents=np.array(config.agents, dtype=np.int64), ran=ran,
                          table_shapes=shapes, gla_parameters=glas, joint_entries=joints, reward_samples=samples,
                          bytes_needed=needed, log=log, episodes=schedule.edges[1:])
 
