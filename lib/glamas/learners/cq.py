@@ -88,6 +88,14 @@ def t_test(setup, gridmap: GridMap) -> tuple:
     return (TTest(settings.cq_window, t_critical, settings.cq_solo_episodes),)
 
 
+def freeze(inputs: tuple) -> tuple:
+    """The kernel's own input with learning off (:attr:`glamas.learners.spec.Learner.freeze`): no
+    phase alone, so the baseline stays empty and no joint state is marked; with the Q-learning rate
+    zero nothing else changes either."""
+    (t_test,) = inputs
+    return (t_test._replace(cq_solo_episodes=0),)
+
+
 def outputs(setup, gridmap: GridMap) -> dict:
     """One run's joint-state values ``q_aug`` (agents, own cell, other's cell, 4 actions) and
     ``marked``, the joint states each agent observes (agents, own cell, other's cell); only marked
@@ -330,6 +338,6 @@ def episodes(world, learning, t_test, schedule, q, q_aug, marked, log, state, ar
 
 
 LEARNER = Learner(name="cq", label="CQ-learning", n_agent_label="CQ-learning (nearest)",
-                  kernel=run, table_shape=table_shape, inputs=t_test, outputs=outputs,
+                  kernel=run, table_shape=table_shape, inputs=t_test, freeze=freeze, outputs=outputs,
                   joint_room=joint_room, reward_samples=reward_samples, extra_bytes=mark_bytes,
                   joint_learned=joint_learned, defaults=Settings(), family="related", seed_slot=1)

@@ -47,6 +47,10 @@ def _nothing(setup, gridmap) -> tuple:
     return ()
 
 
+def _unchanged(inputs: tuple) -> tuple:
+    return inputs
+
+
 def _no_outputs(setup, gridmap) -> dict:
     return {}
 
@@ -84,6 +88,11 @@ class Learner:
     class is what configs accept for it), or None for a learner with no settings of its own."""
     inputs: Callable = _nothing
     """(setup, gridmap) -> its own settings bundles, passed between ``learning`` and ``schedule``."""
+    freeze: Callable = _unchanged
+    """(its own bundles) -> the same with learning off: a run of its kernel from learned outputs,
+    with the Q-learning rate zero, then changes none of them and draws nothing afresh at its start
+    (a frozen evaluation, :func:`evaluation`). The identity for a learner whose only learning is
+    Q-learning's."""
     outputs: Callable = _no_outputs
     """(setup, gridmap) -> {name: one run's array} of what else it learns, passed between ``q``
     and ``log`` in this order, zeros (or its initial values)."""

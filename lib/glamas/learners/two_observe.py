@@ -176,6 +176,7 @@ class Automata(NamedTuple):
     gla_bounding: int
     """A code of glamas.gla.BOUNDING_MODES."""
     gla_init_range: float
+    """< 0: the run starts from the GLA parameters it is given (:func:`freeze`)."""
     gla_feedback: np.ndarray
     """(2, 2): feedback[choice, need]."""
     coordination_penalty_per_cell: float
@@ -203,6 +204,14 @@ def automata(setup, gridmap: GridMap) -> tuple:
                      NEEDS[settings.gla_need], delta_scale(settings.gla_delta_scale, gridmap), rule),)
 
 
+def freeze(inputs: tuple) -> tuple:
+    """The kernel's own input with learning off (:attr:`glamas.learners.spec.Learner.freeze`): the
+    GLAs neither drawn afresh nor updated (lambda of eq. 13 zero), so a run plays the GLA
+    parameters it is given."""
+    (automata,) = inputs
+    return (automata._replace(gla_learning_rate=0.0, gla_init_range=-1.0),)
+
+
 def outputs(setup, gridmap: GridMap) -> dict:
     """One run's GLA parameters ``u`` (agents, 2 actions, 2 inputs; drawn by the kernel from the
     run's stream) and ``need_counts`` (distances 0 .. rows + cols - 2, without / with need)."""
@@ -217,7 +226,10 @@ def gla_parameters(setup, gridmap: GridMap) -> int:
 
 @njit(cache=True, inline="always")
 def init_glas(u, init_range, state):
-    """Every GLA parameter uniform in [-init_range, init_range] ("initialised randomly", Section 5.3)."""
+    """Every GLA parameter uniform in [-init_range, init_range] ("initialised randomly", Section 5.3);
+    a negative ``init_range`` keeps ``u`` as it is given (a frozen evaluation of learned GLAs, :func:`freeze`)."""
+    if init_range < 0.0:
+        return
     for i in range(u.shape[0]):
         for j in range(2):
             for k in range(N_GLA_INPUTS):
@@ -551,7 +563,7 @@ def episodes(world, learning, automata, schedule, q, u, need_counts, log, state,
 
 LEARNER = Learner(name="two_observe", label="2observe", n_agent_label="2observe (N agents)",
                   kernel=run, two_agent_kernel=run_two, table_shape=table_shape, inputs=automata,
-                  defaults=GLASettings(), outputs=outputs, gla_parameters=gla_parameters, family="chapter",
+                  defaults=GLASettings(), freeze=freeze, outputs=outputs, gla_parameters=gla_parameters, family="chapter",
                   seed_slot=3)
 RULE = replace(LEARNER, name="two_observe_rule", label="2observe, fixed rule", n_agent_label="",
                defaults=GLASettings(rule_distance=3), seed_slot=4)
