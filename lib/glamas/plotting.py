@@ -4,6 +4,7 @@ import zlib
 from functools import partial
 from pathlib import Path
 
+import numpy as np
 import matplotlib.pyplot as plt
 
 from glamas import atomic
@@ -83,3 +84,28 @@ def legend_below_figure(ax, ncols: int = 4):
 def legend_right(ax, **kwargs):
     """The legend of ``ax`` right of it, outside the data (for legends too long to go below)."""
     return ax.legend(loc="upper left", bbox_to_anchor=(1.02, 1.0), fontsize="small", frameon=False, **kwargs)
+
+
+GREEDY_LABEL = "greedy policy after training (learning off), mean over runs"
+"""The legend's words for the markers of :func:`mark_greedy`."""
+
+
+def mark_greedy(ax, x, values, name: str):
+    """Learner ``name``'s greedy values (an evaluation of what it learned) at ``x``: diamonds in its
+    colour, edged in black; a value beyond the axis' current range is drawn at its edge as a
+    triangle, the value written beside it, so that a trapped policy's thousands of steps or
+    collisions do not squeeze the curves. Call it once the axis' scale and range are set."""
+    low, high = ax.get_ylim()
+    for at, value in zip(np.atleast_1d(x), np.atleast_1d(values)):
+        shown = min(max(float(value), low), high)
+        marker = "^" if value > high else "v" if value < low else "D"
+        ax.plot(at, shown, linestyle="none", marker=marker, markersize=7, markeredgecolor="black", clip_on=False,
+                **learner_style(name))
+        if shown != value:
+            ax.annotate(f"{value:.3g}", (at, shown), textcoords="offset points", xytext=(6, -3), fontsize="x-small")
+    ax.set_ylim(low, high)
+
+
+def greedy_legend_entry(ax):
+    """The legend's entry of :func:`mark_greedy`'s markers (one per axes)."""
+    ax.plot([], [], linestyle="none", marker="D", color="white", markeredgecolor="black", label=GREEDY_LABEL)

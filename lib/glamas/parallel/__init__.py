@@ -17,12 +17,12 @@ Modules: ``backends`` (who runs the jobs), ``batch`` (the runs of one kernel, cu
 
 from glamas.parallel.backends import (BACKENDS, BackendError, Dask, Processes, Threads, backend, cores,
                                       require_dask)
-from glamas.parallel.batch import Batch, NonFiniteError, Scratch, check_finite, chunk_size
+from glamas.parallel.batch import Batch, Evaluation, NonFiniteError, Scratch, check_finite, chunk_size
 from glamas.parallel.dask import connect
 from glamas.parallel.job import fill_chunk, run_chunk
 from glamas.parallel.memo import reuse_batches
 from glamas.parallel.runner import run_batches, run_many
 
-__all__ = ["BACKENDS", "BackendError", "Batch", "Dask", "NonFiniteError", "Processes", "Scratch", "Threads",
+__all__ = ["BACKENDS", "BackendError", "Batch", "Dask", "Evaluation", "NonFiniteError", "Processes", "Scratch", "Threads",
            "backend", "check_finite", "chunk_size", "connect", "cores", "fill_chunk", "reuse_batches",
            "require_dask", "run_batches", "run_chunk", "run_many"]

@@ -21,9 +21,29 @@ class NonFiniteError(UserError, FloatingPointError):
 
 
 @dataclass(frozen=True)
+class Evaluation:
+    """Episodes played right after each run of a batch, in the same job, from copies of what the
+    run learned: the kernel called again with ``inputs`` (its inputs with learning off), the run's
+    log replaced by this evaluation's own, on a stream of its own. The learned tables need not
+    leave the worker (they may be a :class:`Scratch`)."""
+
+    inputs: tuple
+    """The kernel's inputs for the evaluation."""
+    log: int
+    """The position of the kernel's log among its outputs: the evaluation fills its own there."""
+    seed: int
+    """The master seed of the evaluation's streams (:func:`glamas.rng.chunk_states`)."""
+
+    def key(self) -> tuple:
+        """What makes its outputs what they are (:func:`glamas.parallel.memo.key_of`)."""
+        return self.inputs, self.log, self.seed
+
+
+@dataclass(frozen=True)
 class Batch:
     """The runs of one run kernel: ``kernel(*inputs, *outputs_of_the_run, state)`` for every run,
-    the runs' streams drawn from master seed ``seed`` (:func:`glamas.parallel.run_batches`)."""
+    the runs' streams drawn from master seed ``seed`` (:func:`glamas.parallel.run_batches`), each
+    run followed by the :attr:`evaluations` of what it learned."""
 
     kernel: object
     """The compiled run kernel (``@njit(cache=True, nogil=True)``)."""
@@ -34,6 +54,9 @@ class Batch:
     for an output that the caller does not keep."""
     seed: int
     """The master seed of the runs' streams (:func:`glamas.rng.chunk_states`)."""
+    evaluations: tuple = ()
+    """:class:`Evaluation` s played after each run; their logs are the last outputs, one each, in
+    order (the kernel's own outputs come first)."""
 
 
 @dataclass(frozen=True)
@@ -61,6 +84,8 @@ class Scratch:
 
 def check_batch(batch: Batch) -> None:
     check_seed(batch.seed)
+    for evaluation in batch.evaluations:
+        check_seed(evaluation.seed)
     if any(out.ndim < 2 for out in batch.outputs):
         raise UserError("every output needs an axis of runs and an array per run (ndim >= 2), got shapes "
                          f"{[out.shape for out in batch.outputs]}")

@@ -2,7 +2,7 @@
 worker process for it: the kernel by name, the inputs and the outputs' initial slices."""
 
 import importlib
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -12,8 +12,10 @@ from glamas.rng import chunk_states
 
 
 def fill_chunk(kernel, inputs: tuple, seed: int, start: int, stop: int, initial: tuple,
-               copy: bool = True) -> tuple[int, tuple]:
-    """One job: runs ``start`` to ``stop - 1`` of a sweep; returns ``(start, filled outputs)``.
+               copy: bool = True, evaluations: tuple = ()) -> tuple[int, tuple]:
+    """One job: runs ``start`` to ``stop - 1`` of a sweep, each followed by ``evaluations``
+    (:class:`glamas.parallel.batch.Evaluation`, whose logs are the last outputs); returns
+    ``(start, filled outputs)``.
 
     ``initial`` are the outputs' initial slices (some kernels read them, e.g. initial Q values).
     With ``copy`` the job fills copies: the caller's arrays stay untouched until it writes the
@@ -24,8 +26,14 @@ def fill_chunk(kernel, inputs: tuple, seed: int, start: int, stop: int, initial:
     a Scratch's filled output is returned as None.
     """
     outputs = tuple(_array_of(x, copy) for x in initial)
+    learned, logs = outputs[:len(outputs) - len(evaluations)], outputs[len(outputs) - len(evaluations):]
+    evaluation_states = [chunk_states(evaluation.seed, start, stop) for evaluation in evaluations]
     for r, state in enumerate(chunk_states(seed, start, stop)):
-        kernel(*inputs, *(out[r] for out in outputs), state)
+        kernel(*inputs, *(out[r] for out in learned), state)
+        for evaluation, log, states in zip(evaluations, logs, evaluation_states):
+            copies = [out[r].copy() for out in learned]  # each evaluation starts from what the run learned
+            copies[evaluation.log] = log[r]
+            kernel(*evaluation.inputs, *copies, states[r])
     return start, tuple(None if isinstance(x, Scratch) else out for x, out in zip(initial, outputs))
 
 
@@ -37,18 +45,22 @@ def _array_of(x, copy: bool) -> np.ndarray:
 
 
 def run_chunk(kernel: str, inputs: tuple, seed: int, start: int, stop: int,
-              initial: tuple) -> tuple[int, tuple]:
+              initial: tuple, evaluations: tuple = ()) -> tuple[int, tuple]:
     """:func:`fill_chunk` in a worker process: ``kernel`` is the run kernel's 'module:name'. It
     fills arrays of its own: made from a Filled or Scratch, or copies of what it was sent."""
-    return fill_chunk(resolve_kernel(kernel), tuple(_as_sent(x) for x in inputs), seed, start, stop, initial)
+    received = tuple(replace(e, inputs=tuple(_as_sent(x) for x in e.inputs)) for e in evaluations)
+    return fill_chunk(resolve_kernel(kernel), tuple(_as_sent(x) for x in inputs), seed, start, stop, initial,
+                      evaluations=received)
 
 
 def to_send(batches: list, jobs: list) -> list:
     """``jobs`` (:func:`glamas.parallel.batch.jobs_of`) as worker processes take them: ``(batch
-    number, kernel name, inputs, seed, start, stop, initial slices)``, each read-only input and
-    each output slice of one value wrapped for transport."""
+    number, kernel name, inputs, seed, start, stop, initial slices, evaluations)``, each read-only
+    input and each output slice of one value wrapped for transport."""
     sent = [(kernel_name(b.kernel), tuple(for_transport(x) for x in b.inputs)) for b in batches]
-    return [(k, *sent[k], batches[k].seed, start, stop, tuple(Filled.of(x) for x in first))
+    evaluations = [tuple(replace(e, inputs=tuple(for_transport(x) for x in e.inputs)) for e in b.evaluations)
+                   for b in batches]
+    return [(k, *sent[k], batches[k].seed, start, stop, tuple(Filled.of(x) for x in first), evaluations[k])
             for k, start, stop, first in jobs]
 
 

@@ -48,7 +48,7 @@ def key_of(batch: Batch):
     if sum(out.nbytes for out in batch.outputs) > MEMO_BYTES // 8:
         return None
     digest = hashlib.blake2b(digest_size=20)
-    if not _digest(digest, (batch.seed, batch.inputs, batch.outputs)):
+    if not _digest(digest, (batch.seed, batch.inputs, batch.outputs, tuple(e.key() for e in batch.evaluations))):
         return None
     return batch.kernel, digest.hexdigest()
 

@@ -67,9 +67,9 @@ def _hand_out(workers, batches: list, to_run: list, jobs: list):
         for k in to_run:
             kernel_name(batches[k].kernel)  # importable, as for more workers
         return (batch_chunk(k, fill_chunk, batches[k].kernel, batches[k].inputs, batches[k].seed, start, stop, first,
-                            False) for k, start, stop, first in jobs)
+                            False, batches[k].evaluations) for k, start, stop, first in jobs)
     if isinstance(workers, Threads):
         return local.run_in_threads(workers, [(k, batches[k].kernel, batches[k].inputs, batches[k].seed, start, stop,
-                                               first) for k, start, stop, first in jobs])
+                                               first, True, batches[k].evaluations) for k, start, stop, first in jobs])
     tasks = to_send(batches, jobs)
     return (local.run_in_processes if isinstance(workers, Processes) else dask.run_on_dask)(workers, tasks)

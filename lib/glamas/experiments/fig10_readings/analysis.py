@@ -37,6 +37,7 @@ def summary(result: ReadingsResult, config: ReadingsConfig, baselines: Gridworld
         learns = reading.own("two_observe").rule_distance is None
         row = {"reading": name, "steps": m["steps_two_observe"], "reward": m["reward_two_observe"],
                "collisions": m["collisions_two_observe"], "coordinations": m["coordinations_two_observe"],
+               "greedy_collisions": m["greedy_collisions_two_observe"],
                "deltas": deltas(reading), "coordinating": coordinating_share(alone, reading),
                "stuck_at_start": m["stuck_at_start_share_two_observe"] if learns else math.nan,
                "stuck_at_end": m["stuck_at_end_share_two_observe"] if learns else math.nan}

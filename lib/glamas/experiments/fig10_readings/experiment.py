@@ -73,6 +73,8 @@ class ReadingsResult:
     """The configuration that produced the arrays."""
     log: np.ndarray
     """(readings, runs, bins, columns): as GridworldResult.log for 2observe."""
+    evaluated: np.ndarray
+    """(readings, runs, evaluations, columns): as GridworldResult.evaluated for 2observe."""
     gla_parameters: np.ndarray
     """(readings, runs, agents, 2, 2): the final GLA parameters."""
     gla_initial: np.ndarray
@@ -86,7 +88,8 @@ class ReadingsResult:
         """Reading k's 2observe as a GridworldResult of one learner."""
         return gw_experiment.GridworldResult(config=self.config.reading(self.config.readings[k]),
                                              learners=np.array(["two_observe"]),
-                                             log=self.log[k:k + 1], table_shapes=np.zeros((1, 3), np.int64),
+                                             log=self.log[k:k + 1], evaluated=self.evaluated[k:k + 1],
+                                             table_shapes=np.zeros((1, 3), np.int64),
                                              gla_parameters=self.gla_parameters[k], gla_initial=self.gla_initial[k],
                                              need_counts=self.need_counts[k], episodes=self.episodes)
 
@@ -101,6 +104,7 @@ def run(config: ReadingsConfig = ReadingsConfig(), seed: int = 0, workers=None, 
     parts = [gw_experiment.result_of(reading, [outputs for _, outputs in trainings], seed)
              for reading, trainings in zip(readings, work)]
     return ReadingsResult(config=config, log=np.concatenate([p.log for p in parts]),
+                          evaluated=np.concatenate([p.evaluated for p in parts]),
                           gla_parameters=np.stack([p.gla_parameters for p in parts]),
                           gla_initial=np.stack([p.gla_initial for p in parts]),
                           need_counts=np.stack([p.need_counts for p in parts]), episodes=parts[0].episodes)

@@ -31,9 +31,14 @@ def plot_coordination(ax, rows: list[dict]):
 
 def plot_collisions(ax, rows: list[dict]):
     """Final collisions per episode under each reading (log axis), against the chapter's "zero
-    collisions" (at most one per 20 episodes, the claim's threshold)."""
+    collisions" (at most one per 20 episodes, the claim's threshold), and the greedy policy's after
+    training (black diamonds; at the axis' left edge where none collided)."""
     y = np.arange(len(rows))[::-1]
     ax.barh(y, [row["collisions"] for row in rows], color=[_colour(row) for row in rows])
+    greedy = np.array([row["greedy_collisions"] for row in rows])
+    left = min([row["collisions"] for row in rows] + list(greedy[greedy > 0])) / 3
+    ax.plot(np.maximum(greedy, left), y, "D", color="white", markeredgecolor="black", linestyle="none",
+            label="greedy policy after training (learning off), mean over runs")
     ax.set_yticks(y, [f"{k + 1}: {row['reading']}" for k, row in enumerate(rows)], fontsize="small")
     ax.axvline(0.05, color="black", linestyle="--", linewidth=1, label="zero collisions (claim: <= 0.05)")
     ax.set_xscale("log")

@@ -14,7 +14,8 @@ from glamas.curves import (DEFINITIONS, ratio, convergence_episode, convergence_
                            level_episode)
 from glamas.experiments.gridworld.experiment import GridworldConfig, GridworldResult
 from glamas.gridworld import GridMap, dp, rules
-from glamas.learners import registry, two_observe
+from glamas.learners import episode as ep
+from glamas.learners import registry, spec, two_observe
 
 
 ZERO_COLLISIONS = 0.05
@@ -22,6 +23,10 @@ ZERO_COLLISIONS = 0.05
 keeps a learner that has found a collision-free path colliding now and then."""
 ZERO_COLLISION_LEVELS = (0.02, 0.05, 0.1)
 """The levels of "zero collisions" the notebook shows the fast-to-zero claims at."""
+COMPLETION = 0.95
+"""A greedy policy is a solution when at least this share of its evaluation's episodes end with
+every agent in its goal (before the step cap): a policy trapped short of the goal, colliding or
+not, has found no solution."""
 SATURATED = 1e-3
 """A GLA is saturated at a distance when its less likely choice has probability below this:
 eq. 13's gradient, proportional to that probability, has all but vanished there."""
@@ -39,6 +44,7 @@ def measure(result: GridworldResult) -> dict:
         m[f"convergence_{name}"] = float(np.median(convergence_episodes(result.steps(name), x)))
         m[f"zero_collisions_after_{name}"] = zero_collisions_after(result, name)
         m[f"capped_episodes_{name}"] = float(result.curves(name, "capped").mean(axis=0) @ result.widths())
+        m.update(evaluation_measures(result, name))
     if "two_observe" in result.names():
         m.update(first_level_shares(result))
     if {"two_observe", "independent", "mmdp"} <= set(result.names()):
@@ -50,6 +56,35 @@ def measure(result: GridworldResult) -> dict:
         m["collisions_independent_off_3"] = abs(m["collisions_independent"] - 3.0)
         m["coordinations_two_observe_off_4"] = abs(m["coordinations_two_observe"] - 4.0)
     return m
+
+
+def evaluation_measures(result: GridworldResult, name: str) -> dict:
+    """What learner ``name`` learned, evaluated with learning off (glamas.learners.spec.EVALUATIONS),
+    means over runs: steps, reward, collisions, coordinations and completion of the greedy policy
+    and of the frozen tables under the training's exploration; collisions per perturbation (the
+    perturbed evaluation's collisions per random action); and ``greedy_solution_collisions``: the
+    greedy collisions per episode of a policy that completes (COMPLETION), infinite for one that
+    does not, so that a trapped policy never passes as collision-free."""
+    m = {}
+    for mode in ("greedy", "exploring"):
+        for metric in ("steps", "reward", "collisions", "coordinations", "completion"):
+            m[f"{mode}_{metric}_{name}"] = float(result.evaluation(name, metric, mode).mean())
+    completed = m[f"greedy_completion_{name}"] >= COMPLETION
+    m[f"greedy_solution_collisions_{name}"] = m[f"greedy_collisions_{name}"] if completed else math.inf
+    m[f"collisions_per_perturbation_{name}"] = (collisions_per_perturbation(result, name) if completed
+                                                else math.nan)  # no solution to perturb
+    return m
+
+
+def collisions_per_perturbation(result: GridworldResult, name: str) -> float:
+    """The collisions a random action adds to the greedy policy: the perturbed evaluation's
+    (glamas.learners.spec.evaluation_of: about one random action per episode) collisions beyond the
+    greedy one's, per random action, over all runs: how robust the learned solution is to one wrong move."""
+    exploit = result.config.evaluation().exploits[spec.EVALUATIONS.index("perturbed")]
+    rows = result.evaluated[result.names().index(name), :, spec.EVALUATIONS.index("perturbed")]
+    random_actions = (1.0 - exploit) * float(rows[:, :result.config.gridmap().n_agents].sum())  # agent-steps
+    extra = ep.metric(rows, "collisions") - result.evaluation(name, "collisions")
+    return ratio(float(extra.sum()), random_actions)
 
 
 def claim_rows(result: GridworldResult) -> list[dict]:
@@ -158,11 +193,11 @@ def with_learner(result: GridworldResult, other: GridworldResult, name: str) -> 
     """``result`` with learner ``name``'s curves and 2observe's arrays taken from ``other`` (to
     compare a variant of one learner against the same baselines)."""
     k, j = result.names().index(name), other.names().index(name)
-    log = result.log.copy()
-    log[k] = other.log[j]
+    log, evaluated = result.log.copy(), result.evaluated.copy()
+    log[k], evaluated[k] = other.log[j], other.evaluated[j]
     learned = registry.get(name).outputs(other.config.setup(name), other.config.gridmap())
     first_level = {"gla_parameters": "u", "gla_initial": "u", "need_counts": "need_counts"}
-    return replace(result, log=log, **{field: getattr(other, field) for field, key in first_level.items() if key in learned})
+    return replace(result, log=log, evaluated=evaluated, **{field: getattr(other, field) for field, key in first_level.items() if key in learned})
 
 
 def state_action_table(result: GridworldResult) -> str:

@@ -47,10 +47,13 @@ class GridworldConfig:
     bins: int = 200
     """Points of the learning curves: blocks of episodes with log-spaced ends (the first blocks
     one episode wide), so that learning in the first episodes is resolved (glamas.learners.episode)."""
+    evaluation_episodes: int = 100
+    """Episodes of each evaluation of what a run learned, learning off (glamas.learners.spec.EVALUATIONS:
+    the greedy policy, the training's exploration on frozen tables, one random action per episode)."""
 
     def __post_init__(self):
         checks.field_types(self)
-        checks.whole_numbers(self, {"max_steps": 1, "episodes": 1, "runs": 1, "bins": 1})
+        checks.whole_numbers(self, {"max_steps": 1, "episodes": 1, "runs": 1, "bins": 1, "evaluation_episodes": 1})
         if self.bounce not in BOUNCE_MODES:
             raise UserError(f"bounce must be one of {sorted(BOUNCE_MODES)}, got {self.bounce!r}")
         learners = tuple(self.learners) if isinstance(self.learners, (tuple, list)) else ()
@@ -82,6 +85,10 @@ class GridworldConfig:
     def schedule(self) -> ep.Schedule:
         return ep.Schedule(self.episodes, self.edges(), self.max_steps)
 
+    def evaluation(self) -> spec.Evaluation:
+        """How each run's learned tables are evaluated (:func:`glamas.learners.spec.evaluation_of`)."""
+        return spec.evaluation_of(self.evaluation_episodes, self.q, self.gridmap())
+
     def memory_bytes(self) -> int:
         """Bytes of every learner's runs: their tables and logs (:func:`learner_bytes`)."""
         gridmap = self.gridmap()
@@ -102,9 +109,10 @@ def own_settings(learners: tuple, q: QSettings, given) -> dict:
 
 
 def learner_bytes(name: str, setup: spec.Setup, gridmap: GridMap, bins: int) -> int:
-    """Bytes one run of learner ``name`` allocates: its tables (with the runner's working copy) and its log."""
+    """Bytes one run of learner ``name`` allocates: its tables (with the runner's working copy and
+    the copy an evaluation plays) and its log."""
     tables = registry.get(name).bytes_per_run(setup, gridmap)
-    return tables * memory.WORKING_COPIES + bins * ep.n_columns(gridmap.n_agents) * memory.BYTES_PER_VALUE
+    return tables * (memory.WORKING_COPIES + 1) + bins * ep.n_columns(gridmap.n_agents) * memory.BYTES_PER_VALUE
 
 
 @dataclass(frozen=True)
@@ -118,6 +126,10 @@ class GridworldResult:
     log: np.ndarray
     """(n_learners, runs, bins, columns): block means of the per-episode measurements; columns
     as in glamas.learners.episode (steps and reward per agent, length, collisions, coordinations, capped)."""
+    evaluated: np.ndarray
+    """(n_learners, runs, evaluations, columns): what each run learned, evaluated with learning off
+    (glamas.learners.spec.EVALUATIONS), the means over ``config.evaluation_episodes`` episodes in
+    the columns of ``log``."""
     table_shapes: np.ndarray
     """int (n_learners, 3): (tables, states, actions) of each learner's final Q tables."""
     gla_parameters: np.ndarray
@@ -142,6 +154,15 @@ class GridworldResult:
         """(runs, bins) block means of one metric of glamas.learners.episode.METRICS for one
         learner (steps and reward: means of both agents)."""
         return ep.metric(self.log[self.names().index(learner)], metric)
+
+    def evaluation(self, learner: str, metric: str, mode: str = "greedy") -> np.ndarray:
+        """(runs,): one metric of glamas.learners.episode.METRICS for one learner under evaluation
+        ``mode`` of glamas.learners.spec.EVALUATIONS (``completion``: 1 - capped, the share of the
+        evaluation's episodes that ended with every agent in its goal)."""
+        rows = self.evaluated[self.names().index(learner), :, spec.EVALUATIONS.index(mode)]
+        if metric == "completion":
+            return np.clip(1.0 - ep.metric(rows, "capped"), 0.0, 1.0)  # the block mean of 1s may pass 1 by rounding
+        return ep.metric(rows, metric)
 
     def steps(self, learner: str) -> np.ndarray:
         """(runs, bins): steps to the goal, averaged over both agents (Fig. 11a)."""
@@ -169,8 +190,10 @@ def run(config: GridworldConfig = GridworldConfig(), seed: int = 0, workers=None
 def trainings(config: GridworldConfig, seed: int = 0) -> list:
     """Per learner of ``config``: its runs, ready to run (glamas.parallel.Batch), and the outputs they fill."""
     gridmap, schedule = config.gridmap(), config.schedule()
+    evaluation = config.evaluation()
     return [spec.batch(registry.get(name), config.setup(name), gridmap, schedule, config.runs,
-                       registry.master_seed(seed, name), bounce=config.bounce) for name in config.learners]
+                       registry.master_seed(seed, name), bounce=config.bounce, evaluation=evaluation)
+            for name in config.learners]
 
 
 def result_of(config: GridworldConfig, outputs: list, seed: int = 0) -> GridworldResult:
@@ -186,6 +209,7 @@ def result_of(config: GridworldConfig, outputs: list, seed: int = 0) -> Gridworl
                                                  config.runs)
     return GridworldResult(config=config, learners=np.array(config.learners),
                            log=np.stack([learned["log"] for learned in outputs]),
+                           evaluated=np.stack([spec.evaluated(learned) for learned in outputs]),
                            table_shapes=np.array([learned["q"].shape[1:] for learned in outputs], dtype=np.int64),
                            gla_parameters=first_level["u"], gla_initial=initial,
                            need_counts=first_level["need_counts"], episodes=config.edges()[1:])

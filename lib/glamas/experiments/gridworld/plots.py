@@ -8,7 +8,8 @@ from glamas.experiments.gridworld.analysis import coordination_probability, firs
 from glamas.experiments.gridworld.experiment import GridworldConfig
 from glamas.gridworld import dp
 from glamas.learners import registry
-from glamas.plotting import drawn_underneath, legend_below, learner_style, plot_mean_band
+from glamas.plotting import (drawn_underneath, greedy_legend_entry, legend_below, learner_style, mark_greedy,
+                             plot_mean_band)
 
 
 def _line_style(name: str) -> dict:
@@ -18,17 +19,36 @@ def _line_style(name: str) -> dict:
     return {**learner_style(name), "linewidth": 2.6 if under else 1.3, "zorder": 2 if under else 3}
 
 
-def _plot_learners(ax, result, values, ylabel, reference=None, learners=None):
-    x = result.episodes
-    names = list(learners or result.names())
-    for name in sorted(names, key=lambda name: not drawn_underneath(name)):  # 2observe first
-        plot_mean_band(ax, x, values(name), registry.label(name), **_line_style(name))
+def _plot_learners(ax, result, values, ylabel, reference=None):
+    """Each learner's learning curve of ``values(name)`` (mean and band over runs) and the
+    reference line, on a log axis of episodes (the learning happens in the first few thousand)."""
+    for name in sorted(result.names(), key=lambda name: not drawn_underneath(name)):  # 2observe first
+        plot_mean_band(ax, result.episodes, values(name), registry.label(name), **_line_style(name))
     if reference is not None:
         ax.axhline(reference, color="black", linestyle="--", linewidth=1, label="optimum (value iteration)")
-    ax.set_xscale("log")  # the learning happens in the first few thousand episodes
+    ax.set_xscale("log")
     ax.set_xlabel("episode")
     ax.set_ylabel(ylabel)
-    _legend_in_learner_order(ax, names)
+
+
+def _finish(ax, result, metric: str):
+    """The greedy values of ``metric`` beside the curves (:func:`_mark_greedy`), then the legend."""
+    _mark_greedy(ax, result, result.names(), metric)
+    _legend_in_learner_order(ax, result.names())
+
+
+GREEDY_AT = 2.0
+"""Where the greedy values stand: this many times the last episode, right of the curves' end."""
+
+
+def _mark_greedy(ax, result, names, metric: str):
+    """Each learner's ``metric`` under the greedy evaluation of what it learned (mean over runs),
+    right of its curve's end (:func:`glamas.plotting.mark_greedy`)."""
+    x = result.episodes[-1] * GREEDY_AT
+    for name in names:
+        mark_greedy(ax, x, result.evaluation(name, metric).mean(), name)
+    greedy_legend_entry(ax)
+    ax.set_xlim(right=x * 1.4)
 
 
 def _legend_in_learner_order(ax, names):
@@ -70,6 +90,7 @@ def plot_steps(ax, result, optimum=None):
                    None if optimum is None else optimum["steps"])
     log_ticks, tail_ticks = step_ticks(result.config.gridmap())
     _round_log_ticks(ax, log_ticks)
+    _finish(ax, result, "steps")
     if result.episodes[-1] >= TAIL_FROM:
         _plot_step_tail(ax, result, optimum, tail_ticks)
 
@@ -102,12 +123,14 @@ def plot_reward(ax, result, optimum=None):
     """Fig. 11b: undiscounted reward per episode, mean of both agents."""
     _plot_learners(ax, result, result.reward, "reward per episode (mean of the agents)",
                    None if optimum is None else optimum["reward"])
+    _finish(ax, result, "reward")
 
 
 def plot_collisions(ax, result, optimum=None):
     """Fig. 12a: agent-agent collisions per episode."""
     _plot_learners(ax, result, lambda name: result.curves(name, "collisions"), "collisions per episode",
                    None if optimum is None else optimum["collisions"])
+    _finish(ax, result, "collisions")
 
 
 CHAPTER_COORDINATIONS = 4.0
@@ -116,7 +139,8 @@ CHAPTER_COORDINATIONS = 4.0
 
 def plot_coordinations(ax, result):
     """Fig. 12b: steps per episode on which both 2observe agents chose to coordinate: every run
-    (faint), the median over runs and its interquartile range, against the chapter's "about four".
+    (faint), the median over runs and its interquartile range, against the chapter's "about four",
+    and the greedy policy's coordinations after training (:func:`_mark_greedy`).
     The median, not the mean: a few runs whose GLAs coordinate far from need would pull a mean up."""
     x, per_run = result.episodes, result.curves("two_observe", "coordinations")
     style = learner_style("two_observe")
@@ -130,6 +154,7 @@ def plot_coordinations(ax, result):
     ax.set_xscale("log")
     ax.set_xlabel("episode")
     ax.set_ylabel("coordinations per episode")
+    _mark_greedy(ax, result, ["two_observe"], "coordinations")
     legend_below(ax)
 
 

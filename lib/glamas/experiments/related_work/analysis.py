@@ -43,10 +43,12 @@ def measure(result: RelatedWorkResult, config: RelatedWorkConfig) -> dict:
     for name in set(names) & set(RELATED_LEARNERS):
         if "mmdp" in names:
             m[f"reward_{name}_over_mmdp"] = ratio(m[f"reward_{name}"], m["reward_mmdp"])
+            m[f"greedy_reward_{name}_over_mmdp"] = ratio(m[f"greedy_reward_{name}"], m["greedy_reward_mmdp"])
             m[f"q_entries_{name}_over_mmdp"] = m[f"q_entries_{name}"] / m["q_entries_mmdp"]
             m.update(gw_analysis.convergence_comparison(result, name, "mmdp"))
         if "independent" in names:
             m[f"reward_{name}_minus_independent"] = m[f"reward_{name}"] - m["reward_independent"]
+            m[f"greedy_reward_{name}_minus_independent"] = m[f"greedy_reward_{name}"] - m["greedy_reward_independent"]
     return m
 
 

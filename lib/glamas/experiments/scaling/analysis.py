@@ -7,9 +7,11 @@ import math
 import numpy as np
 
 from glamas import claims as chapter
-from glamas.curves import BAND_DRAWS, convergence_episode, final
-from glamas.experiments.scaling.experiment import RELATED_METHODS, ScalingResult, label
+from glamas.curves import BAND_DRAWS, convergence_episode, final, ratio
 from glamas.errors import UserError
+from glamas.experiments.gridworld.analysis import COMPLETION
+from glamas.experiments.scaling.experiment import RELATED_METHODS, ScalingResult, label
+from glamas.learners import spec
 
 
 def growth(agents, values) -> dict:
@@ -44,6 +46,7 @@ def measure(result: ScalingResult) -> dict:
             m[f"convergence_{method}_{n}"] = convergence_episode(result.curves(method, n, "steps"), result.episodes)
             capped = result.curves(method, n, "capped")
             m[f"capped_runs_{method}_{n}"] = float(sum(final(run[None], result.episodes) > 0 for run in capped))
+            m.update(evaluation_measures(result, method, n))
         fit = growth(ran_at, [params[k, list(result.agents).index(n)] for n in ran_at])
         m[f"growth_factor_{method}"] = fit["factor_per_agent"]
         m[f"loglog_slope_{method}"] = fit["loglog_slope"]
@@ -57,15 +60,38 @@ def measure(result: ScalingResult) -> dict:
     if {"mmdp", "two_observe"} <= set(names):
         both = [n for j, n in enumerate(result.agents)
                 if result.ran[names.index("mmdp"), j] and result.ran[names.index("two_observe"), j]]
-        m["collisions_two_observe_minus_mmdp_max"] = max(
-            (m[f"collisions_two_observe_{n}"] - m[f"collisions_mmdp_{n}"] for n in both), default=math.nan)
+        for prefix in ("", "greedy_solution_"):
+            m[f"{prefix}collisions_two_observe_minus_mmdp_max"] = max(
+                (m[f"{prefix}collisions_two_observe_{n}"] - m[f"{prefix}collisions_mmdp_{n}"] for n in both),
+                default=math.nan)
     for method in set(RELATED_METHODS) & set(names):
         k = names.index(method)
         ran_at = [n for n, ok in zip(result.agents, result.ran[k]) if ok]
-        m[f"collisions_{method}_max"] = max((m[f"collisions_{method}_{n}"] for n in ran_at), default=math.nan)
+        for prefix in ("", "greedy_solution_"):
+            m[f"{prefix}collisions_{method}_max"] = max((m[f"{prefix}collisions_{method}_{n}"] for n in ran_at),
+                                                        default=math.nan)
     if {"cq", "two_observe"} <= set(names):
         ratio = params[names.index("cq")] / params[names.index("two_observe")]
         m["parameters_cq_over_two_observe_min"] = float(ratio.min())
+    return m
+
+
+def evaluation_measures(result: ScalingResult, method: str, n: int) -> dict:
+    """What ``method`` learned with ``n`` agents, evaluated with learning off (as
+    :func:`glamas.experiments.gridworld.analysis.evaluation_measures`, means over runs): the greedy
+    policy's steps, reward, collisions and completion, the collisions per episode of a greedy
+    policy that completes (infinite for one that does not), and collisions per perturbation (the
+    collisions a random action adds to a greedy policy that completes; NaN for one that does not)."""
+    m = {f"greedy_{metric}_{method}_{n}": float(result.evaluation(method, n, metric).mean())
+         for metric in ("steps", "reward", "collisions", "coordinations", "completion")}
+    m[f"exploring_collisions_{method}_{n}"] = float(result.evaluation(method, n, "collisions", "exploring").mean())
+    completed = m[f"greedy_completion_{method}_{n}"] >= COMPLETION
+    m[f"greedy_solution_collisions_{method}_{n}"] = m[f"greedy_collisions_{method}_{n}"] if completed else math.inf
+    exploit = spec.evaluation_of(1, result.config.q, result.config.gridmap(n)).exploits[spec.EVALUATIONS.index("perturbed")]
+    steps, collisions = (result.evaluation(method, n, metric, "perturbed") for metric in ("steps", "collisions"))
+    extra = float((collisions - result.evaluation(method, n, "collisions")).sum())
+    m[f"collisions_per_perturbation_{method}_{n}"] = (ratio(extra, (1.0 - exploit) * n * float(steps.sum()))
+                                                      if completed else math.nan)
     return m
 
 

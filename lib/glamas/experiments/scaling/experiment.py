@@ -74,10 +74,12 @@ class ScalingConfig:
     memory_budget_gib: float = 4.0
     """Memory the Q tables of all runs of one (learner, N) may take, in GiB (a sixth of a 24 GiB
     workstation, leaving room for other work); a learner whose tables would need more is skipped at that N."""
+    evaluation_episodes: int = 100
+    """Episodes of each evaluation of what a run learned, learning off (glamas.learners.spec.EVALUATIONS)."""
 
     def __post_init__(self):
         checks.field_types(self)
-        checks.whole_numbers(self, {"max_steps": 1, "episodes": 1, "runs": 1, "bin_size": 1})
+        checks.whole_numbers(self, {"max_steps": 1, "episodes": 1, "runs": 1, "bin_size": 1, "evaluation_episodes": 1})
         if self.episodes % self.bin_size:
             raise UserError(f"bin_size ({self.bin_size}) must divide episodes ({self.episodes}); "
                             "choose a bin size such as 100 that divides the episode count")
@@ -120,7 +122,7 @@ class ScalingConfig:
         needs = [memory_needed(self, name, self.gridmap(n)) for n in self.agents for name in self.learners]
         largest = max((need for need in needs if need <= budget), default=0)
         logs = len(self.learners) * len(self.agents) * self.runs * self.n_bins * len(METRICS)
-        return largest * memory.WORKING_COPIES + logs * memory.BYTES_PER_VALUE
+        return largest * (memory.WORKING_COPIES + 1) + logs * memory.BYTES_PER_VALUE
 
     @property
     def n_bins(self) -> int:
@@ -171,6 +173,10 @@ class ScalingResult:
     log: np.ndarray
     """(methods, agents, runs, bins, METRICS): block means of steps to goal and reward (means
     over the agents), collisions, coordinations, capped episodes; NaN where skipped."""
+    evaluated: np.ndarray
+    """(methods, agents, runs, evaluations, METRICS): what each run learned, evaluated with learning
+    off (glamas.learners.spec.EVALUATIONS), means over ``config.evaluation_episodes`` episodes; NaN
+    where skipped."""
     episodes: np.ndarray
     """int (bins,): the episode count at the end of each block."""
 
@@ -180,6 +186,14 @@ class ScalingResult:
     def curves(self, method: str, n: int, metric: str) -> np.ndarray:
         """(runs, bins) block means of one of METRICS for one method and number of agents."""
         return self.log[self.names().index(method), list(self.agents).index(n), :, :, METRICS.index(metric)]
+
+    def evaluation(self, method: str, n: int, metric: str, mode: str = "greedy") -> np.ndarray:
+        """(runs,): one of METRICS, or ``completion`` (1 - capped), for one method and N under
+        evaluation ``mode`` of glamas.learners.spec.EVALUATIONS."""
+        rows = self.evaluated[self.names().index(method), list(self.agents).index(n), :, spec.EVALUATIONS.index(mode)]
+        if metric == "completion":
+            return np.clip(1.0 - rows[:, METRICS.index("capped")], 0.0, 1.0)
+        return rows[:, METRICS.index(metric)]
 
     def q_entries(self) -> np.ndarray:
         """(methods, agents): Q-table entries per run (all agents' tables together)."""
@@ -217,11 +231,13 @@ def run(config: ScalingConfig = ScalingConfig(), seed: int = 0, workers=None, pr
     samples = np.zeros((m, a), dtype=np.int64)
     needed = np.zeros((m, a), dtype=np.int64)
     log = np.full((m, a, config.runs, config.n_bins, len(METRICS)), np.nan)
+    evaluated = np.full((m, a, config.runs, len(spec.EVALUATIONS), len(METRICS)), np.nan)
     budget = config.memory_budget_gib * 2 ** 30
     schedule = config.schedule()
     trainings = {}
     for j, n in enumerate(config.agents):
         gridmap = config.gridmap(n)
+        evaluation = spec.evaluation_of(config.evaluation_episodes, config.q, gridmap)
         for k, name in enumerate(config.learners):
             learner, setup = registry.get(name), config.setup(name)
             shapes[k, j] = [_as_int64(size) for size in learner.table_shape(gridmap.n_cells, n)]
@@ -230,7 +246,7 @@ def run(config: ScalingConfig = ScalingConfig(), seed: int = 0, workers=None, pr
             needed[k, j] = _as_int64(memory_needed(config, name, gridmap))
             if needed[k, j] <= budget:
                 batch, outputs = spec.batch(learner, setup, gridmap, schedule, config.runs, seed_of(seed, name, n),
-                                            bounce=config.bounce, keep_q=False)
+                                            bounce=config.bounce, keep_q=False, evaluation=evaluation)
                 trainings[k, j] = learner, setup, gridmap, batch, outputs
     # One run per job: runs differ widely in length (some spend most episodes at the step cap),
     # and small jobs keep every worker busy until the last runs are done.
@@ -239,9 +255,10 @@ def run(config: ScalingConfig = ScalingConfig(), seed: int = 0, workers=None, pr
         joints[k, j] = learner.joint_learned(outputs, setup, gridmap).mean()
         ran[k, j] = True
         log[k, j] = agent_means(outputs["log"])
+        evaluated[k, j] = agent_means(spec.evaluated(outputs))
     return ScalingResult(config=config, learners=np.array(config.learners), agents=np.array(config.agents, dtype=np.int64), ran=ran,
                          table_shapes=shapes, gla_parameters=glas, joint_entries=joints, reward_samples=samples,
-                         bytes_needed=needed, log=log, episodes=schedule.edges[1:])
+                         bytes_needed=needed, log=log, evaluated=evaluated, episodes=schedule.edges[1:])
 
 
 def agent_means(log: np.ndarray) -> np.ndarray:

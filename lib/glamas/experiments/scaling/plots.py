@@ -6,7 +6,7 @@ import numpy as np
 from glamas.experiments.scaling.analysis import final_with_band
 from glamas.experiments.scaling.experiment import ScalingConfig, ScalingResult, label
 from glamas.learners.spec import BYTES_PER_VALUE
-from glamas.plotting import learner_style, legend_right, plot_mean_band
+from glamas.plotting import greedy_legend_entry, learner_style, legend_right, mark_greedy, plot_mean_band
 from glamas.errors import UserError
 
 
@@ -105,11 +105,28 @@ def plot_final(ax, result: ScalingResult, metric: str, legend: bool = True):
                     mfc="none", markersize=7, **{**learner_style(method), "marker": "^"})
     if never_settled:
         _mark_never_settled(ax, result.episodes[-1])
+    if metric in GREEDY_METRICS:
+        _mark_greedy(ax, result, metric)
     ax.set_xticks(result.agents)
     ax.set_xlabel("agents N")
     ax.set_ylabel(_METRIC_LABELS[metric])
     if legend:
         legend_right(ax)
+
+
+GREEDY_METRICS = ("steps", "reward", "collisions", "coordinations")
+"""The measurements :func:`plot_final` also shows for the greedy policy after training."""
+
+
+def _mark_greedy(ax, result: ScalingResult, metric: str):
+    """Every method's ``metric`` under the greedy evaluation of what it learned (mean over runs),
+    beside its final learning-curve value at each N it ran at (:func:`glamas.plotting.mark_greedy`)."""
+    names = result.names()
+    for k, method in enumerate(names):
+        ns = [int(n) for n, ok in zip(result.agents, result.ran[k]) if ok]
+        x = np.array(ns) + DODGE * 0.5 * (k - (len(names) - 1) / 2) + DODGE / 4
+        mark_greedy(ax, x, [result.evaluation(method, n, metric).mean() for n in ns], method)
+    greedy_legend_entry(ax)
 
 
 def _mark_never_settled(ax, last: int):
