@@ -257,7 +257,7 @@ def _t_critical_values(max_df: int, significance: float) -> tuple:
     return tuple(values)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def differs_from_expected(expected, window, t_critical):
     """Student's one-sample t-test, two-sided, of a window's summary (count, sum, sum of squares)
     against the ``expected`` reward: |mean - ER| / (sd / sqrt(n)) > t_critical[n - 1], compared
@@ -274,7 +274,7 @@ def differs_from_expected(expected, window, t_critical):
     return gap * gap * n * (n - 1.0) > t * t * squares
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def significantly_lower(baseline, recent, t_critical):
     """The variant ``two_sample``: whether the recent rewards' mean is significantly below the
     baseline's, by Student's two-sample t-test with pooled variance (two-sided critical value
@@ -293,7 +293,7 @@ def significantly_lower(baseline, recent, t_critical):
     return (m1 - m2) / math.sqrt(spread) > t_critical[df]
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def rejects(alone, window, t_critical, test):
     """Test 1 or 2: whether a full reward ``window`` (its summary) differs from the rewards of its
     state-action ``alone`` (their summary: ER_k(s_k, a_k) = their mean) by the ``test`` of TESTS.
@@ -411,7 +411,7 @@ def augmented_update(q_aug, q, s, other, a, r, s_next, terminal, alpha, gamma):
     q_aug[s, other, a] += alpha * (target - q_aug[s, other, a])
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def augment(learned, k, s, other):
     """Step 4's outcome: agent k's state ``s`` is augmented with the other's cell, its values
     starting from the local ones (nothing changes if it already is). ``learned``: (q, q_aug, marked)."""
@@ -423,7 +423,7 @@ def augment(learned, k, s, other):
         q_aug[k, s, other, a] = q[k, s, a]
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def test_1(windows, alone, k, s, a, r, detection):
     """Step 3: store r in W_k(s, a); whether the window is full and the test rejects it against the
     state-action's rewards ``alone``."""
@@ -434,7 +434,7 @@ def test_1(windows, alone, k, s, a, r, detection):
     return rejects(alone[k, s, a], summary[k, s, a], detection.t_critical, detection.cq_test)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def test_2(learned, windows, alone, k, s, a, r, other, detection):
     """Step 4 for one other agent present on cell ``other``: store r in W_k(s, a, other); if
     ``other`` does not augment s yet and its window is full and the test rejects it against ER,
@@ -447,7 +447,7 @@ def test_2(learned, windows, alone, k, s, a, r, other, detection):
         augment(learned, k, s, other)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def detect(learned, windows, alone, k, a, r, seen, detection):
     """Steps 3-4 for agent k after its action ``a`` and reward ``r``, ``seen`` = (cells, done,
     nearest) as they were when it acted: test 1, then test 2 per other agent present (two stages),
