@@ -484,9 +484,9 @@ def run(world, learning, detection, schedule, q, q_aug, marked, log, state):
     first[2][:] = 0.0
     others = n_cells if detection.cq_detection == TWO_STAGE else 0  # test 2's windows, per other's cell
     second = reward_windows(per_action + (others,), detection.cq_window)
-    seen = (np.zeros(n_agents, np.int64), np.zeros(n_agents, np.int64), rules.distance_table(n_cells, world.n_cols))
+    observing = (np.zeros(n_agents, np.int64), np.zeros(n_agents, np.int64), rules.distance_table(n_cells, world.n_cols))
     episodes(world, learning, detection, schedule, (q, q_aug, marked), log, state,
-             (buffers, (first, second), alone, seen))
+             (buffers, (first, second), alone, observing))
 
 
 @njit(**ep.LOOP)
