@@ -1,9 +1,10 @@
-"""Sparse tabular MAQ with pairwise coordination and CQ-learning observing the nearest agent
+"""Sparse tabular MAQ with pairwise coordination and CQ-learning testing every other agent
 (glamas.learners.sparse_maq, glamas.learners.cq) on the four-agent warehouse: the compiled
 run kernels against their plain-Python references (benchmarks.python_gridworld.sparse_maq and
 .cq: the same N-agent rules, eq. 11, epsilon-greedy with random tie-breaking, the pair matching and
-the four update cases per pair, CQ-learning's phase alone, reward windows, t-test and marks on the
-nearest agent's cell; tests/test_benchmark_references.py checks that they play the kernels' episodes).
+the four update cases per pair, CQ-learning's phase alone, reward windows, test 1 per state-action,
+test 2 per other agent's cell and the nearest augmenting agent; tests/test_benchmark_references.py
+checks that they play the kernels' episodes).
 
 The references run fewer episodes than the compiled kernels (CQ-learning: the same share of
 episodes alone); both sides are timed in this process and compared per environment step of the

@@ -462,6 +462,21 @@ class RewardWindow:
         self.added += 1
 
 
+def differs_from_expected(expected, window, t_critical):
+    """Student's one-sample t-test, two-sided, of a window against the expected reward; zero
+    variance rejects when the mean differs (cq.differs_from_expected)."""
+    n = window.count
+    if n < 2.0:
+        return False
+    mean = window.total / n
+    gap = mean - expected
+    squares = max(window.squares - window.total * mean, 0.0)
+    if squares <= 0.0:
+        return gap != 0.0
+    t = t_critical[int(n) - 1]
+    return gap * gap * n * (n - 1.0) > t * t * squares
+
+
 def significantly_lower(baseline, recent, t_critical):
     """Student's two-sample t-test with pooled variance on window summaries: the recent mean is
     significantly below the baseline's (cq.significantly_lower)."""
@@ -479,13 +494,22 @@ def significantly_lower(baseline, recent, t_critical):
     return (m1 - m2) / math.sqrt(spread) > t_critical[df]
 
 
+def rejects(alone, window, t_critical, test):
+    """Test 1 or 2 of a full window against the state-action's rewards alone (cq.rejects)."""
+    if alone.count < 1.0:
+        return False
+    if test == "one_sample":
+        return differs_from_expected(alone.total / alone.count, window, t_critical)
+    return significantly_lower(alone, window, t_critical)
+
+
 def windows(n_agents, n_cells, size):
     return [[[RewardWindow(size) for _ in range(N_ACTIONS)] for _ in range(n_cells)] for _ in range(n_agents)]
 
 
-def learn_alone(world, workload, q, baseline, rnd):
-    """CQ-learning's first phase: each agent in turn learns alone (the others count as in the goal)
-    and fills its baseline reward windows (cq.learn_alone)."""
+def learn_alone(world, workload, q, alone, rnd):
+    """CQ-learning's phase alone: each agent in turn learns alone (the others count as in the goal)
+    and fills the reward windows ``alone`` whose means are ER (cq.learn_alone)."""
     (q_settings, c), n = workload.setup(), len(world.starts)
     alpha, gamma, exploit = q_settings.q_learning_rate, q_settings.discount, q_settings.exploit_prob
     actions = [0] * n
@@ -497,52 +521,76 @@ def learn_alone(world, workload, q, baseline, rnd):
                 a = actions[k] = epsilon_greedy(q[k][s], exploit, rnd)
                 new, rewards, reached, _ = world.step(cells, done, actions)
                 q_update(q[k], s, a, rewards[k], new[k], reached[k], alpha, gamma)
-                baseline[k][s][a].add(rewards[k])
+                alone[k][s][a].add(rewards[k])
                 t += 1
                 done[k], cells = reached[k], new
 
 
 def cq(world, workload, rnd):
-    """CQ-learning for any number of agents, each observing its nearest other agent (cq.run)."""
+    """CQ-learning for any number of agents and each of its variants (cq.run): the phase alone,
+    then test 1 per state-action and test 2 per other agent's cell (or one stage), acting on the
+    augmented values of the nearest augmenting agent (or of the nearest agent only)."""
     (q_settings, c), n = workload.setup(), len(world.starts)
     alpha, gamma, exploit = q_settings.q_learning_rate, q_settings.discount, q_settings.exploit_prob
+    every, two_stage = c.cq_observe == "every", c.cq_detection == "two_stage"
     q = tables(n, world.n_cells, N_ACTIONS)
-    baseline = windows(n, world.n_cells, c.cq_window)
-    learn_alone(world, workload, q, baseline, rnd)
-    recent = windows(n, world.n_cells, c.cq_window)
+    alone = windows(n, world.n_cells, c.cq_window)
+    learn_alone(world, workload, q, alone, rnd)
+    first = windows(n, world.n_cells, c.cq_window)  # W_k(s_k, a_k)
+    second = {}  # (k, s_k, a_k, other's cell) -> W_k(s_k, a_k, s_l)
     t_critical = workload.t_critical().tolist()
-    q_joint = [{} for _ in range(n)]  # agent k: marked (own cell, nearest agent's cell) -> 4 values
+    q_aug = [{} for _ in range(n)]  # agent k: augmented (own cell, other's cell) -> 4 values
 
-    def mark_if_conflict(k, s, a, key, r):
-        """Mark ``key`` when the recent rewards of (s, a) are significantly below the baseline and
-        ``r`` is below the baseline mean; its values start from the local ones."""
-        base = baseline[k][s][a]
-        if key in q_joint[k] or base.count < 1.0 or r >= base.total / base.count:
+    def observe(k, cells, done):
+        """(the agent whose augmented values agent k acts on, its nearest other agent); None: none."""
+        others = [(world.distance(cells[k], cells[l]), l) for l in range(n) if l != k and not done[l]]
+        nearest = min(others)[1] if others else None
+        if every:
+            augmenting = [seen for seen in others if (cells[k], cells[seen[1]]) in q_aug[k]]
+            return (min(augmenting)[1] if augmenting else None), None
+        return (nearest if nearest is not None and (cells[k], cells[nearest]) in q_aug[k] else None), nearest
+
+    def augment(k, s, other):
+        if (s, other) not in q_aug[k]:
+            q_aug[k][s, other] = list(q[k][s])
+
+    def detect(k, s, a, r, cells, done, nearest):
+        """Test 1 on W_k(s, a), then test 2 per other agent present (or one stage)."""
+        base, window = alone[k][s][a], first[k][s][a]
+        window.add(r)
+        if window.added < c.cq_window or not rejects(base, window, t_critical, c.cq_test):
             return
-        if significantly_lower(base, recent[k][s][a], t_critical):
-            q_joint[k][key] = list(q[k][s])
+        for l in range(n):
+            if l == k or done[l] or (not every and l != nearest):
+                continue
+            other = cells[l]
+            if two_stage:
+                pair = second.setdefault((k, s, a, other), RewardWindow(c.cq_window))
+                pair.add(r)
+                if ((s, other) not in q_aug[k] and pair.added >= c.cq_window
+                        and rejects(base, pair, t_critical, c.cq_test)):
+                    augment(k, s, other)
+            elif r < base.total / base.count:
+                augment(k, s, other)
 
     def step(cells, done):
-        near = nearest_others(world, cells, done)
-        keys = [None if seen is None else (cells[k], cells[seen[1]]) for k, seen in enumerate(near)]
-        joint = [key is not None and key in q_joint[k] for k, key in enumerate(keys)]
-        actions = [0 if done[k] else epsilon_greedy(q_joint[k][keys[k]] if joint[k] else q[k][cells[k]], exploit, rnd)
-                   for k in range(n)]
+        seen = [(None, None) if done[k] else observe(k, cells, done) for k in range(n)]
+        rows = [q_aug[k][cells[k], cells[seen[k][0]]] if seen[k][0] is not None else q[k][cells[k]] for k in range(n)]
+        actions = [0 if done[k] else epsilon_greedy(rows[k], exploit, rnd) for k in range(n)]
         new, rewards, reached, collisions = world.step(cells, done, actions)
         for k in range(n):
             if done[k]:
                 continue
             s, a, r = cells[k], actions[k], rewards[k]
-            if joint[k]:  # Q_j learns r plus the local value of the next state
-                row = q_joint[k][keys[k]]
+            observed, nearest = seen[k]
+            if observed is not None:  # Q_aug learns r plus the local value of the next state
+                row = q_aug[k][s, cells[observed]]
                 target = r if reached[k] else r + gamma * max(q[k][new[k]])
                 row[a] += alpha * (target - row[a])
-            else:
+            elif c.cq_update_local:
                 q_update(q[k], s, a, r, new[k], reached[k], alpha, gamma)
-            recent[k][s][a].add(r)
-            if keys[k] is not None and recent[k][s][a].added >= c.cq_window:
-                mark_if_conflict(k, s, a, keys[k], r)
-        observed = any(joint[k] and not done[k] for k in range(n))
+            detect(k, s, a, r, cells, done, nearest)
+        observed = any(seen[k][0] is not None for k in range(n) if not done[k])
         return new, rewards, reached, collisions, int(observed)
     return step
 

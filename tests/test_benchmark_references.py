@@ -50,11 +50,21 @@ WORKLOADS = {
     "two_observe": kernels.Workload("two_observe", 200),
     "sparse_maq": kernels.Workload("sparse_maq", 200),
     "cq": kernels.Workload("cq", 200, own=cq.Settings(cq_solo_episodes=20)),
+    "cq, one stage": kernels.Workload("cq", 200, own=cq.Settings(cq_solo_episodes=20, cq_detection="one_stage")),
+    "cq, two-sample test": kernels.Workload("cq", 200, own=cq.Settings(cq_solo_episodes=20, cq_test="two_sample")),
+    "cq, local updates (CQwU)": kernels.Workload("cq", 200, own=cq.Settings(cq_solo_episodes=20, cq_update_local=True)),
+    "cq, the earlier form": kernels.Workload("cq", 200, own=cq.Settings(
+        cq_window=30, cq_significance=0.05, cq_solo_episodes=20, cq_test="two_sample", cq_detection="one_stage",
+        cq_update_local=True, cq_observe="nearest")),
     "two_observe, 4 agents": kernels.Workload("two_observe", 20, WAREHOUSE, max_steps=SCALING),
     "sparse_maq, 4 agents": kernels.Workload("sparse_maq", 20, WAREHOUSE, max_steps=SCALING),
     "sparse_maq, 4 agents, bounce to start": kernels.Workload(
         "sparse_maq", 20, WAREHOUSE, max_steps=SCALING, bounce="start"),
-    "cq, 4 agents": kernels.Workload("cq", 20, WAREHOUSE, own=cq.Settings(cq_solo_episodes=10), max_steps=SCALING),
+    "cq, 4 agents": kernels.Workload("cq", 100, WAREHOUSE, own=cq.Settings(cq_solo_episodes=20), max_steps=SCALING),
+    "cq, 4 agents, nearest agent only": kernels.Workload(
+        "cq", 100, WAREHOUSE, own=cq.Settings(cq_solo_episodes=20, cq_observe="nearest"), max_steps=SCALING),
+    "cq, 4 agents, one stage": kernels.Workload(
+        "cq", 20, WAREHOUSE, own=cq.Settings(cq_solo_episodes=10, cq_detection="one_stage"), max_steps=SCALING),
     "independent, own goals": kernels.Workload("independent", 100, SWAP),
     "two_observe, own goals": kernels.Workload("two_observe", 100, SWAP),
     "sparse_maq, own goals": kernels.Workload("sparse_maq", 100, SWAP),
@@ -76,7 +86,7 @@ def test_gridworld_reference_plays_the_kernels_episodes(case):
     if workload.learner in COORDINATING:
         assert ep.metric(log, "coordinations").sum() > 0  # and coordinated steps
     if workload.learner == "cq":
-        assert compiled.arrays["marked"].any()  # CQ-learning's t-test marked joint states
+        assert compiled.arrays["marked"].any()  # CQ-learning's tests augmented states
 
 
 @pytest.mark.parametrize("map_file", [TUNNEL, WAREHOUSE, SWAP, PAIRED_GOALS])

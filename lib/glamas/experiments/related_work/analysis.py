@@ -8,7 +8,6 @@ from glamas import claims as chapter
 from glamas.curves import final, mean_and_band, ratio
 from glamas.experiments.gridworld import analysis as gw_analysis
 from glamas.experiments.related_work.experiment import RELATED_LEARNERS, RelatedWorkConfig, RelatedWorkResult
-from glamas.gridworld import rules
 from glamas.learners import cq, registry
 
 
@@ -66,18 +65,9 @@ def final_interval(result: RelatedWorkResult, name: str, metric: str = "collisio
 
 
 def fewest_flagged_collisions(config: RelatedWorkConfig) -> int:
-    """The fewest collisions among the ``cq_window`` recent rewards of a state-action that
-    CQ-learning's test flags against a baseline without any (``cq_window`` equal rewards, as of a
-    state-action that never collided alone); the other recent rewards equal the baseline's."""
-    settings = config.setup("cq").own
-    window = settings.cq_window
-    t_critical = cq.t_critical_values(2 * window - 2, settings.cq_significance)
-    baseline = np.array([window, 0.0, 0.0])
-    for k in range(1, window + 1):
-        penalties = k * rules.COLLISION_PENALTY
-        if cq.significantly_lower(baseline, np.array([window, penalties, penalties * rules.COLLISION_PENALTY]), t_critical):
-            return k
-    return window + 1  # never: not even a window of collisions only
+    """The fewest collisions among the ``cq_window`` rewards of a full window that CQ-learning's test
+    flags against a state-action that never collided alone (:func:`glamas.learners.cq.fewest_flagged_collisions`)."""
+    return cq.fewest_flagged_collisions(config.setup("cq").own)
 
 
 def summary_table(result: RelatedWorkResult, config: RelatedWorkConfig) -> str:
