@@ -8,7 +8,7 @@ READY := $(VENV)/.installed
 EXTRAS := $(VENV)/.extras-installed
 NOTEBOOKS := $(sort $(wildcard notebooks/*.ipynb))
 
-.PHONY: figures test unit notebooks-check notebooks lab ledger benchmark reproduce verify clean-env clean-cache
+.PHONY: figures test unit notebooks-check notebooks lab ledger benchmark benchmark-maps reproduce verify clean-env clean-cache
 
 $(READY): requirements.txt pyproject.toml
 	@$(PYTHON) -c 'import sys; sys.exit(sys.version_info < (3, 11) and "glamas needs Python >= 3.11: set PYTHON=python3.11")'
@@ -83,6 +83,15 @@ reproduce: $(READY)
 verify: $(READY)
 	$(PY) -m glamas.reproduce --all --fresh "$$VERIFY"
 	$(PY) -m glamas.verify "$$VERIFY"
+
+## benchmark-maps: the sparse-interaction benchmark: every learner on the field's maps (TunnelToGoal
+## with 2, 3 and 4 agents, ISR, CIT, CMU) against each map's exact optimum, recomputed into
+## $(MAPS_OUT)/results with its figures in $(MAPS_OUT)/figures (emptied first, as make reproduce does)
+MAPS_OUT ?= out/benchmark-maps
+export MAPS_OUT
+
+benchmark-maps: $(READY)
+	$(PY) -m glamas.reproduce --experiment benchmark_maps --fresh "$$MAPS_OUT"
 
 clean-env:
 	rm -rf "$(VENV)"

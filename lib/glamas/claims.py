@@ -2,9 +2,9 @@
 
 Each claim names a metric that an experiment's analysis measures, a comparison and a threshold.
 The verdict is the comparison applied to the measured value: nothing here is typed in by hand.
-A claim is of one of two kinds: what the chapter says, or what we infer from it (our reading of a
-lost figure, or a consequence we derive); ``why`` says which sentence it tests and why the metric
-measures it.
+A claim is of one of three kinds: what the chapter says, what we infer from it (our reading of a
+lost figure, or a consequence we derive), or what the sparse-interaction literature reports on the
+maps it shares with the chapter; ``why`` says which sentence it tests and why the metric measures it.
 """
 
 import json
@@ -16,7 +16,7 @@ from glamas.errors import UserError
 from glamas.paths import DATA
 
 _OPS = {">": operator.gt, ">=": operator.ge, "<": operator.lt, "<=": operator.le}
-KINDS = ("chapter", "inferred")
+KINDS = ("chapter", "inferred", "field")
 REPRODUCED, NOT_REPRODUCED, UNDECIDABLE = "reproduced", "NOT reproduced", "undecidable"
 WHY_UNDECIDABLE = ":why_undecidable"
 """Suffix of the measurements key (``metric + WHY_UNDECIDABLE``) that says why a metric is NaN."""
@@ -33,7 +33,8 @@ class Claim:
     chapter: str
     """What the chapter says, paraphrased."""
     kind: str
-    """'chapter' (the chapter says it) or 'inferred' (our reading, or a consequence we derive)."""
+    """'chapter' (the chapter says it), 'inferred' (our reading, or a consequence we derive) or
+    'field' (a result the sparse-interaction literature reports, its source in ``where``)."""
     why: str
     """Which sentence of the chapter the claim tests and why the metric and threshold measure it."""
     metric: str

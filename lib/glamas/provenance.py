@@ -24,7 +24,7 @@ def record(config) -> dict:
 
 def map_files(config, prefix: str = "") -> list[tuple[str, str]]:
     """(field, map name or path) of every map file a config (and the configs inside it) reads: its
-    field ``map``, one per number of agents where it holds ``{n}``."""
+    field ``map``, one per number of agents where it holds ``{n}``, or each of its field ``maps``."""
     found = []
     for field in dataclasses.fields(config):
         value, name = getattr(config, field.name), prefix + field.name
@@ -34,6 +34,8 @@ def map_files(config, prefix: str = "") -> list[tuple[str, str]]:
             found += [(f"{name}[n={n}]", value.format(n=n)) for n in getattr(config, "agents", ())]
         elif field.name == "map" and isinstance(value, str):
             found.append((name, value))
+        elif field.name == "maps" and isinstance(value, tuple):
+            found += [(f"{name}[{map_name}]", map_name) for map_name in value if isinstance(map_name, str)]
     return found
 
 

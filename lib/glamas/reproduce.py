@@ -46,6 +46,16 @@ def script_main(name: str):
     return module.main
 
 
+def scripts(experiment: str | None, every: bool) -> tuple:
+    """The figure scripts to run: ``experiment``'s, or every experiment's (``every``), or the chapter's."""
+    if experiment is None:
+        return registry.figure_scripts(chapter_only=not every)
+    known = {e.name: e for e in registry.experiments()}
+    if experiment not in known:
+        raise UserError(f"no experiment {experiment!r}; the experiments are {', '.join(known)}")
+    return tuple(sorted(known[experiment].figures, key=registry.figure_order))
+
+
 def run(names, options: list) -> None:
     """Call each script's ``main(options)``, announcing it first."""
     for name in names:
@@ -127,8 +137,11 @@ def _foreign(path: Path, text: str) -> UserError:
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(prog="python -m glamas.reproduce",
                                      description=" ".join(__doc__.split("\n\n")[0].split()))
-    parser.add_argument("--all", action="store_true",
-                        help="every script of paper_figures/, the studies beyond the chapter included")
+    scope = parser.add_mutually_exclusive_group()
+    scope.add_argument("--all", action="store_true",
+                       help="every script of paper_figures/, the studies beyond the chapter included")
+    scope.add_argument("--experiment", metavar="NAME",
+                       help="the scripts of one experiment only (for example benchmark_maps)")
     parser.add_argument("--out", type=Path, help="directory for the figures (each script's --out)")
     parser.add_argument("--results", type=Path, help="directory for the result files (each script's --results)")
     parser.add_argument("--fresh", metavar="DIR",
@@ -141,6 +154,7 @@ def main(argv=None) -> int:
     if args.fresh is not None and (args.out or args.results):
         parser.error("--fresh DIR chooses --out and --results: give either --fresh or --out/--results")
     with errors.reported():  # checked once here, before any script runs
+        names = scripts(args.experiment, args.all)
         if args.fresh is not None:
             args.out, args.results = fresh_directories(args.fresh)
         for flag, directory in (("--out", args.out), ("--results", args.results)):
@@ -151,7 +165,7 @@ def main(argv=None) -> int:
     if args.results is None:
         options.append("--no-compute")  # drawing from the committed results: never recompute one at paper scale
     parallel.reuse_batches(REUSED_BYTES)
-    run(registry.figure_scripts(chapter_only=not args.all), options)  # a script's user error exits with status 2
+    run(names, options)  # a script's user error exits with status 2
     return 0
 
 

@@ -304,6 +304,15 @@ def optimal_rollout(gridmap: GridMap, gamma: float, bounce: str = "previous", ep
     return episode
 
 
+def exact_optimum(gridmap: GridMap, gamma: float, bounce: str = "previous") -> Rollout:
+    """An episode of an optimal joint policy from the starts: by value iteration where the joint
+    MMDP can be tabulated (:func:`optimal_rollout`), else by exhaustive search (:func:`searched_optimum`).
+    Both are exact; they may pick different ones of equally good episodes."""
+    if tabulable(gridmap):
+        return optimal_rollout(gridmap, gamma, bounce)
+    return searched_optimum(gridmap, gamma, bounce).episode
+
+
 def goal_distances(gridmap: GridMap) -> np.ndarray:
     """int64 (agents, cells): the moves from each cell to the agent's nearest goal cell, alone on
     the map (-1 where none is reachable); breadth-first from the goals (moves are symmetric)."""

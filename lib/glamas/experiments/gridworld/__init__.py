@@ -9,7 +9,8 @@ import numpy as np
 from glamas import results
 from glamas.experiments.faces import plots_on_first_use
 from glamas.experiments.gridworld.analysis import (claim_rows, convergence_comparison, convergence_report,
-                                                   convergence_spread, coordination_probability, in_range_share,
+                                                   convergence_spread, coordination_probability, evaluation_table,
+                                                   in_range_share,
                                                    measure, need_probability, optimum, state_action_spaces,
                                                    state_action_table, stuck_by_start, summary_table, with_learner,
                                                    zero_collisions_table)
@@ -24,7 +25,7 @@ PLOTS = ("plot_steps", "plot_reward", "plot_collisions", "plot_coordinations", "
 __getattr__ = plots_on_first_use(__name__, PLOTS)
 
 __all__ = ["CHAPTER_LEARNERS", "EXPERIMENT", "GridworldConfig", "GridworldResult", "claim_rows", "convergence_comparison",
-           "convergence_report", "convergence_spread", "coordination_probability", "in_range_share",
+           "convergence_report", "convergence_spread", "coordination_probability", "evaluation_table", "in_range_share",
            "learner_bytes", "load", "matches_committed", "measure", "need_probability", "optimum", "result_of",
            "run", "state_action_spaces", "state_action_table", "stuck_by_start", "summary_table", "trainings",
            "with_learner", "zero_collisions_table", *PLOTS]

@@ -87,6 +87,21 @@ def collisions_per_perturbation(result: GridworldResult, name: str) -> float:
     return ratio(float(extra.sum()), random_actions)
 
 
+def evaluation_table(result: GridworldResult) -> str:
+    """Per learner, what it learned evaluated with learning off (:func:`evaluation_measures`, means
+    over runs): the greedy policy's steps, reward, collisions, coordinations and completion; the
+    frozen tables' collisions under the training's exploration; collisions per perturbation."""
+    m = measure(result)
+    lines = [f"{'learner':24s} {'steps':>8s} {'reward':>9s} {'collisions':>10s} {'coord.':>6s} {'completed':>9s} "
+             f"{'exploring':>9s} {'per perturbation':>16s}"]
+    for name in result.names():
+        lines.append(f"{registry.label(name):24s} {m[f'greedy_steps_{name}']:8.2f} {m[f'greedy_reward_{name}']:9.1f} "
+                     f"{m[f'greedy_collisions_{name}']:10.3f} {m[f'greedy_coordinations_{name}']:6.2f} "
+                     f"{m[f'greedy_completion_{name}']:9.0%} {m[f'exploring_collisions_{name}']:9.3f} "
+                     f"{m[f'collisions_per_perturbation_{name}']:16.3f}")
+    return "\n".join(lines)
+
+
 def claim_rows(result: GridworldResult) -> list[dict]:
     """The chapter's Section 5.3 claims with their verdicts, computed from ``result``."""
     return chapter.verdicts(chapter.load("gridworld"), measure(result))

@@ -40,8 +40,9 @@ METHODS = CHAPTER_METHODS + RELATED_METHODS
 SEED_STRIDES = {"chapter": len(CHAPTER_METHODS), "related": len(RELATED_METHODS)}
 """Seed slots per seed key (:func:`glamas.learners.registry.master_seed`): the study reserves a
 fifth chapter slot, for the fixed-rule variant (its slot 4)."""
-METRICS = ("steps", "reward", "collisions", "coordinations", "capped")
-"""What the study keeps of each episode log (glamas.learners.episode.METRICS, agent means)."""
+METRICS = ("steps", "reward", "collisions", "coordinations", "capped", "length")
+"""What the study keeps of each episode log (glamas.learners.episode.METRICS; steps and reward
+agent means, length the steps until every agent is in its goal)."""
 
 
 @dataclass(frozen=True)
@@ -220,10 +221,24 @@ def _as_int64(count: int) -> int:
 
 def run(config: ScalingConfig = ScalingConfig(), seed: int = 0, workers=None, progress=None) -> ScalingResult:
     """Train every learner at every N that fits the memory budget (``config.runs`` runs each), all
-    runs on one pool of workers (:func:`glamas.parallel.run_many`). Each run's Q tables stay in the
-    worker that fills them (the study keeps learning curves and table sizes), so memory holds
-    the tables of the runs in progress only."""
-    m, a = len(config.learners), len(config.agents)
+    runs on one pool of workers (:func:`sweep`)."""
+    arrays = sweep(config, [config.gridmap(n) for n in config.agents], [seed * 16 + n for n in config.agents],
+                   workers, progress)
+    return ScalingResult(config=config, learners=np.array(config.learners),
+                         agents=np.array(config.agents, dtype=np.int64), **arrays)
+
+
+def sweep(config, gridmaps: list, keys: list, workers=None, progress=None) -> dict:
+    """Every learner of ``config`` trained and evaluated on each of ``gridmaps`` (a study's cases)
+    where its tables fit ``config.memory_budget_gib``: ``config.runs`` runs each, the runs of case j
+    drawing their seeds from key ``keys[j]`` (:func:`glamas.learners.registry.master_seed`,
+    SEED_STRIDES), all on one pool of workers (:func:`glamas.parallel.run_many`). Each run's Q
+    tables stay in the worker that fills them (the study keeps learning curves, evaluations and
+    table sizes), so memory holds the tables of the runs in progress only. ``config`` holds
+    learners, their settings (``setup``), q, bounce, runs, the schedule (``schedule()``, ``n_bins``),
+    ``evaluation_episodes`` and the memory budget. Returns the arrays of a result, with a case axis
+    after the learners' (:class:`ScalingResult`'s fields from ``ran`` on)."""
+    m, a = len(config.learners), len(gridmaps)
     ran = np.zeros((m, a), dtype=bool)
     shapes = np.zeros((m, a, 3), dtype=np.int64)
     glas = np.zeros((m, a), dtype=np.int64)
@@ -235,18 +250,18 @@ def run(config: ScalingConfig = ScalingConfig(), seed: int = 0, workers=None, pr
     budget = config.memory_budget_gib * 2 ** 30
     schedule = config.schedule()
     trainings = {}
-    for j, n in enumerate(config.agents):
-        gridmap = config.gridmap(n)
+    for j, (gridmap, key) in enumerate(zip(gridmaps, keys)):
         evaluation = spec.evaluation_of(config.evaluation_episodes, config.q, gridmap)
         for k, name in enumerate(config.learners):
             learner, setup = registry.get(name), config.setup(name)
-            shapes[k, j] = [_as_int64(size) for size in learner.table_shape(gridmap.n_cells, n)]
+            shapes[k, j] = [_as_int64(size) for size in learner.table_shape(gridmap.n_cells, gridmap.n_agents)]
             glas[k, j] = learner.gla_parameters(setup, gridmap)
             joints[k, j], samples[k, j] = learner.joint_room(setup, gridmap), learner.reward_samples(setup, gridmap)
-            needed[k, j] = _as_int64(memory_needed(config, name, gridmap))
+            needed[k, j] = _as_int64(config.runs * learner.bytes_per_run(setup, gridmap))
             if needed[k, j] <= budget:
-                batch, outputs = spec.batch(learner, setup, gridmap, schedule, config.runs, seed_of(seed, name, n),
-                                            bounce=config.bounce, keep_q=False, evaluation=evaluation)
+                batch, outputs = spec.batch(learner, setup, gridmap, schedule, config.runs,
+                                            registry.master_seed(key, name, SEED_STRIDES), bounce=config.bounce,
+                                            keep_q=False, evaluation=evaluation)
                 trainings[k, j] = learner, setup, gridmap, batch, outputs
     # One run per job: runs differ widely in length (some spend most episodes at the step cap),
     # and small jobs keep every worker busy until the last runs are done.
@@ -256,9 +271,9 @@ def run(config: ScalingConfig = ScalingConfig(), seed: int = 0, workers=None, pr
         ran[k, j] = True
         log[k, j] = agent_means(outputs["log"])
         evaluated[k, j] = agent_means(spec.evaluated(outputs))
-    return ScalingResult(config=config, learners=np.array(config.learners), agents=np.array(config.agents, dtype=np.int64), ran=ran,
-                         table_shapes=shapes, gla_parameters=glas, joint_entries=joints, reward_samples=samples,
-                         bytes_needed=needed, log=log, evaluated=evaluated, episodes=schedule.edges[1:])
+    return {"ran": ran, "table_shapes": shapes, "gla_parameters": glas, "joint_entries": joints,
+            "reward_samples": samples, "bytes_needed": needed, "log": log, "evaluated": evaluated,
+            "episodes": schedule.edges[1:]}
 
 
 def agent_means(log: np.ndarray) -> np.ndarray:

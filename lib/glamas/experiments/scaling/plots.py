@@ -139,7 +139,7 @@ def _mark_never_settled(ax, last: int):
 
 CURVE_LABELS = {"steps": "steps to goal (agent mean)", "reward": "reward (agent mean)",
                 "collisions": "collisions per episode", "coordinations": "coordinations per episode",
-                "capped": "capped episodes"}
+                "capped": "capped episodes", "length": "steps until every agent is in (episode length)"}
 """The y axis of :func:`plot_curves` for each of METRICS."""
 
 

@@ -1,0 +1,108 @@
+"""What the benchmark says: per (learner, map) the final learning-curve values and what the learned
+greedy policy does against the map's optimum, and the claims of ``data/chapter/benchmark_maps.json``:
+the field's reported outcomes on these maps (De Hauwere, Vrancx and Nowé, ICAART 2011) and the
+chapter's zero collisions carried to them."""
+
+import math
+
+import numpy as np
+
+from glamas import claims as chapter
+from glamas.curves import final
+from glamas.experiments.benchmark_maps.experiment import BenchmarkResult
+from glamas.experiments.gridworld.analysis import COMPLETION
+from glamas.learners import registry
+
+TUNNEL_3 = "tunnel_to_goal_3"
+"""The map where the field reports the independent learners doing well, by luck of exploration."""
+
+
+def measure(result: BenchmarkResult) -> dict:
+    """Per (learner, map): final collisions and steps of the learning curves; the greedy policy's
+    collisions, completion, episode length and its excess over the optimum's (NaN for a policy
+    that does not complete), and the collisions of a greedy policy that completes (infinite
+    otherwise); the comparisons the claims are about."""
+    m = {}
+    for k, name in enumerate(result.names()):
+        for j, map_name in enumerate(result.map_names()):
+            if result.ran[k, j]:
+                m.update(case_measures(result, name, map_name))
+    m.update(claim_measures(result, m))
+    return m
+
+
+def case_measures(result: BenchmarkResult, name: str, map_name: str) -> dict:
+    """The measurements of one learner on one map (:func:`measure`), keys ``<metric>_<learner>_<map>``."""
+    key = f"{name}_{map_name}"
+    m = {f"collisions_{key}": final(result.curves(name, map_name, "collisions"), result.episodes),
+         f"steps_{key}": final(result.curves(name, map_name, "steps"), result.episodes)}
+    for metric in ("collisions", "completion", "length", "reward", "coordinations"):
+        m[f"greedy_{metric}_{key}"] = float(result.evaluation(name, map_name, metric).mean())
+    completes = m[f"greedy_completion_{key}"] >= COMPLETION
+    m[f"greedy_solution_collisions_{key}"] = m[f"greedy_collisions_{key}"] if completes else math.inf
+    m[f"greedy_excess_length_{key}"] = (m[f"greedy_length_{key}"] - result.optimum(map_name)["length"]
+                                        if completes else math.nan)
+    return m
+
+
+def claim_measures(result: BenchmarkResult, m: dict) -> dict:
+    """The comparisons of data/chapter/benchmark_maps.json, from the per-case measurements ``m``."""
+    out = {}
+    names, maps = result.names(), result.map_names()
+    for name in ("cq", "two_observe"):
+        if name in names:
+            values = [m[f"greedy_solution_collisions_{name}_{map_name}"] for map_name in maps
+                      if f"greedy_solution_collisions_{name}_{map_name}" in m]
+            out[f"greedy_solution_collisions_{name}_max"] = max(values, default=math.nan)
+    if "independent" in names and TUNNEL_3 in maps and len(maps) > 1:
+        elsewhere = [m[f"collisions_independent_{map_name}"] for map_name in maps if map_name != TUNNEL_3]
+        out["collisions_independent_elsewhere_min"] = min(elsewhere)
+        out["collisions_independent_tunnel_3_over_elsewhere_min"] = (
+            m[f"collisions_independent_{TUNNEL_3}"] / min(elsewhere) if min(elsewhere) > 0 else math.nan)
+    joint = [f"collisions_{name}_{TUNNEL_3}" for name in ("joint_state", "mmdp") if name in names]
+    if joint and all(key in m for key in joint):
+        out["collisions_joint_learners_tunnel_3_min"] = min(m[key] for key in joint)
+    return out
+
+
+def claim_rows(result: BenchmarkResult, config=None) -> list[dict]:
+    """The benchmark's claims (data/chapter/benchmark_maps.json) with verdicts computed from ``result``."""
+    return chapter.verdicts(chapter.load("benchmark_maps"), measure(result))
+
+
+def table(result: BenchmarkResult, metric: str = "greedy_solution_collisions") -> str:
+    """One measurement of :func:`measure` per learner (rows) and map (columns); '-' where the
+    learner did not run (its tables exceed the memory budget)."""
+    m = measure(result)
+    maps = result.map_names()
+    lines = [f"{metric:28s}" + "".join(f"{name[:14]:>15s}" for name in maps)]
+    for name in result.names():
+        cells = [f"{m[f'{metric}_{name}_{map_name}']:15.3f}" if f"{metric}_{name}_{map_name}" in m else f"{'-':>15s}"
+                 for map_name in maps]
+        lines.append(f"{registry.label(name)[:28]:28s}" + "".join(cells))
+    return "\n".join(lines)
+
+
+def optimum_table(result: BenchmarkResult) -> str:
+    """Each map's size, agents and exact optimum: steps per agent, episode length and returns."""
+    lines = [f"{'map':18s} {'agents':>6s} {'cells':>6s} {'steps per agent':>18s} {'length':>6s} {'returns':>22s}"]
+    for map_name in result.map_names():
+        j, gridmap = result.map_names().index(map_name), result.config.gridmap(map_name)
+        n = gridmap.n_agents
+        steps = ", ".join(str(int(s)) for s in result.optimum_steps[j, :n])
+        returns = ", ".join(f"{r:g}" for r in result.optimum_returns[j, :n])
+        lines.append(f"{map_name:18s} {n:6d} {int((~gridmap.blocked).sum()):6d} {steps:>18s} "
+                     f"{int(result.optimum_steps[j].max()):6d} {returns:>22s}")
+    return "\n".join(lines)
+
+
+def excess_grid(result: BenchmarkResult) -> np.ndarray:
+    """(learners, maps): the greedy policy's episode length over the optimum's, NaN where the learner
+    did not run or its greedy policy does not complete (:func:`case_measures`)."""
+    m = measure(result)
+    grid = np.full((len(result.names()), len(result.map_names())), np.nan)
+    for k, name in enumerate(result.names()):
+        for j, map_name in enumerate(result.map_names()):
+            excess = m.get(f"greedy_excess_length_{name}_{map_name}", math.nan)
+            grid[k, j] = (excess + result.optimum(map_name)["length"]) / result.optimum(map_name)["length"]
+    return grid

@@ -1,0 +1,74 @@
+"""The benchmark's figures, each on given matplotlib Axes: the map-by-learner table of the greedy
+policies against the optimum, the learning curves on every map, and the maps with their optimal
+episodes."""
+
+import numpy as np
+
+from glamas.experiments.benchmark_maps.analysis import excess_grid, measure
+from glamas.experiments.benchmark_maps.experiment import BenchmarkResult
+from glamas.experiments.gridworld.analysis import COMPLETION
+from glamas.gridworld import draw
+from glamas.learners import registry
+from glamas.plotting import greedy_legend_entry, learner_style, mark_greedy, plot_mean_band
+
+GREEDY_AT = 2.0
+"""Where the greedy values stand: this many times the last episode, right of the curves' end."""
+
+
+def plot_table(ax, result: BenchmarkResult):
+    """Learners (rows) by maps (columns): the greedy policy's episode length over the optimum's
+    (colour; 1 is optimal) and its collisions per episode; 'no solution' where it completes fewer
+    than COMPLETION of its episodes, 'skipped' where the learner's tables exceed the budget."""
+    grid, m = excess_grid(result), measure(result)
+    names, maps = result.names(), result.map_names()
+    ax.imshow(np.clip(grid, 1.0, 2.0), cmap="Greens_r", vmin=0.8, vmax=2.2, aspect="auto")
+    for k, name in enumerate(names):
+        for j, map_name in enumerate(maps):
+            key = f"{name}_{map_name}"
+            if not result.ran[k, j]:
+                text, colour = "skipped", "0.5"
+            elif np.isnan(grid[k, j]):
+                text, colour = f"no solution\n{m[f'greedy_completion_{key}']:.0%} done", "tab:red"
+            else:
+                text, colour = f"x{grid[k, j]:.2f}\n{m[f'greedy_collisions_{key}']:.2f} coll.", "black"
+            ax.text(j, k, text, ha="center", va="center", fontsize="x-small", color=colour)
+    ax.set_xticks(range(len(maps)), maps, rotation=20, fontsize="small")
+    ax.set_yticks(range(len(names)), [registry.label(name) for name in names], fontsize="small")
+    ax.set_title(f"greedy policy after {result.config.episodes} episodes: episode length over the optimum's, "
+                 f"collisions per episode\n('no solution': fewer than {COMPLETION:.0%} of its episodes end with "
+                 "every agent in its goal)", fontsize="small")
+
+
+def plot_curves(axes, result: BenchmarkResult, metric: str = "collisions"):
+    """One panel per map: every learner's learning curve of ``metric`` (mean and 95 % band over
+    runs) and its greedy value after training beside the curves' end; the optimum as a dashed line
+    for steps, length and reward."""
+    for ax, map_name in zip(np.ravel(axes), result.map_names()):
+        j = result.map_names().index(map_name)
+        ran = [name for k, name in enumerate(result.names()) if result.ran[k, j]]
+        for name in ran:
+            plot_mean_band(ax, result.episodes, result.curves(name, map_name, metric), registry.label(name),
+                           **learner_style(name))
+        if metric in ("steps", "length", "reward"):
+            ax.axhline(result.optimum(map_name)[metric], color="black", linestyle="--", linewidth=1,
+                       label="optimum (exact)")
+        ax.set_xscale("log")
+        if metric in ("steps", "length"):
+            ax.set_yscale("log")
+        x = result.episodes[-1] * GREEDY_AT
+        for name in ran:
+            mark_greedy(ax, x, result.evaluation(name, map_name, metric).mean(), name)
+        ax.set_xlim(right=x * 1.4)
+        ax.set_title(map_name, fontsize="small")
+        ax.set_xlabel("episode", fontsize="small")
+        ax.set_ylabel(metric, fontsize="small")
+    greedy_legend_entry(np.ravel(axes)[0])
+
+
+def plot_optimum(ax, result: BenchmarkResult, map_name: str):
+    """Map ``map_name`` with the agents' paths in its optimal episode, numbered by step."""
+    gridmap = result.config.gridmap(map_name)
+    draw.draw_map(ax, gridmap)
+    draw.draw_paths(ax, gridmap, result.optimum_episode(map_name), numbered=gridmap.n_agents <= 3)
+    steps = ", ".join(str(int(s)) for s in result.optimum_steps[result.map_names().index(map_name)] if s >= 0)
+    ax.set_title(f"{map_name}: optimal steps {steps}", fontsize="small")

@@ -1,0 +1,14 @@
+"""The field's maps: every learner's greedy policy after training against each map's exact optimum."""
+
+from glamas import errors, figures
+from glamas.experiments import benchmark_maps
+
+
+def main(argv=None):
+    with figures.figure(benchmark_maps.EXPERIMENT, "benchmark_maps_table", __doc__, argv,
+                        size=(11.0, 5.0)) as (ax, result, _):
+        benchmark_maps.plot_table(ax, result)
+
+
+if __name__ == "__main__":
+    errors.run(main)
