@@ -134,6 +134,24 @@ class ScalingConfig:
         return ep.Schedule(self.episodes, ep.uniform_edges(self.episodes, self.bin_size), self.max_steps)
 
 
+@dataclass(frozen=True)
+class ManyAgentsConfig(ScalingConfig):
+    """The study of many agents: the scaling study's learners and settings on generated warehouses
+    of 2, 8, 32 and 128 agents (``data/maps/aisles_N.txt``, :func:`glamas.gridworld.generate.warehouse`
+    with seed 0), the density of agents per free cell held at about 0.1, each agent with its own
+    start and goal. The joint learners' tables stop fitting any memory from N = 8 on: they are
+    skipped there, the sizes they would need kept."""
+
+    agents: tuple = (2, 8, 32, 128)
+    """Numbers of agents N: a generated map of each, the density held."""
+    map: str = "aisles_{n}"
+    """The generated warehouses in data/maps."""
+    episodes: int = 2000
+    """Episodes per run (the field's schedule, as on the field's maps)."""
+    runs: int = 5
+    """Independent runs per (learner, N)."""
+
+
 def label(name: str) -> str:
     """A learner's name in the study's figures and tables (its N-agent form's, where that differs)."""
     learner = registry.get(name)
@@ -279,6 +297,11 @@ def sweep(config, gridmaps: list, keys: list, workers=None, progress=None) -> di
 def agent_means(log: np.ndarray) -> np.ndarray:
     """(runs, bins, METRICS) from an N-agent log (glamas.learners.episode layout)."""
     return np.stack([ep.metric(log, name) for name in METRICS], axis=-1)
+
+
+def many_agents_scaled(runs: int, episodes: int) -> ManyAgentsConfig:
+    """The study of many agents at ``runs`` and ``episodes``, in blocks that divide the episodes."""
+    return ManyAgentsConfig(runs=runs, episodes=episodes, bin_size=math.gcd(episodes, ManyAgentsConfig.bin_size))
 
 
 def scaled(runs: int, episodes: int) -> ScalingConfig:

@@ -41,13 +41,44 @@ def plot_sizes(ax, result: ScalingResult, config: ScalingConfig | None = None, l
         ax.axhline(entries, color="black", linestyle="--", linewidth=1,
                    label=f"memory budget ({config.memory_budget_gib:g} GiB for {config.runs} runs)")
     ax.set_yscale("log")
-    ax.set_xticks(result.agents)
-    ax.set_xlabel("agents N")
+    _agents_axis(ax, result)
     ax.set_ylabel("values stored per run")
     if groups:
         names = "; ".join(" = ".join(label(result.names()[k]) for k in group) for group in groups)
         ax.set_title(f"drawn side by side, as they store within {COINCIDE - 1:.0%} of each other at every N:\n{names}",
                      fontsize="small")
+    if legend:
+        legend_right(ax)
+
+
+def _agents_axis(ax, result: ScalingResult):
+    """The x axis of the numbers of agents: linear for a few, doubling (log base 2) for many."""
+    if result.agents.max() > 8 * result.agents.min():
+        ax.set_xscale("log", base=2)
+    ax.set_xticks(result.agents, [str(n) for n in result.agents])
+    ax.set_xlabel("agents N")
+
+
+GREEDY_LABELS = {"steps": "greedy policy: steps to goal (agent mean)", "collisions": "greedy policy: collisions per episode",
+                 "completion": "greedy policy: episodes completed", "reward": "greedy policy: reward (agent mean)"}
+
+
+def plot_greedy(ax, result: ScalingResult, metric: str, legend: bool = True):
+    """Every method's greedy policy after training against N (mean and range over runs, at the N it
+    ran at): ``metric`` of GREEDY_LABELS (``completion``: the share of episodes that end with every
+    agent in its goal)."""
+    if metric not in GREEDY_LABELS:
+        raise UserError(f"metric must be one of {sorted(GREEDY_LABELS)}, got {metric!r}")
+    for k, method in enumerate(result.names()):
+        ns = [int(n) for n, ok in zip(result.agents, result.ran[k]) if ok]
+        if not ns:
+            continue
+        values = [result.evaluation(method, n, metric) for n in ns]
+        mean = np.array([v.mean() for v in values])
+        ax.errorbar(ns, mean, yerr=[mean - [v.min() for v in values], [v.max() for v in values] - mean], capsize=2,
+                    linewidth=1.2, label=label(method), **learner_style(method, marker=True))
+    _agents_axis(ax, result)
+    ax.set_ylabel(GREEDY_LABELS[metric])
     if legend:
         legend_right(ax)
 
