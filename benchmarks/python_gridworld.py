@@ -524,11 +524,11 @@ def sparse_maq(world, workload, rnd):
         i, j = edge
         return q_pairs[i, j][cells[i], cells[j]]
 
-    def best_joint(edges, members, cells, draw):
+    def best_joint(edges, members, cells):
         group = [(i, j, row((i, j), cells)) for i, j in edges if i in members]
         elimination = Elimination(group, members)
         total = elimination.run()
-        rank = float(min(math.floor(rnd.random() * total), total - 1.0)) if draw and total > 1.0 else 0.0
+        rank = float(min(math.floor(rnd.random() * total), total - 1.0)) if total > 1.0 else 0.0
         return elimination.choose(rank)
 
     def choose(cells, edges, groups):
@@ -540,7 +540,7 @@ def sparse_maq(world, workload, rnd):
                 actions[members[0]], actions[members[1]] = divmod(epsilon_greedy(row(members, cells), exploit, rnd),
                                                                   N_ACTIONS)
             elif rnd.random() < exploit:
-                for m, action in best_joint(edges, members, cells, True).items():
+                for m, action in best_joint(edges, members, cells).items():
                     actions[m] = action
             else:
                 for start in range(0, len(members), 13):  # coordination_graph.DRAW_AGENTS
@@ -563,7 +563,7 @@ def sparse_maq(world, workload, rnd):
             if len(members) == 2:
                 values[edges.index(tuple(members))] = max(row(members, cells))
             elif len(members) > 2:
-                joint = best_joint(edges, members, cells, False)
+                joint = best_joint(edges, members, cells)
                 for e, (i, j) in enumerate(edges):
                     if i in members:
                         values[e] = row((i, j), cells)[joint[i] * N_ACTIONS + joint[j]]

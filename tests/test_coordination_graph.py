@@ -87,7 +87,7 @@ def test_elimination_finds_the_one_best_joint_action_of_real_valued_rules(seed):
     bundle = sparse_maq.Coordination(np.zeros(1, np.int64), 2, True, False, 20, cg.MAX_SCOPE)
     for root in roots(graph):
         members, values = brute_force(q_pairs, graph, root)
-        cg.best_joint(q_pairs, graph, root, scratch, bundle, False, run_states(0, 1)[0])
+        cg.best_joint(q_pairs, graph, root, scratch, bundle, run_states(0, 1)[0])
         assert tuple(int(scratch.assign[m]) for m in members) == max(values, key=values.get)
 
 
@@ -125,7 +125,7 @@ def test_max_plus_takes_over_where_elimination_would_make_too_large_a_rule():
     scratch = cg.new_scratch(4, 0)
     assert cg.eliminate(q_pairs, graph, 0, scratch, 0) == 0.0  # a rule over one agent is already too large
     bundle = sparse_maq.Coordination(np.zeros(1, np.int64), 2, True, False, 20, 0)
-    cg.best_joint(q_pairs, graph, 0, scratch, bundle, True, run_states(0, 1)[0])
+    cg.best_joint(q_pairs, graph, 0, scratch, bundle, run_states(0, 1)[0])
     members, values = brute_force(q_pairs, graph, 0)
     assert tuple(int(a) for a in scratch.assign) == max(values, key=values.get)  # max-plus, exact on this tree
 

@@ -16,8 +16,8 @@ by replacing the rules it is in by one new rule over its remaining neighbours, t
 its four actions (agents with the fewest remaining neighbours first, the highest number on ties);
 then the agents choose their actions in the reverse order, each its best given the others'. Each
 new rule also counts the maximising actions behind each of its values, so the last count is the
-number of maximising joint actions, and a rank among them (:func:`assign_best`) picks one: rank 0
-for a fixed choice, a uniform rank for a uniform choice among ties. A rule over more than
+number of maximising joint actions, and a rank among them (:func:`assign_best`) picks one: a
+uniform rank, a uniform choice among ties. A rule over more than
 ``max_scope`` agents is not made (at most 4 ** max_scope values): the component is then maximised
 by max-plus.
 
@@ -535,16 +535,16 @@ def draw_rank(total, state):
 
 
 @njit(**ep.LOOP)  # called from two places in the loop: compiled once, as the loop (glamas.learners.episode)
-def best_joint(q_pairs, graph, root, scratch, maximiser, draw, state):
+def best_joint(q_pairs, graph, root, scratch, maximiser, state):
     """A joint action of the component of ``root`` maximising the sum of its edge rules, into
     ``scratch.assign``. ``maximiser`` (glamas.learners.sparse_maq.Coordination) chooses how: by
-    variable elimination, a uniform choice among the maximisers when ``draw``, else the first; by
-    max-plus (``max_plus``, or when elimination would make a rule over more than ``max_scope``
-    agents), the best joint action it finds in ``max_plus_rounds`` rounds."""
+    variable elimination, uniformly among the maximisers (a draw from ``state`` only when there
+    are several); by max-plus (``max_plus``, or when elimination would make a rule over more than
+    ``max_scope`` agents), the best joint action it finds in ``max_plus_rounds`` rounds."""
     if not maximiser.max_plus:
         total = eliminate(q_pairs, graph, root, scratch, maximiser.max_scope)
         if total > 0.0:
-            assign_best(scratch, graph.size[root], draw_rank(total, state) if draw else 0.0)
+            assign_best(scratch, graph.size[root], draw_rank(total, state))
             return
     max_plus(q_pairs, graph, root, scratch, maximiser.max_plus_rounds)
 

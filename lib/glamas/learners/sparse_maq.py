@@ -28,9 +28,9 @@ maximising joint action) or, as an option, by max-plus; otherwise a uniformly ra
 of the group. A pair alone is Kok and Vlassis's epsilon-greedy over its 16 joint actions.
 
 **Learning** (the agent-based update, Kok and Vlassis 2006): after the joint move, with rewards
-R_i and next state s', a* is the joint action maximising Q(s', .) on the graph of s' (variable
-elimination, the first maximiser), an agent that entered its goal has no future value, and every
-rule of s is updated with its agents' shares of their temporal-difference errors:
+R_i and next state s', a* is the joint action maximising Q(s', .) on the graph of s' (as when
+acting: variable elimination, ties drawn uniformly), an agent that entered its goal has no future
+value, and every rule of s is updated with its agents' shares of their temporal-difference errors:
 
     rho_k(s, a) += alpha * sum over agents i of rule k of [R_i + gamma Q_i(s', a*) - Q_i(s, a)] / m_i,
 
@@ -202,7 +202,7 @@ def choose_actions(q, q_pairs, cells, graph, exploit, actions, state, scratch, c
             joint = epsilon_greedy(q_pairs[cg.pair_number(i, j, n), graph.row[e]], exploit, state)
             actions[i], actions[j] = joint // rules.N_ACTIONS, joint % rules.N_ACTIONS
         elif rng.uniform(state) < exploit:
-            cg.best_joint(q_pairs, graph, i, scratch, coordination, True, state)
+            cg.best_joint(q_pairs, graph, i, scratch, coordination, state)
             for m in range(i, n):
                 if graph.root[m] == i:
                     actions[m] = scratch.assign[m]
@@ -222,8 +222,9 @@ def agent_value(graph, i, edge_values):
 
 @njit(cache=True, inline="always")
 def best_edge_values(q_pairs, graph, scratch, coordination, edge_values, state):
-    """Each edge's rule at a*, the joint action maximising the sum of the rules (its group's
-    first maximiser: nothing is drawn from ``state``): a pair alone takes its row's maximum."""
+    """Each edge's rule at a*, the joint action maximising the sum of the rules (in a group of
+    three or more, ties drawn from ``state``, as in :func:`choose_actions`); a pair alone takes its
+    row's maximum, its value whichever maximiser a* is."""
     n = graph.root.shape[0]
     for r in range(n):
         if graph.root[r] != r or graph.size[r] == 1:
@@ -232,7 +233,7 @@ def best_edge_values(q_pairs, graph, scratch, coordination, edge_values, state):
             e = graph.first[r]
             edge_values[e] = row_max(q_pairs[cg.pair_number(r, graph.b[e], n)], graph.row[e])
             continue
-        cg.best_joint(q_pairs, graph, r, scratch, coordination, False, state)
+        cg.best_joint(q_pairs, graph, r, scratch, coordination, state)
         for e in range(graph.count[0]):
             if graph.root[graph.a[e]] == r:
                 edge_values[e] = cg.edge_value(q_pairs, graph, e, scratch.assign)
