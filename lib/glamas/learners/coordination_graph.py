@@ -10,24 +10,23 @@ indexed ``4 a_i + a_j``. :func:`close_pairs` makes every such pair an edge, so a
 several; :func:`matched_pairs` keeps only a greedy matching, closest pairs first (the pairwise
 variant). A connected group of agents (a *component*) is named by its lowest agent, its ``root``.
 
-**Variable elimination** (Kok and Vlassis 2006, Sec. 2; Guestrin, Koller and Parr 2002) finds a
-joint action of a component maximising the sum of its edge rules, exactly: an agent is eliminated
-by replacing the rules it is in by one new rule over its remaining neighbours, their best sum over
-its four actions (agents with the fewest remaining neighbours first, the highest number on ties);
-then the agents choose their actions in the reverse order, each its best given the others'. Each
-new rule also counts the maximising actions behind each of its values, so the last count is the
-number of maximising joint actions, and a rank among them (:func:`assign_best`) picks one: a
-uniform rank, a uniform choice among ties. A rule over more than
-``max_scope`` agents is not made (at most 4 ** max_scope values): the component is then maximised
-by max-plus.
+**Variable elimination** (Guestrin, Koller and Parr 2002, as Kok and Vlassis 2006 use it) finds a
+joint action of a component maximising the sum of its edge rules, exactly: an agent is eliminated by
+replacing the rules it is in by one new rule over its remaining neighbours, their best sum over its
+four actions (agents with the fewest remaining neighbours first, the highest number on ties); then
+the agents choose their actions in the reverse order, each its best given the others'. Each new rule
+also counts the maximising actions behind each of its values, so the last count is the number of
+maximising joint actions, and a rank among them (:func:`assign_best`) picks one: a uniform rank, a
+uniform choice among ties. A rule over more than ``max_scope`` agents is not made (at most 4 **
+max_scope values): the component is then maximised by max-plus.
 
-**Max-plus** (Kok and Vlassis 2006, Sec. 3), an option: every agent sends each neighbour, for
-each of the neighbour's actions, its best sum of their edge rule and the messages it received from
-its other neighbours, less the mean over the four actions (the normalisation that makes the
-messages converge on graphs with cycles); after each round every agent takes the action with the
-best sum of its received messages (the lowest action on ties), and the best joint action seen so
-far is kept (the anytime extension). It stops when no message changes, or after its rounds. On a
-tree it is exact once the messages have travelled across it (when the maximiser is unique).
+**Max-plus** (Kok and Vlassis 2006, their payoff propagation), an option: every agent sends each
+neighbour, for each of the neighbour's actions, its best sum of their edge rule and the messages it
+received from its other neighbours, less the mean over the four actions (the normalisation that
+makes the messages converge on graphs with cycles); after each round every agent takes the action
+with the best sum of its received messages (the lowest action on ties), and the best joint action
+seen so far is kept (the anytime extension). It stops when no message changes, or after its rounds.
+On a tree it is exact once the messages have travelled across it (when the maximiser is unique).
 """
 
 from typing import NamedTuple

@@ -1,7 +1,7 @@
 """Sparse cooperative Q-learning, the related work of the chapter's Section 5.1: Kok and Vlassis's
 sparse tabular multi-agent Q-learning ("Sparse tabular multiagent Q-learning", Benelearn 2004)
 for two agents, and for N agents its coordination-graph form ("Collaborative multiagent
-reinforcement learning by payoff propagation", JMLR 7, 2006, Sec. 4-5, agent-based update). The
+reinforcement learning by payoff propagation", JMLR 7, 2006, with its agent-based update). The
 states in which agents must coordinate are given in advance: there they learn values of joint
 actions, everywhere else each agent learns on its own cell.
 
