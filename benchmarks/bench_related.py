@@ -1,8 +1,9 @@
 """The related-work learners (sparse tabular MAQ and CQ-learning) on TunnelToGoal: the compiled run
 kernels against their plain-Python references (benchmarks.python_gridworld.sparse_maq and .cq: the
-same rules, eq. 11, epsilon-greedy with random tie-breaking, sparse MAQ's four update cases,
-CQ-learning's phase alone, reward windows, test 1 per state-action, test 2 per other agent's cell
-and augmentations; tests/test_benchmark_references.py checks that they play the kernels' episodes).
+same rules, eq. 11, epsilon-greedy with random tie-breaking, sparse MAQ's four update cases (two
+agents' coordination graph is one pair), CQ-learning's phase alone, reward windows, test 1 per
+state-action, test 2 per other agent's cell and augmentations; tests/test_benchmark_references.py
+checks that they play the kernels' episodes).
 
 The references run fewer episodes (CQ-learning: the same share of episodes alone); both sides are
 timed in this process and compared per environment step of the joint phase (one joint move with

@@ -1,10 +1,11 @@
-"""Sparse tabular MAQ with pairwise coordination and CQ-learning testing every other agent
-(glamas.learners.sparse_maq, glamas.learners.cq) on the four-agent warehouse: the compiled
-run kernels against their plain-Python references (benchmarks.python_gridworld.sparse_maq and
-.cq: the same N-agent rules, eq. 11, epsilon-greedy with random tie-breaking, the pair matching and
-the four update cases per pair, CQ-learning's phase alone, reward windows, test 1 per state-action,
-test 2 per other agent's cell and the nearest augmenting agent; tests/test_benchmark_references.py
-checks that they play the kernels' episodes).
+"""Sparse cooperative Q-learning over the coordination graph, its pairwise variant, and CQ-learning
+testing every other agent (glamas.learners.sparse_maq, glamas.learners.cq) on the four-agent
+warehouse: the compiled run kernels against their plain-Python references
+(benchmarks.python_gridworld.sparse_maq and .cq: the same N-agent rules, eq. 11, epsilon-greedy
+with random tie-breaking, the coordination graph or the pair matching, variable elimination in
+groups of three or more, the agent-based update; CQ-learning's phase alone, reward windows, test 1
+per state-action, test 2 per other agent's cell and the nearest augmenting agent;
+tests/test_benchmark_references.py checks that they play the kernels' episodes).
 
 The references run fewer episodes than the compiled kernels (CQ-learning: the same share of
 episodes alone); both sides are timed in this process and compared per environment step of the
@@ -31,7 +32,7 @@ def workload(name: str, episodes: int, block: int = 1) -> kernels.Workload:
 
 def main():
     reference_episodes, episodes, n_runs = SIZES["quick" if timing.quick(__doc__) else "full"]
-    for name in ("sparse_maq", "cq"):
+    for name in ("sparse_maq", "sparse_maq_pairs", "cq"):
         timing.compare_gridworld(f"{name}, {N_AGENTS} agents", workload(name, reference_episodes),
                                  workload(name, episodes, episodes // 100), n_runs)
 

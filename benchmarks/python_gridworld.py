@@ -349,7 +349,7 @@ def two_observe_group(world, workload, rnd):
     return step
 
 
-# --- sparse tabular MAQ (glamas.learners.sparse_maq) ---------------------------------------------------
+# --- sparse cooperative Q-learning (glamas.learners.sparse_maq) ----------------------------------
 
 def coordination_states(world, distance):
     """The joint states (a, b) of two agents in which they coordinate: distinct usable cells (not
@@ -358,80 +358,262 @@ def coordination_states(world, distance):
     return [(a, b) for a in usable for b in usable if a != b and world.distance(a, b) <= distance]
 
 
-def match_pairs(world, states, distance, cells, acting):
-    """Coordinating pairs, closest first (ties: lowest i, then lowest j): each agent's partner or
-    None, and the number of pairs (sparse_maq.match_pairs)."""
+def close_pairs(states, cells, acting):
+    """The coordination graph's edges: every pair of acting agents i < j in a coordination state,
+    in (i, j) order (coordination_graph.close_pairs)."""
     n = len(cells)
-    partner, pairs = [None] * n, 0
+    return [(i, j) for i in range(n) for j in range(i + 1, n)
+            if acting[i] and acting[j] and (cells[i], cells[j]) in states]
+
+
+def matched_pairs(world, states, distance, cells, acting):
+    """The pairwise variant's edges: pairs matched closest first (ties: lowest i, then lowest j),
+    in the order they are matched (coordination_graph.matched_pairs)."""
+    n = len(cells)
+    matched, edges = [False] * n, []
     for d in range(1, distance + 1):
         for i in range(n):
-            if not acting[i] or partner[i] is not None:
+            if not acting[i] or matched[i]:
                 continue
             for j in range(i + 1, n):
-                if (acting[j] and partner[j] is None and world.distance(cells[i], cells[j]) == d
+                if (acting[j] and not matched[j] and world.distance(cells[i], cells[j]) == d
                         and (cells[i], cells[j]) in states):
-                    partner[i], partner[j] = j, i
-                    pairs += 1
+                    matched[i] = matched[j] = True
+                    edges.append((i, j))
                     break
-    return partner, pairs
+    return edges
+
+
+def components(edges, acting):
+    """{lowest agent: its group's agents, ascending} of the acting agents."""
+    root = [i if active else None for i, active in enumerate(acting)]
+
+    def find(i):
+        while root[i] != i:
+            i = root[i]
+        return i
+    for i, j in edges:
+        a, b = find(i), find(j)
+        root[max(a, b)] = min(a, b)
+    groups = {}
+    for i, active in enumerate(acting):
+        if active:
+            groups.setdefault(find(i), []).append(i)
+    return groups
+
+
+class Elimination:
+    """Variable elimination over one group's edge rules (coordination_graph.eliminate and
+    assign_best): ``rules`` holds the edges as (i, j, 16 values) and the rules made as (scope,
+    values, counts, maker)."""
+
+    def __init__(self, edges, members):
+        self.rules = [("edge", i, j, table) for i, j, table in edges]
+        self.used = [False] * len(self.rules)
+        self.linked = {v: set() for v in members}
+        for i, j, _ in edges:
+            self.linked[i].add(j)
+            self.linked[j].add(i)
+        self.alive, self.order, self.made, self.bucket = set(members), [], {}, {}
+        self.assign = {}
+
+    def holds(self, rule, v):
+        return v in (rule[1], rule[2]) if rule[0] == "edge" else v in rule[1]
+
+    def value(self, rule):
+        if rule[0] == "edge":
+            return rule[3][self.assign[rule[1]] * N_ACTIONS + self.assign[rule[2]]]
+        return rule[2][self.index(rule[1])]
+
+    def count(self, rule):
+        return 1.0 if rule[0] == "edge" else rule[3][self.index(rule[1])]
+
+    def index(self, scope):
+        index = 0
+        for u in scope:
+            index = index * N_ACTIONS + self.assign[u]
+        return index
+
+    def bucket_value(self, v):
+        total = 0.0
+        for k in self.bucket[v]:
+            total += self.value(self.rules[k])
+        return total
+
+    def bucket_count(self, v):
+        count = 1.0
+        for k in self.bucket[v]:
+            count *= self.count(self.rules[k])
+        return count
+
+    def run(self):
+        """Eliminate every agent; the number of maximising joint actions."""
+        while self.alive:
+            v = min(self.alive, key=lambda u: (len(self.linked[u] & self.alive), -u))
+            scope = sorted(self.linked[v] & self.alive - {v})
+            self.bucket[v] = [k for k in range(len(self.rules)) if not self.used[k] and self.holds(self.rules[k], v)]
+            for k in self.bucket[v]:
+                self.used[k] = True
+            values, counts = [], []
+            for x in range(N_ACTIONS ** len(scope)):
+                rest = x
+                for u in reversed(scope):
+                    self.assign[u] = rest % N_ACTIONS
+                    rest //= N_ACTIONS
+                best, count = -math.inf, 0.0
+                for action in range(N_ACTIONS):
+                    self.assign[v] = action
+                    value = self.bucket_value(v)
+                    if value > best:
+                        best, count = value, self.bucket_count(v)
+                    elif value == best:
+                        count += self.bucket_count(v)
+                values.append(best)
+                counts.append(count)
+            self.made[v] = len(self.rules)
+            self.rules.append(("made", scope, values, counts, v))
+            self.used.append(False)
+            for u in scope:
+                self.linked[u] |= set(scope) - {u}
+            self.alive.remove(v)
+            self.order.append(v)
+        return self.rules[-1][3][0]
+
+    def choose(self, rank):
+        """The maximising joint action of rank ``rank``: {agent: action}."""
+        ranks = {self.order[-1]: rank}
+        for v in reversed(self.order):
+            left, best, chosen = ranks[v], self.value(self.rules[self.made[v]]), -1
+            for action in range(N_ACTIONS):
+                self.assign[v] = action
+                if self.bucket_value(v) == best:
+                    chosen = action
+                    count = self.bucket_count(v)
+                    if left < count:
+                        break
+                    left -= count
+            self.assign[v] = chosen
+            for k in self.bucket[v]:
+                rule = self.rules[k]
+                if rule[0] == "made":
+                    base = self.count(rule)
+                    digit = left % base
+                    ranks[rule[4]] = digit
+                    left = (left - digit) / base
+        return dict(self.assign)
 
 
 def sparse_maq(world, workload, rnd):
-    """Sparse tabular MAQ with pairwise coordination among any number of agents (sparse_maq.run)."""
+    """Sparse cooperative Q-learning over the coordination graph, or the pairwise variant, for any
+    number of agents (sparse_maq.run); groups maximise by variable elimination."""
     (q_settings, c), n = workload.setup(), len(world.starts)
+    if c.maximiser != "elimination":
+        raise ValueError("the reference plays variable elimination only")
     distance = c.coordination_distance
     alpha, gamma, exploit = q_settings.q_learning_rate, q_settings.discount, q_settings.exploit_prob
     q = tables(n, world.n_cells, N_ACTIONS)
     states = set(coordination_states(world, distance))
     q_pairs = {(i, j): {state: [0.0] * N_ACTIONS ** 2 for state in states} for i in range(n) for j in range(i + 1, n)}
 
-    def pair_row(i, j, cells):
-        lo, hi = min(i, j), max(i, j)
-        return q_pairs[lo, hi][cells[lo], cells[hi]]
+    def graph(cells, acting):
+        if c.coordination == "graph":
+            return close_pairs(states, cells, acting)
+        return matched_pairs(world, states, distance, cells, acting)
 
-    def next_value(m, after, new, reached):
-        """Agent m's value of its next state: none in the goal, half its next pair's best joint
-        value, else its own best value."""
-        if reached[m]:
-            return 0.0
-        return max(q[m][new[m]]) if after[m] is None else max(pair_row(m, after[m], new)) / 2
+    def row(edge, cells):
+        i, j = edge
+        return q_pairs[i, j][cells[i], cells[j]]
+
+    def best_joint(edges, members, cells):
+        group = [(i, j, row((i, j), cells)) for i, j in edges if i in members]
+        elimination = Elimination(group, members)
+        total = elimination.run()
+        rank = float(min(math.floor(rnd.random() * total), total - 1.0)) if total > 1.0 else 0.0
+        return elimination.choose(rank)
+
+    def choose(cells, edges, groups):
+        actions = [0] * n
+        for root, members in sorted(groups.items()):
+            if len(members) == 1:
+                actions[root] = epsilon_greedy(q[root][cells[root]], exploit, rnd)
+            elif len(members) == 2:
+                actions[members[0]], actions[members[1]] = divmod(epsilon_greedy(row(members, cells), exploit, rnd),
+                                                                  N_ACTIONS)
+            elif rnd.random() < exploit:
+                for m, action in best_joint(edges, members, cells).items():
+                    actions[m] = action
+            else:
+                for start in range(0, len(members), 13):  # coordination_graph.DRAW_AGENTS
+                    chunk = members[start:start + 13]
+                    joint = below(rnd, N_ACTIONS ** len(chunk))
+                    for m in reversed(chunk):
+                        joint, actions[m] = divmod(joint, N_ACTIONS)
+        return actions
+
+    def agent_value(edges, i, edge_values):
+        value = 0.0
+        for edge, v in zip(edges, edge_values):
+            if i in edge:
+                value += v / 2
+        return value
+
+    def best_edge_values(edges, groups, cells):
+        values = [0.0] * len(edges)
+        for root, members in sorted(groups.items()):
+            if len(members) == 2:
+                values[edges.index(tuple(members))] = max(row(members, cells))
+            elif len(members) > 2:
+                joint = best_joint(edges, members, cells)
+                for e, (i, j) in enumerate(edges):
+                    if i in members:
+                        values[e] = row((i, j), cells)[joint[i] * N_ACTIONS + joint[j]]
+        return values
 
     def step(cells, done):
-        partner, pairs = match_pairs(world, states, distance, cells, [not d for d in done])
-        actions, joint = [0] * n, [0] * n
-        for i in range(n):
-            j = partner[i]
-            if done[i] or (j is not None and j < i):  # the pair's lower agent acts for it
-                continue
-            if j is None:
-                actions[i] = epsilon_greedy(q[i][cells[i]], exploit, rnd)
-            else:
-                joint[i] = epsilon_greedy(pair_row(i, j, cells), exploit, rnd)
-                actions[i], actions[j] = divmod(joint[i], N_ACTIONS)
+        acting = [not d for d in done]
+        edges = graph(cells, acting)
+        groups = components(edges, acting)
+        actions = choose(cells, edges, groups)
         new, rewards, reached, collisions = world.step(cells, done, actions)
-        after, _ = match_pairs(world, states, distance, new, [not (done[i] or reached[i]) for i in range(n)])
+        acting_next = [not (done[i] or reached[i]) for i in range(n)]
+        edges_next = graph(new, acting_next)
+        degree = [sum(i in edge for edge in edges) for i in range(n)]
+        degree_next = [sum(i in edge for edge in edges_next) for i in range(n)]
+        edges_now = [row(edge, cells)[actions[edge[0]] * N_ACTIONS + actions[edge[1]]] for edge in edges]
+        edges_after = best_edge_values(edges_next, components(edges_next, acting_next), new)
+        now, after = [0.0] * n, [0.0] * n
         for i in range(n):
-            j = partner[i]
-            if done[i] or (j is not None and j < i):  # the pair's lower agent learns for it
+            if done[i]:
                 continue
-            if j is None and after[i] is None:  # u -> u
-                q_update(q[i], cells[i], actions[i], rewards[i], new[i], reached[i], alpha, gamma)
-            elif j is None:  # u -> c
-                old = q[i][cells[i]][actions[i]]
-                share = next_value(i, after, new, reached)
-                q[i][cells[i]][actions[i]] = old + alpha * (rewards[i] + gamma * share - old)
-            elif after[i] == j:  # c -> c, the same pair
-                row = pair_row(i, j, cells)
-                total = 0.0 + rewards[i] + rewards[j]
-                row[joint[i]] += alpha * (total + gamma * max(pair_row(i, j, new)) - row[joint[i]])
-            else:  # c -> u: the pair breaks up
-                target = 0.0
-                for m in (i, j):
-                    target += rewards[m]
-                    target += gamma * next_value(m, after, new, reached)
-                row = pair_row(i, j, cells)
-                row[joint[i]] += alpha * (target - row[joint[i]])
-        return new, rewards, reached, collisions, pairs
+            now[i] = q[i][cells[i]][actions[i]] if degree[i] == 0 else agent_value(edges, i, edges_now)
+            if not reached[i]:
+                after[i] = max(q[i][new[i]]) if degree_next[i] == 0 else agent_value(edges_next, i, edges_after)
+
+        def shared_error(agents):
+            target = current = 0.0
+            for m in agents:
+                share = max(degree[m], 1)
+                target += rewards[m] / share
+                target += gamma * after[m] / share
+                current += now[m] / share
+            return target - current
+        for i in range(n):  # individual rules
+            if done[i] or degree[i] > 0:
+                continue
+            s, a = cells[i], actions[i]
+            if reached[i] or degree_next[i] == 0:  # u -> u: eq. 11
+                target = rewards[i] if reached[i] else rewards[i] + gamma * after[i]
+                q[i][s][a] = (1.0 - alpha) * q[i][s][a] + alpha * target
+            else:  # u -> c
+                q[i][s][a] += alpha * shared_error((i,))
+        for e, (i, j) in enumerate(edges):  # edge rules
+            values, joint = row((i, j), cells), actions[i] * N_ACTIONS + actions[j]
+            if degree[i] == degree[j] == 1 and degree_next[i] == degree_next[j] == 1 and (i, j) in edges_next:  # c -> c
+                best = edges_after[edges_next.index((i, j))]
+                values[joint] += alpha * (rewards[i] + rewards[j] + gamma * best - values[joint])
+            else:
+                values[joint] += alpha * shared_error((i, j))
+        return new, rewards, reached, collisions, len(edges)
     return step
 
 
@@ -596,7 +778,7 @@ def cq(world, workload, rnd):
 
 
 LEARNERS = {"independent": independent, "joint_state": joint_state, "mmdp": mmdp, "two_observe": two_observe,
-            "sparse_maq": sparse_maq, "cq": cq}
+            "sparse_maq": sparse_maq, "sparse_maq_pairs": sparse_maq, "cq": cq}
 
 
 def play(world, episodes, max_steps, step):

@@ -60,6 +60,8 @@ WORKLOADS = {
     "sparse_maq, 4 agents": kernels.Workload("sparse_maq", 20, WAREHOUSE, max_steps=SCALING),
     "sparse_maq, 4 agents, bounce to start": kernels.Workload(
         "sparse_maq", 20, WAREHOUSE, max_steps=SCALING, bounce="start"),
+    "sparse_maq, 6 agents": kernels.Workload("sparse_maq", 10, "warehouse_6", max_steps=SCALING),
+    "sparse_maq_pairs, 4 agents": kernels.Workload("sparse_maq_pairs", 20, WAREHOUSE, max_steps=SCALING),
     "cq, 4 agents": kernels.Workload("cq", 100, WAREHOUSE, own=cq.Settings(cq_solo_episodes=20), max_steps=SCALING),
     "cq, 4 agents, nearest agent only": kernels.Workload(
         "cq", 100, WAREHOUSE, own=cq.Settings(cq_solo_episodes=20, cq_observe="nearest"), max_steps=SCALING),
@@ -71,9 +73,10 @@ WORKLOADS = {
     "cq, own goals": kernels.Workload("cq", 100, SWAP, own=cq.Settings(cq_solo_episodes=20)),
     "two_observe, goals by pairs": kernels.Workload("two_observe", 20, PAIRED_GOALS, max_steps=SCALING),
     "sparse_maq, goals by pairs": kernels.Workload("sparse_maq", 20, PAIRED_GOALS, max_steps=SCALING),
+    "sparse_maq_pairs, goals by pairs": kernels.Workload("sparse_maq_pairs", 20, PAIRED_GOALS, max_steps=SCALING),
     "cq, goals by pairs": kernels.Workload("cq", 60, PAIRED_GOALS, own=cq.Settings(cq_solo_episodes=10), max_steps=SCALING),
 }
-COORDINATING = ("two_observe", "sparse_maq", "cq")
+COORDINATING = ("two_observe", "sparse_maq", "sparse_maq_pairs", "cq")
 
 
 @pytest.mark.parametrize("case", WORKLOADS)
@@ -87,6 +90,18 @@ def test_gridworld_reference_plays_the_kernels_episodes(case):
         assert ep.metric(log, "coordinations").sum() > 0  # and coordinated steps
     if workload.learner == "cq":
         assert compiled.arrays["marked"].any()  # CQ-learning's tests augmented states
+
+
+def test_the_sparse_maq_reference_plays_groups_by_variable_elimination(monkeypatch):
+    """Groups of three or more agents coordinate in the four-agent runs above: the reference's
+    variable elimination is what plays the kernel's episodes there."""
+    eliminations = []
+    run = python_gridworld.Elimination.run
+    monkeypatch.setattr(python_gridworld.Elimination, "run", lambda self: eliminations.append(1) or run(self))
+    workload = WORKLOADS["sparse_maq, 4 agents"]
+    log = python_gridworld.run(workload, KernelStream(kernels.run_state(5)))
+    np.testing.assert_array_equal(log, kernels.run_compiled(workload, seed=5).log[0])
+    assert len(eliminations) > 100
 
 
 @pytest.mark.parametrize("map_file", [TUNNEL, WAREHOUSE, SWAP, PAIRED_GOALS])

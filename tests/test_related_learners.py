@@ -1,6 +1,7 @@
-"""The related-work learners: sparse tabular MAQ's four update cases by hand, CQ-learning's
-two-sample variant and its augmented update (its steps: tests/test_cq.py), small runs of both,
-seeds, configuration errors and the figure scripts."""
+"""The related-work learners: sparse tabular MAQ's coordination states, CQ-learning's two-sample
+variant and its augmented update (its steps: tests/test_cq.py), small runs of both, seeds,
+configuration errors and the figure scripts (sparse MAQ's updates by hand:
+tests/test_related_many_agents.py)."""
 
 import dataclasses
 import math
@@ -48,23 +49,6 @@ def rules_distance(g, a, b):
 def test_coordination_index_errors_name_the_problem():
     with pytest.raises(ValueError, match="coordination distance must be a whole number >= 1"):
         sparse_maq.coordination_index(tunnel_to_goal(), 0)
-
-
-@pytest.fixture()
-def tables():
-    q = np.zeros((2, 25, 4))
-    q[0, 7] = [1.0, 4.0, 2.0, 0.0]  # agent 0's values in its next cell 7: max 4
-    q[1, 9] = [3.0, 0.0, 6.0, 1.0]  # agent 1's values in its next cell 9: max 6
-    q_joint = np.zeros((3, 16))
-    q_joint[1] = np.arange(16.0)  # next coordination state: max 15
-    q_joint[0, 5] = 10.0
-    return q, q_joint
-
-
-def test_coordinated_to_coordinated_is_the_mmdp_update_on_the_summed_reward(tables):
-    _, q_joint = tables
-    sparse_maq.coordinated_to_coordinated(q_joint[None], 0, 0, 5, -1.0 - 10.0, 1, ALPHA, GAMMA)
-    assert q_joint[0, 5] == pytest.approx(10 + ALPHA * (-11 + GAMMA * 15 - 10))
 
 
 def test_t_critical_values_match_the_tables():
@@ -187,6 +171,9 @@ def test_bad_configurations_are_rejected_with_a_message(changes, message):
 
 @pytest.mark.parametrize("make, message", [
     (lambda: sparse_maq.Settings(coordination_distance=0), "coordination_distance must be a whole number >= 1"),
+    (lambda: sparse_maq.Settings(coordination="nearest"), "coordination must be one of ('graph', 'pairs')"),
+    (lambda: sparse_maq.Settings(maximiser="brute"), "maximiser must be one of ('elimination', 'max_plus')"),
+    (lambda: sparse_maq.Settings(max_plus_rounds=0), "max_plus_rounds must be a whole number >= 1"),
     (lambda: cq.Settings(cq_window=1), "cq_window must be a whole number >= 2"),
     (lambda: cq.Settings(cq_solo_episodes=2.5), "cq_solo_episodes must be a whole number >= 1"),
     (lambda: cq.Settings(cq_significance=5), "cq_significance must be a number in (0, 1)"),

@@ -89,5 +89,5 @@ def _name_slot(name: str) -> int:
 
 
 for _learner in (independent.LEARNER, joint_state.LEARNER, mmdp.LEARNER, two_observe.LEARNER, two_observe.RULE,
-                 sparse_maq.LEARNER, cq.LEARNER):
+                 sparse_maq.LEARNER, sparse_maq.PAIRS, cq.LEARNER):
     register(_learner)

@@ -1,80 +1,123 @@
-"""Sparse tabular multi-agent Q-learning (Kok and Vlassis, "Sparse tabular multiagent
-Q-learning", Benelearn 2004), the related work of the chapter's Section 5.1: the joint states in
-which the agents must coordinate are given in advance; there the agents learn one Q-value per
-joint action (as the MMDP learner), everywhere else each agent learns on its own cell (as the
-independent learners).
+"""Sparse cooperative Q-learning, the related work of the chapter's Section 5.1: Kok and Vlassis's
+sparse tabular multi-agent Q-learning ("Sparse tabular multiagent Q-learning", Benelearn 2004)
+for two agents, and for N agents its coordination-graph form ("Collaborative multiagent
+reinforcement learning by payoff propagation", JMLR 7, 2006, with its agent-based update). The
+states in which agents must coordinate are given in advance: there they learn values of joint
+actions, everywhere else each agent learns on its own cell.
 
-Here a joint state is a coordination state when both agents act and their Manhattan distance is
-at most ``distance`` (2 covers every collision: a swap at distance 1, a shared target at 1 or 2).
-The joint values Q(s, a) estimate the sum of the agents' rewards; the four updates between
-coordinated (c) and uncoordinated (u) states follow Kok and Vlassis (as summarised by Nowé,
-Vrancx and De Hauwere, "Game theory and multi-agent reinforcement learning", 2012, Sec. 14.4):
+**Coordination states.** Two acting agents coordinate when their Manhattan distance is at most
+``coordination_distance`` (2 covers every collision: a swap at distance 1, a shared target at 1
+or 2) and neither is on a goal of every agent (:func:`coordination_index`).
 
-- c -> c: Q(s, a) += alpha [sum_i R_i + gamma max_a' Q(s', a') - Q(s, a)]
-- c -> u: Q(s, a) += alpha [sum_i (R_i + gamma max_a' Q_i(s'_i, a')) - Q(s, a)]
-- u -> c: Q_i(s_i, a_i) += alpha [R_i + gamma max_a' Q(s', a') / n - Q_i(s_i, a_i)]  (each agent i)
-- u -> u: Q_i(s_i, a_i) += alpha [R_i + gamma max_a' Q_i(s'_i, a') - Q_i(s_i, a_i)]  (eq. 11)
+**Value rules.** In a state, the coordination graph (:mod:`glamas.learners.coordination_graph`)
+has an edge for every pair of acting agents i < j in a coordination state, so an agent can be in
+several edges. Each edge has a rule rho_ij(s_i, s_j, a_i, a_j): a row of the pair's own joint
+table, over the pairs of cells it coordinates in and their 16 joint actions (a table per pair, not
+one shared by every pair: on maps where agents have goals of their own, two agents' joint values
+depend on who they are). An acting agent in no edge has its individual rule Q_i(s_i, a_i), its own
+table. Agent i's value is the sum of the rules it is in, each divided by its number of agents:
 
-with n = 2 agents sharing the joint value. An agent that enters the goal has no future term.
+    Q_i(s, a) = sum over i's edges ij of rho_ij(s_i, s_j, a_i, a_j) / 2,  or Q_i(s_i, a_i) alone,
 
-**N agents** (beyond Kok and Vlassis's two-agent experiments, in the spirit of their later
-coordination graphs): coordination is pairwise. Each pair of agents (i < j) has its own
-joint table over the same coordination states (cell_i, cell_j) x 16 joint actions. Every step the
-acting agents are matched greedily from the closest pair: pairs in a coordination state are taken
-by increasing distance, then lowest i, then lowest j, skipping agents already matched, so an agent
-close to several others coordinates with its nearest one (lowest number on ties). The four updates
-are applied per pair and per single agent, each agent's next-state value being its own
-max_a' Q_i(s'_i, a') when it acts alone next, half the best joint value of the pair it is in next,
-and none when it entered the goal. A pair that stays matched makes the c -> c update; a pair that
-breaks up sums its agents' rewards and next-state values (c -> u, also when an agent joins another
-pair); a single agent learns its reward plus its next-state value (u -> u by eq. 11, u -> c with
-the 1/2 share). With two agents there is one pair, matched exactly in the coordination states,
-and these are Kok and Vlassis's four updates.
+and the global value Q(s, a) = sum_i Q_i(s, a) is the sum of all the rules.
+
+**Acting.** Agents in no edge act epsilon-greedily on their own rule. A connected group of agents
+explores together: with probability ``exploit_prob`` the group plays a joint action maximising
+the sum of its edge rules, found by variable elimination (exact; ties broken uniformly among every
+maximising joint action) or, as an option, by max-plus; otherwise a uniformly random joint action
+of the group. A pair alone is Kok and Vlassis's epsilon-greedy over its 16 joint actions.
+
+**Learning** (the agent-based update, Kok and Vlassis 2006): after the joint move, with rewards
+R_i and next state s', a* is the joint action maximising Q(s', .) on the graph of s' (as when
+acting: variable elimination, ties drawn uniformly), an agent that entered its goal has no future
+value, and every rule of s is updated with its agents' shares of their temporal-difference errors:
+
+    rho_k(s, a) += alpha * sum over agents i of rule k of [R_i + gamma Q_i(s', a*) - Q_i(s, a)] / m_i,
+
+m_i the number of rules agent i is in at s (Kok and Vlassis divide by i's number of neighbours;
+AI-Toolbox's ``SparseCooperativeQLearning`` divides only R_i). Every value is read before any rule
+changes. When no agent is in two rules this is Kok and Vlassis's 2004 update, in its four cases
+between coordinated (c) and uncoordinated (u) states; two of them are computed in their own form,
+so that the two-agent learner is reproduced bit for bit:
+
+- u -> u: Q_i(s_i, a_i) <- (1 - alpha) Q_i(s_i, a_i) + alpha [R_i + gamma max_a' Q_i(s'_i, a')] (eq. 11)
+- c -> c (a pair alone in s and in s'): rho(s, a) += alpha [R_i + R_j + gamma max_a' rho(s', a') - rho(s, a)]
+- u -> c and c -> u: the update above, an agent's next value being half its next pair's best
+  joint value, or its own best value.
+
+**Variant** (``coordination="pairs"``, registered as ``sparse_maq_pairs``): the graph keeps only a
+greedy matching of the agents into pairs, closest pairs first (ties: lowest numbers), so an agent
+coordinates with at most one other, its nearest; this was the N-agent learner before the graph.
+With two agents the graph and the matching are the same single pair, and both learners are the
+two-agent learner.
 """
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import NamedTuple
 
 import numpy as np
 from numba import njit
 
 from glamas.errors import UserError
-from glamas import checks
+from glamas import checks, rng
 from glamas.gridworld import GridMap, rules
+from glamas.learners import coordination_graph as cg
 from glamas.learners import episode as ep
 from glamas.learners.independent import lone_step, table_shape
 from glamas.learners.spec import Learner
-from glamas.qlearning import epsilon_greedy
+from glamas.qlearning import epsilon_greedy, row_max
 
 PAIR = 2
-"""Agents of a coordinating pair."""
+"""Agents of an edge rule."""
 N_JOINT_ACTIONS = rules.N_ACTIONS ** PAIR
-NO_PARTNER = -1
-"""``partner`` of an agent that acts alone (:func:`match_pairs`)."""
+COORDINATIONS = ("graph", "pairs")
+"""Who coordinates: every close pair (the coordination graph), or a greedy matching into pairs."""
+MAXIMISERS = ("elimination", "max_plus")
+"""How a group finds its best joint action: variable elimination (exact) or max-plus."""
 
 
 @dataclass(frozen=True)
 class Settings:
-    """Sparse tabular MAQ's own setting: where the agents coordinate, given in advance as Kok and
-    Vlassis require."""
+    """Sparse MAQ's own settings: where the agents coordinate, given in advance as Kok and Vlassis
+    require, and how."""
 
     coordination_distance: int = 2
     """The agents coordinate in the joint states where their Manhattan distance is at most this;
     2 covers every collision."""
+    coordination: str = "graph"
+    """'graph': every pair of agents in a coordination state is an edge of the coordination graph
+    (Kok and Vlassis 2006); 'pairs': a greedy matching into pairs, closest first (the variant)."""
+    maximiser: str = "elimination"
+    """How a connected group finds the joint action maximising its rules: 'elimination'
+    (variable elimination, exact) or 'max_plus'."""
+    max_plus_rounds: int = 20
+    """Max-plus's rounds of messages at most (also where elimination would make too large a rule)."""
 
     def __post_init__(self):
         checks.field_types(self)
-        checks.whole_numbers(self, {"coordination_distance": 1})
+        checks.whole_numbers(self, {"coordination_distance": 1, "max_plus_rounds": 1})
+        if self.coordination not in COORDINATIONS:
+            raise UserError(f"coordination must be one of {COORDINATIONS}, got {self.coordination!r}")
+        if self.maximiser not in MAXIMISERS:
+            raise UserError(f"maximiser must be one of {MAXIMISERS}, got {self.maximiser!r}")
 
 
 class Coordination(NamedTuple):
-    """Where pairs coordinate, as the kernel reads it."""
+    """Where and how the agents coordinate, as the kernel reads it."""
 
     index: np.ndarray
     """int64 (cells ** 2,): :func:`coordination_index`."""
     coordination_distance: int
-    """Pairs coordinate at Manhattan distance at most this."""
+    """Agents coordinate at Manhattan distance at most this."""
+    graph: bool
+    """True: the coordination graph; False: the greedy matching into pairs."""
+    max_plus: bool
+    """True: groups maximise by max-plus; False: by variable elimination."""
+    max_plus_rounds: int
+    """Max-plus's rounds at most."""
+    max_scope: int
+    """Variable elimination's largest rule, in agents (glamas.learners.coordination_graph.MAX_SCOPE)."""
 
 
 def coordination_index(gridmap, distance: int) -> np.ndarray:
@@ -103,8 +146,9 @@ def n_pairs(n_agents: int) -> int:
 
 def coordination(setup, gridmap: GridMap) -> tuple:
     """The kernel's own input: the Coordination bundle of its settings (``setup.own``) on ``gridmap``."""
-    distance = setup.own.coordination_distance
-    return (Coordination(coordination_index(gridmap, distance), distance),)
+    own = setup.own
+    return (Coordination(coordination_index(gridmap, own.coordination_distance), own.coordination_distance,
+                         own.coordination == "graph", own.maximiser == "max_plus", own.max_plus_rounds, cg.MAX_SCOPE),)
 
 
 def pair_table_shape(setup, gridmap: GridMap) -> tuple:
@@ -128,137 +172,172 @@ def joint_learned(outputs: dict, setup, gridmap: GridMap) -> np.ndarray:
     return np.full(outputs["q"].shape[0], float(joint_room(setup, gridmap)))
 
 
-@njit(cache=True, inline="always")
-def best_of(tables, k, row):
-    """max_a tables[k, row, a]: :func:`glamas.qlearning.row_max` of table k's row ``row``."""
-    best = tables[k, row, 0]
-    for a in range(1, tables.shape[2]):
-        value = tables[k, row, a]
-        if value > best:
-            best = value
-    return best
-
+# --- one step ----------------------------------------------------------------------------------
 
 @njit(cache=True, inline="always")
-def coordinated_to_coordinated(q_pairs, pair, row, joint, reward, row_next, alpha, gamma):
-    """c -> c: the MMDP update of the pair's joint value on its summed ``reward``."""
-    q_pairs[pair, row, joint] += alpha * (reward + gamma * best_of(q_pairs, pair, row_next) - q_pairs[pair, row, joint])
+def connect(coordination, distances, cells, acting, graph):
+    """The coordination graph of the ``acting`` agents on ``cells`` into ``graph`` (the greedy
+    matching for the pairwise variant); ``distances`` is rules.distance_table. Returns its edges."""
+    if coordination.graph:
+        return cg.close_pairs(coordination.index, distances.shape[0], cells, acting, graph)
+    return cg.matched_pairs(coordination.index, distances, coordination.coordination_distance, cells, acting, graph)
 
 
 @njit(cache=True, inline="always")
-def pair_number(i, j, n_agents):
-    """The joint table of agents i < j: pairs numbered (0, 1), (0, 2), ..., (1, 2), ..."""
-    return i * n_agents - i * (i + 1) // 2 + j - i - 1
-
-
-@njit(cache=True, inline="always")
-def match_pairs(coordination, distances, cells, acting, partner, rows):
-    """Match the ``acting`` agents into coordinating pairs, closest pairs first (ties: lowest i,
-    then lowest j; agents already matched are skipped): ``partner[i]`` is i's partner or
-    NO_PARTNER, ``rows[i]`` the pair's coordination row. ``distances`` is rules.distance_table.
-    Returns the number of pairs."""
-    index = coordination.index
+def choose_actions(q, q_pairs, cells, graph, exploit, actions, state, scratch, coordination):
+    """Epsilon-greedy per connected group, groups in the order of their lowest agent: an agent
+    alone on its own row; a pair on its joint row (first component to the lower agent); a larger
+    group with probability ``exploit`` on its best joint action (coordination_graph.best_joint,
+    ties drawn uniformly), else on a uniformly random one."""
     n = cells.shape[0]
     for i in range(n):
-        partner[i] = NO_PARTNER
-        rows[i] = -1
-    pairs = 0
-    for d in range(1, coordination.coordination_distance + 1):
-        for i in range(n):
-            if not acting[i] or partner[i] != NO_PARTNER:
-                continue
-            for j in range(i + 1, n):
-                if not acting[j] or partner[j] != NO_PARTNER or distances[cells[i], cells[j]] != d:
-                    continue
-                k = index[cells[i] * distances.shape[0] + cells[j]]
-                if k >= 0:
-                    partner[i], partner[j], rows[i], rows[j] = j, i, k, k
-                    pairs += 1
-                    break
-    return pairs
-
-
-@njit(cache=True, inline="always")
-def choose_actions(q, q_pairs, cells, done, partner, rows, exploit, actions, joint, state):
-    """Epsilon-greedy on the pair's joint row for matched agents (drawn once per pair, by its lower
-    agent, first component to the lower agent), on the own row for the others."""
-    n = cells.shape[0]
-    for i in range(n):
-        j = partner[i]
-        if done[i] or NO_PARTNER < j < i:  # the pair's lower agent acts and learns for it
+        if graph.root[i] != i:  # done, or not its group's lowest agent
             continue
-        if j == NO_PARTNER:
+        size = graph.size[i]
+        if size == 1:
             actions[i] = epsilon_greedy(q[i, cells[i]], exploit, state)
+        elif size == PAIR:
+            e = graph.first[i]
+            j = graph.b[e]
+            joint = epsilon_greedy(q_pairs[cg.pair_number(i, j, n), graph.row[e]], exploit, state)
+            actions[i], actions[j] = joint // rules.N_ACTIONS, joint % rules.N_ACTIONS
+        elif rng.uniform(state) < exploit:
+            cg.best_joint(q_pairs, graph, i, scratch, coordination, state)
+            for m in range(i, n):
+                if graph.root[m] == i:
+                    actions[m] = scratch.assign[m]
         else:
-            joint[i] = epsilon_greedy(q_pairs[pair_number(i, j, n), rows[i]], exploit, state)
-            actions[i], actions[j] = joint[i] // rules.N_ACTIONS, joint[i] % rules.N_ACTIONS
+            cg.random_joint(graph, i, actions, state)
 
 
 @njit(cache=True, inline="always")
-def next_value(q, q_pairs, i, new_cells, reached, partner_next, rows_next):
-    """Agent i's value of its next state: none after entering the goal, half the best joint value
-    of the pair it coordinates in next, else its own best value."""
-    j, cell, row, arrived = partner_next[i], new_cells[i], rows_next[i], reached[i]
-    if arrived:
-        return 0.0
-    if j == NO_PARTNER:
-        return best_of(q, i, cell)
-    return best_of(q_pairs, pair_number(min(i, j), max(i, j), q.shape[0]), row) / PAIR
+def agent_value(graph, i, edge_values):
+    """Agent i's share of its edge rules: sum over its edges of their values / 2."""
+    value = 0.0
+    for e in range(graph.count[0]):
+        if graph.a[e] == i or graph.b[e] == i:
+            value += edge_values[e] / PAIR
+    return value
 
 
 @njit(cache=True, inline="always")
-def learn_pairs(q, q_pairs, cells, done, actions, rewards, new_cells, reached, matches, learning):
-    """The four updates per pair and per single agent (module docstring). ``matches`` holds the
-    step's (partner, rows, joint actions) and the next state's (partner, rows)."""
-    partner, rows, joint, partner_next, rows_next = matches
+def best_edge_values(q_pairs, graph, scratch, coordination, edge_values, state):
+    """Each edge's rule at a*, the joint action maximising the sum of the rules (in a group of
+    three or more, ties drawn from ``state``, as in :func:`choose_actions`); a pair alone takes its
+    row's maximum, its value whichever maximiser a* is."""
+    n = graph.root.shape[0]
+    for r in range(n):
+        if graph.root[r] != r or graph.size[r] == 1:
+            continue
+        if graph.size[r] == PAIR:
+            e = graph.first[r]
+            edge_values[e] = row_max(q_pairs[cg.pair_number(r, graph.b[e], n)], graph.row[e])
+            continue
+        cg.best_joint(q_pairs, graph, r, scratch, coordination, state)
+        for e in range(graph.count[0]):
+            if graph.root[graph.a[e]] == r:
+                edge_values[e] = cg.edge_value(q_pairs, graph, e, scratch.assign)
+
+
+@njit(cache=True, inline="always")
+def agent_values(q, q_pairs, buffers, graphs, values, scratch, coordination, state):
+    """Every acting agent's Q_i(s, a) and Q_i(s', a*) into ``values`` (now, next, and the edges'
+    rules behind them), all read before any rule changes: an agent entering its goal has no next
+    value, an agent in no edge its own rule's (best) value."""
+    cells, done, actions, new_cells, rewards, bumped, collided, reached, acc = buffers
+    graph, graph_next = graphs
+    now, after, edges_now, edges_after = values
+    for e in range(graph.count[0]):
+        edges_now[e] = cg.edge_value(q_pairs, graph, e, actions)
+    best_edge_values(q_pairs, graph_next, scratch, coordination, edges_after, state)
+    for i in range(cells.shape[0]):
+        if done[i]:
+            continue
+        now[i] = q[i, cells[i], actions[i]] if graph.degree[i] == 0 else agent_value(graph, i, edges_now)
+        if reached[i]:
+            after[i] = 0.0
+        elif graph_next.degree[i] == 0:
+            after[i] = row_max(q[i], new_cells[i])
+        else:
+            after[i] = agent_value(graph_next, i, edges_after)
+
+
+@njit(cache=True, inline="always")
+def shared_error(graph, agents, rewards, values, gamma):
+    """sum over the rule's ``agents`` of [R_i + gamma Q_i(s', a*) - Q_i(s, a)] / m_i, summed as
+    Kok and Vlassis's c -> u case: rewards and discounted next values agent after agent, minus
+    the current values."""
+    now, after, edges_now, edges_after = values
+    target, current = 0.0, 0.0
+    for i in agents:
+        share = max(graph.degree[i], 1)
+        target += rewards[i] / share
+        target += gamma * after[i] / share
+        current += now[i] / share
+    return target - current
+
+
+@njit(cache=True, inline="always")
+def stays_a_pair(graph, graph_next, e, reached):
+    """Whether edge e's agents coordinate only with each other in s and again in s' (c -> c)."""
+    i, j = graph.a[e], graph.b[e]
+    if graph.degree[i] != 1 or graph.degree[j] != 1 or reached[i] or reached[j]:
+        return False
+    return graph_next.degree[i] == 1 and graph_next.degree[j] == 1 and graph_next.b[graph_next.first[i]] == j
+
+
+@njit(cache=True, inline="always")
+def learn(q, q_pairs, buffers, graphs, values, learning):
+    """The agent-based update of every rule of s (module docstring), from the ``values`` read before."""
+    cells, done, actions, new_cells, rewards, bumped, collided, reached, acc = buffers
+    graph, graph_next = graphs
+    now, after, edges_now, edges_after = values
     alpha, gamma = learning.q_learning_rate, learning.discount
     n = cells.shape[0]
-    for i in range(n):
-        j, j_next, is_done, row, row_next, joint_i = partner[i], partner_next[i], done[i], rows[i], rows_next[i], joint[i]
-        s, a, r, s_next, arrived = cells[i], actions[i], rewards[i], new_cells[i], reached[i]
-        if is_done or NO_PARTNER < j < i:  # the pair's lower agent acts and learns for it
+    for i in range(n):  # individual rules
+        if done[i] or graph.degree[i] > 0:
             continue
-        if j == NO_PARTNER and j_next == NO_PARTNER:  # u -> u: eq. 11
-            target = r
-            if not arrived:
-                target += gamma * best_of(q, i, s_next)
+        s, a, r = cells[i], actions[i], rewards[i]
+        if reached[i] or graph_next.degree[i] == 0:  # u -> u: eq. 11
+            target = r if reached[i] else r + gamma * after[i]
             q[i, s, a] = (1.0 - alpha) * q[i, s, a] + alpha * target
-        elif j == NO_PARTNER:  # u -> c
-            old = q[i, s, a]
-            share = next_value(q, q_pairs, i, new_cells, reached, partner_next, rows_next)
-            q[i, s, a] = old + alpha * (r + gamma * share - old)
-        elif j_next == j:  # c -> c, the same pair
-            coordinated_to_coordinated(q_pairs, pair_number(i, j, n), row, joint_i, r + rewards[j], row_next, alpha, gamma)
-        else:  # c -> u: the pair breaks up
-            target = 0.0
-            for m in (i, j):
-                target += rewards[m]
-                target += gamma * next_value(q, q_pairs, m, new_cells, reached, partner_next, rows_next)
-            pair = pair_number(i, j, n)
-            q_pairs[pair, row, joint_i] += alpha * (target - q_pairs[pair, row, joint_i])
+        else:  # u -> c
+            q[i, s, a] += alpha * shared_error(graph, (i,), rewards, values, gamma)
+    for e in range(graph.count[0]):  # edge rules
+        i, j = graph.a[e], graph.b[e]
+        pair, row, joint = cg.pair_number(i, j, n), graph.row[e], actions[i] * rules.N_ACTIONS + actions[j]
+        if stays_a_pair(graph, graph_next, e, reached):  # c -> c: the MMDP update
+            best = edges_after[graph_next.first[i]]
+            q_pairs[pair, row, joint] += alpha * (rewards[i] + rewards[j] + gamma * best - q_pairs[pair, row, joint])
+        else:
+            q_pairs[pair, row, joint] += alpha * shared_error(graph, (i, j), rewards, values, gamma)
 
+
+# --- the run -----------------------------------------------------------------------------------
 
 @njit(cache=True, nogil=True)
 def run(world, learning, coordination, schedule, q, q_pairs, log, state):
-    """One run of ``schedule.episodes`` episodes with pairwise coordination; learns in ``q`` and
-    ``q_pairs``, writes the binned ``log`` (coordinations: coordinating pairs summed over the steps)."""
-    n_agents = world.starts.shape[0]
-    pairing = (np.empty(n_agents, np.bool_), rules.distance_table(world.next_cell.shape[0], world.n_cols),
-               (np.empty(n_agents, np.int64), np.empty(n_agents, np.int64), np.zeros(n_agents, np.int64),
-                np.empty(n_agents, np.int64), np.empty(n_agents, np.int64)))
-    episodes(world, learning, coordination, schedule, q, q_pairs, log, state, ep.buffers(n_agents), pairing)
+    """One run of ``schedule.episodes`` episodes; learns in ``q`` and ``q_pairs``, writes the
+    binned ``log`` (coordinations: the coordination graph's edges summed over the steps)."""
+    n_agents, n_cells = world.starts.shape[0], world.next_cell.shape[0]
+    pairs = max(n_agents * (n_agents - 1) // 2, 1)
+    work = (np.empty(n_agents, np.bool_), rules.distance_table(n_cells, world.n_cols),
+            (cg.new_graph(n_agents), cg.new_graph(n_agents)),
+            (np.zeros(n_agents), np.zeros(n_agents), np.zeros(pairs), np.zeros(pairs)),
+            cg.new_scratch(n_agents, min(max(n_agents - 1, 0), coordination.max_scope)))
+    episodes(world, learning, coordination, schedule, q, q_pairs, log, state, ep.buffers(n_agents), work)
 
 
 @njit(**ep.LOOP)
-def episodes(world, learning, coordination, schedule, q, q_pairs, log, state, buffers, pairing):
-    """The episode loop of :func:`run`; ``pairing``: who acts, the distance table and the
-    matches (partner, rows, joint actions, next partner, next rows)."""
+def episodes(world, learning, coordination, schedule, q, q_pairs, log, state, buffers, work):
+    """The episode loop of :func:`run`; ``work``: who acts, the distance table, the graphs of s and
+    s', the agents' and edges' values (agent_values) and the maximisers' working arrays."""
     starts, edges, max_steps = world.starts, schedule.edges, schedule.max_steps
     n_agents = starts.shape[0]
     coordinations_column = ep.column(n_agents, ep.COORDINATIONS)
     cells, done, actions, new_cells, rewards, bumped, collided, reached, acc = buffers
-    acting, distances, matches = pairing
-    partner, rows, joint, partner_next, rows_next = matches
+    acting, distances, graphs, values, scratch = work
+    graph, graph_next = graphs
     for episode in range(schedule.episodes):
         ep.start_episode(starts, cells, done, acc)
         t = 0
@@ -271,8 +350,8 @@ def episodes(world, learning, coordination, schedule, q, q_pairs, log, state, bu
                 continue
             for i in range(n_agents):
                 acting[i] = not done[i]
-            acc[coordinations_column] += match_pairs(coordination, distances, cells, acting, partner, rows)
-            choose_actions(q, q_pairs, cells, done, partner, rows, learning.exploit_prob, actions, joint, state)
+            acc[coordinations_column] += connect(coordination, distances, cells, acting, graph)
+            choose_actions(q, q_pairs, cells, graph, learning.exploit_prob, actions, state, scratch, coordination)
             if second >= 0:  # two agents act: the rules' two-agent path
                 collisions = rules.step_pair(world, cells, done, actions, new_cells, rewards, bumped, collided, reached,
                                              (first, second))
@@ -280,14 +359,21 @@ def episodes(world, learning, coordination, schedule, q, q_pairs, log, state, bu
                 collisions = rules.step(world, cells, done, actions, new_cells, rewards, bumped, collided, reached)
             for i in range(n_agents):
                 acting[i] = not (done[i] or reached[i])
-            match_pairs(coordination, distances, new_cells, acting, partner_next, rows_next)
-            learn_pairs(q, q_pairs, cells, done, actions, rewards, new_cells, reached, matches, learning)
+            connect(coordination, distances, new_cells, acting, graph_next)
+            agent_values(q, q_pairs, buffers, graphs, values, scratch, coordination, state)
+            learn(q, q_pairs, buffers, graphs, values, learning)
             t += 1
             ep.end_step(t, cells, done, new_cells, rewards, reached, collisions, acc)
         ep.end_episode(log, episode, edges, acc, t, done)
 
 
-LEARNER = Learner(name="sparse_maq", label="sparse tabular MAQ", n_agent_label="sparse MAQ (pairs)",
+LEARNER = Learner(name="sparse_maq", label="sparse tabular MAQ", n_agent_label="sparse MAQ (graph)",
                   kernel=run, table_shape=table_shape,
                   defaults=Settings(), inputs=coordination, outputs=outputs, joint_room=joint_room,
                   joint_learned=joint_learned, family="related", seed_slot=0)
+"""The coordination-graph learner; its seeds are the sparse MAQ's of before (related slot 0)."""
+PAIRS = replace(LEARNER, name="sparse_maq_pairs", label="sparse tabular MAQ, pairs", n_agent_label="sparse MAQ (pairs)",
+                defaults=Settings(coordination="pairs"), seed_slot=2)
+"""The pairwise variant (the N-agent learner before the coordination graph); slot 2 is beyond the
+related family's stride of 2, so it draws from its name's slot and leaves every other learner's
+seeds alone."""
