@@ -29,7 +29,7 @@ def _write_claims(monkeypatch, tmp_path, entries):
 @pytest.mark.parametrize("change, message", [
     ({"kind": None}, r"claim 'c' of t lacks \['kind'\]"),
     ({"why": None}, r"claim 'c' of t lacks \['why'\]"),
-    ({"kind": "ours"}, r"kind must be one of \['chapter', 'inferred'\], got 'ours'"),
+    ({"kind": "ours"}, r"kind must be one of \['chapter', 'inferred', 'field'\], got 'ours'"),
     ({"why": "  "}, "why must be a non-empty text"),
     ({"op": "=="}, "op must be one of"),
     ({"unit": "m"}, r"unknown keys \['unit'\]"),
