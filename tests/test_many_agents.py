@@ -73,10 +73,16 @@ def _converging_three():
     return g, cells, np.zeros(3, np.bool_), np.array([S, E, N])
 
 
-def _resolve(g, cells, done, choices, preferred, state):
-    actions = np.zeros(3, np.int64)
-    count = two_observe.coordinate_group(g.next_cell, g.goal_of, cells, done, np.array(choices), preferred,
-                                           actions, np.zeros(3, np.int64), np.zeros(3, np.bool_), state)
+def _coordinate(g, cells, done, choices, preferred, state):
+    """two_observe.coordinate_group on ``g`` with the group's index filled as group_step fills it,
+    and emptied after: (count, actions)."""
+    group = two_observe.group_arrays(rules.world(g))
+    actions = np.zeros(len(cells), np.int64)
+    two_observe.index_preferred(group, g.next_cell, cells, done, preferred)
+    count = two_observe.coordinate_group(g.next_cell, g.goal_of, cells, done, np.array(choices), preferred, actions,
+                                         group, state)
+    two_observe.clear_preferred(group, g.next_cell, cells, done, preferred)
+    assert (group.index.occupant == rules.NOBODY).all() and (group.index.claimant == rules.NOBODY).all()
     return count, actions
 
 
@@ -84,7 +90,7 @@ def test_three_agents_aiming_at_one_cell_one_keeps_the_others_draw_another_actio
     g, cells, done, preferred = _converging_three()
     keepers = np.zeros(3)
     for state in run_states(11, 600):
-        count, actions = _resolve(g, cells, done, [COORDINATE] * 3, preferred, state)
+        count, actions = _coordinate(g, cells, done, [COORDINATE] * 3, preferred, state)
         assert count == 3
         kept = actions == preferred
         assert kept.sum() == 1
@@ -95,7 +101,7 @@ def test_three_agents_aiming_at_one_cell_one_keeps_the_others_draw_another_actio
 def test_an_agent_acting_alone_keeps_its_action_and_only_the_coordinating_pair_resolves():
     g, cells, done, preferred = _converging_three()
     for state in run_states(12, 100):
-        count, actions = _resolve(g, cells, done, [COORDINATE, COORDINATE, ACT_ALONE], preferred, state)
+        count, actions = _coordinate(g, cells, done, [COORDINATE, COORDINATE, ACT_ALONE], preferred, state)
         assert count == 2
         assert actions[2] == preferred[2]
         assert (actions[:2] == preferred[:2]).sum() == 1
@@ -106,7 +112,7 @@ def test_no_collision_coming_draws_nothing():
     preferred = np.array([E, W, E])  # (0,1)->(0,2), (1,0) bumps, (2,1)->(2,2): no two collide
     state = run_states(13, 1)[0]
     before = state.copy()
-    count, actions = _resolve(g, cells, done, [COORDINATE] * 3, preferred, state)
+    count, actions = _coordinate(g, cells, done, [COORDINATE] * 3, preferred, state)
     assert count == 0 and np.array_equal(actions, preferred) and np.array_equal(state, before)
 
 
@@ -119,7 +125,7 @@ def test_a_yielding_agent_no_longer_blocks_the_others():
     preferred = np.array([E, W, N])
     outcomes = set()
     for state in run_states(14, 300):
-        count, actions = _resolve(g, cells, np.zeros(3, np.bool_), [COORDINATE] * 3, preferred, state)
+        count, actions = _coordinate(g, cells, np.zeros(3, np.bool_), [COORDINATE] * 3, preferred, state)
         kept = tuple((actions == preferred).tolist())
         assert count == 3 and kept in {(True, False, False), (False, True, True)}
         outcomes.add(kept)
@@ -133,9 +139,8 @@ def test_two_agents_draw_what_the_two_agent_rule_draws():
         a, b = state.copy(), state.copy()
         expected = pref2.copy()
         two_observe.yield_at_random(pref2, expected, (0, 1), a)
-        actions = np.zeros(2, np.int64)
-        two_observe.coordinate_group(g.next_cell, g.goal_of, cells2, done2, np.array([COORDINATE] * 2), pref2,
-                                       actions, np.zeros(2, np.int64), np.zeros(2, np.bool_), b)
+        g2 = load_map(OPEN_3X3.replace("3", "."))
+        _, actions = _coordinate(g2, cells2, done2, [COORDINATE] * 2, pref2, b)
         assert np.array_equal(actions, expected) and np.array_equal(a, b)
 
 
