@@ -405,3 +405,19 @@ def _bounced_into(gridmap, cells, done, actions, collided):
     swapped = [not done[i] and targets[at[targets[i]]] == cells[i] if targets[i] in at and at[targets[i]] != i else False
                for i in range(len(cells))]
     return int(sum(collided[i] and aimed[targets[i]] == 1 and not swapped[i] for i in range(len(cells))))
+
+
+def test_in_range_lists_and_table_are_could_collide_for_every_pair_of_cells():
+    """rules.in_range_lists and rules.in_range_table, which try only the cells that can reach a
+    cell in common, answer rules.could_collide for every pair of cells of every map."""
+    from glamas.gridworld import generate
+    from glamas.paths import MAPS
+    maps = [load_map(path) for path in sorted(MAPS.glob("*.txt"))] + [generate.warehouse(n, 1) for n in (2, 8, 32)]
+    for g in maps:
+        for goals in (g.shared_goal, g.is_goal):
+            tried = np.array([[rules.could_collide(g.next_cell, goals, a, b) for b in range(g.n_cells)]
+                              for a in range(g.n_cells)])
+            assert np.array_equal(rules.in_range_table(g.next_cell, goals), tried), g.name
+            first, near = rules.in_range_lists(g.next_cell, goals)
+            for a in range(g.n_cells):
+                assert sorted(near[first[a]:first[a + 1]].tolist()) == [b for b in np.flatnonzero(tried[a]) if b != a]

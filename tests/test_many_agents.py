@@ -154,6 +154,67 @@ def test_nearest_other_agent_ignores_agents_in_the_goal_and_breaks_ties_by_numbe
     assert nearest.tolist() == [two_observe.NOBODY] * 3
 
 
+@pytest.mark.parametrize("density", [0.02, 0.1, 0.5])
+def test_nearest_other_by_rings_is_the_nearest_of_all_pairs(density):
+    """two_observe.nearest_other (rings around the agent's cell, or the acting agents one by one
+    when they are few) finds what the search over all pairs finds (nearest_others): the nearest
+    acting agent, the lowest-numbered among equals, from crowded to nearly empty."""
+    from glamas.gridworld import generate
+    g = generate.warehouse(64, seed=2, density=density)
+    world = rules.world(g)
+    rings = two_observe.rings(world)
+    distances = rules.distance_table(g.n_cells, g.n_cols)
+    free = np.flatnonzero(~g.blocked)
+    draws = np.random.default_rng(3)
+    fallbacks = 0
+    for trial in range(200):
+        cells = draws.choice(free, g.n_agents, replace=False).astype(np.int64)
+        done = draws.random(g.n_agents) < draws.choice([0.0, 0.5, 0.95])
+        acting = np.flatnonzero(~done)
+        rings.grid[rings.padded[cells[acting]]] = acting
+        expected, deltas = np.zeros(g.n_agents, np.int64), np.zeros(g.n_agents, np.int64)
+        two_observe.nearest_others(distances, cells, done, expected, deltas)
+        for i in acting:
+            found = two_observe.nearest_other(rings, cells, acting, acting.size, i)
+            assert found == (expected[i], deltas[i] if expected[i] != two_observe.NOBODY else 0), (trial, i)
+            fallbacks += 2 * deltas[i] * (deltas[i] - 1) >= acting.size
+        rings.grid[rings.padded[cells[acting]]] = rules.NOBODY
+    assert fallbacks > 0  # the agents tried one by one, too
+
+
+def test_group_coordination_through_the_index_is_the_all_pairs_one():
+    """coordinate_group, which tries only the agents aiming at an agent's target or on it, gives
+    the actions and draws of the coordination over all pairs (benchmarks.python_gridworld), on
+    crowds of 64 agents with random choices and preferences."""
+    from benchmarks import python_gridworld
+    from glamas import rng
+    from glamas.gridworld import generate
+
+    class Stream:
+        def __init__(self, state):
+            self.state = state
+
+        def random(self):
+            return rng.uniform(self.state)
+
+    g = generate.warehouse(64, seed=4, density=0.4)
+    world = python_gridworld.World(g)
+    free = np.flatnonzero(~g.blocked)
+    draws = np.random.default_rng(5)
+    yielded = 0
+    for state in run_states(19, 100):
+        cells = draws.choice(free, g.n_agents, replace=False).astype(np.int64)
+        done = draws.random(g.n_agents) < 0.2
+        choices = np.where(draws.random(g.n_agents) < 0.7, COORDINATE, ACT_ALONE)
+        preferred = draws.integers(0, 4, g.n_agents)
+        expected = python_gridworld.coordinate_group(world, cells.tolist(), done.tolist(), choices.tolist(),
+                                                     preferred.tolist(), Stream(state.copy()))
+        _, actions = _coordinate(g, cells, done, choices, preferred, state)
+        assert actions.tolist() == expected
+        yielded += (actions != preferred).sum()
+    assert yielded > 0
+
+
 @pytest.mark.parametrize("reading", [{"gla_need": need, "gla_L": L} for need in sorted(two_observe.NEEDS)
                                      for L in (1.0, 8.0)] + [{"rule_distance": 3}], ids=str)
 def test_2observe_pair_step_plays_the_group_step_for_two_agents(reading):

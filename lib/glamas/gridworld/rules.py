@@ -419,36 +419,33 @@ def in_range_table(next_cell, shared_goal):
 @njit(cache=True)
 def in_range_lists(next_cell, shared_goal):
     """:func:`could_collide` as lists, ``(first, near)``: the cells b != a in range of cell a are
-    ``near[first[a]:first[a + 1]]`` (in increasing order; 12 at most on a grid). Two agents can
-    collide only when a move of one and a move of the other lead to one cell, or when one moves to
-    the other's cell: b is tried only when it has a move to a cell a has a move to, or a has a move
-    to b, so a map of C cells costs some 20 C tries, whatever its shape."""
+    ``near[first[a]:first[a + 1]]`` (12 at most on a grid). Two agents can collide only when a
+    move of one and a move of the other lead to one cell, or when one moves to the other's cell:
+    b is tried only when it has a move to a cell a has a move to, or a has a move to b, so a map of
+    C cells costs some 20 C tries, whatever its shape."""
     n_cells = next_cell.shape[0]
     into_first, into = _moves_into(next_cell)
-    tried = np.full(n_cells, NOBODY, np.int64)  # the cell a for which b was last tried
+    tried = np.full(n_cells, NOBODY, np.int64)  # the last (pass, cell a) for which b was tried
     first = np.zeros(n_cells + 1, np.int64)
-    found = np.empty(n_cells, np.int64)
-    near = np.empty(16 * n_cells, np.int64)
-    count = 0
-    for a in range(n_cells):
-        tried[a] = a
-        n_found = 0
-        for action in range(N_ACTIONS):
-            target = next_cell[a, action]
-            for k in range(into_first[target], into_first[target + 1] + 1):
-                b = into[k] if k < into_first[target + 1] else target  # what moves into the target, then the target
-                if tried[b] != a:
-                    tried[b] = a
-                    if could_collide(next_cell, shared_goal, a, b):
-                        found[n_found] = b
-                        n_found += 1
-        found_sorted = np.sort(found[:n_found])
-        if count + n_found > near.shape[0]:
-            near = np.concatenate((near, np.empty(near.shape[0] + n_found, np.int64)))
-        near[count:count + n_found] = found_sorted
-        count += n_found
-        first[a + 1] = count
-    return first, near[:count].copy()
+    near = np.empty(0, np.int64)
+    for fill in range(2):  # count, then fill
+        for a in range(n_cells):
+            count = 0
+            for action in range(N_ACTIONS):
+                target = next_cell[a, action]
+                for k in range(into_first[target], into_first[target + 1] + 1):
+                    b = into[k] if k < into_first[target + 1] else target  # what moves into the target, then the target
+                    if b != a and tried[b] != fill * n_cells + a:
+                        tried[b] = fill * n_cells + a
+                        if could_collide(next_cell, shared_goal, a, b):
+                            if fill:
+                                near[first[a] + count] = b
+                            count += 1
+            if not fill:
+                first[a + 1] = first[a] + count
+        if not fill:
+            near = np.empty(first[n_cells], np.int64)
+    return first, near
 
 
 @njit(cache=True)

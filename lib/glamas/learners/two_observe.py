@@ -330,51 +330,109 @@ def random_order(members, count, state):
         members[i], members[j] = members[j], members[i]
 
 
+class Rings(NamedTuple):
+    """The map's cells as :func:`nearest_other` searches them, ring by ring around a cell: a grid
+    with a border of empty cells as wide as the widest ring searched, so that a ring is a list of
+    offsets, the same from every cell."""
+
+    grid: np.ndarray
+    """int32 (padded cells,): the acting agent on each cell, NOBODY elsewhere and on the border
+    (filled during a step, empty between steps; 32 bits, for the cache)."""
+    padded: np.ndarray
+    """int (cells,): each map cell's place in ``grid``."""
+    offsets: np.ndarray
+    """int: the offsets in ``grid`` of the cells at distance 1, RING_END, those at distance 2,
+    RING_END, and so on (a loop to the next RING_END is one the compiler does not vectorize: vector
+    gathers cost the few cells of a ring more than plain loads)."""
+    depth: int
+    """The rings in ``offsets``."""
+    rows: np.ndarray
+    """int (cells,): each map cell's row."""
+    cols: np.ndarray
+    """int (cells,): each map cell's column."""
+
+
+RING_END = np.iinfo(np.int64).min
+"""The end of a ring in ``Rings.offsets`` (no offset)."""
+FAR = np.uint32(0xFFFFFFFF)
+"""NOBODY in ``Rings.grid`` read as an unsigned number: above every agent's number."""
+
+
 @njit(cache=True, inline="always")
-def nearest_other(occupant, n_cols, rows, cols, acting, n_acting, i):
+def rings(world):
+    """:class:`Rings` for the world: as many rings as :func:`nearest_other` can search before it
+    tries the agents one by one (rings 1 .. D cover 2 D (D + 1) cells, at least the agents)."""
+    n_agents, n_cells, n_cols = world.starts.shape[0], world.next_cell.shape[0], world.n_cols
+    n_rows = n_cells // n_cols
+    depth = 1
+    while 2 * depth * (depth + 1) < n_agents:
+        depth += 1
+    width = n_cols + 2 * depth
+    grid = np.full((n_rows + 2 * depth) * width, NOBODY, np.int32)
+    padded, rows, cols = np.empty(n_cells, np.int64), np.empty(n_cells, np.int64), np.empty(n_cells, np.int64)
+    for cell in range(n_cells):
+        rows[cell], cols[cell] = cell // n_cols, cell % n_cols
+        padded[cell] = (rows[cell] + depth) * width + cols[cell] + depth
+    offsets = np.empty(2 * depth * (depth + 1) + depth, np.int64)
+    k = 0
+    for d in range(1, depth + 1):
+        for dr in range(-d, d + 1):
+            rest = d - abs(dr)
+            for dc in range(-rest, rest + 1, max(2 * rest, 1)):  # -rest and rest, or 0
+                offsets[k] = dr * width + dc
+                k += 1
+        offsets[k] = RING_END
+        k += 1
+    return Rings(grid, padded, offsets, depth, rows, cols)
+
+
+@njit(cache=True, inline="always")
+def nearest_other(rings, cells, acting, n_acting, i):
     """(the nearest other acting agent of acting agent i, its Manhattan distance): the lowest
     number among the nearest, as :func:`nearest_others`; (NOBODY, 0) when i acts alone.
 
-    ``occupant`` holds the acting agents by cell (rules.CellIndex), ``rows`` and ``cols`` each
-    acting agent's row and column, ``acting[:n_acting]`` the acting agents in increasing order.
-    The search goes ring by ring outward from i's cell, every cell at distance 1, then 2, and so on
-    (each ring's agents compared by number); once the rings have covered as many cells as there
-    are acting agents, it tries those agents one by one instead (few agents far apart)."""
-    n_rows = occupant.shape[0] // n_cols
-    row, col = rows[i], cols[i]
-    covered = 0
-    for d in range(1, n_rows + n_cols - 1):
+    ``rings.grid`` holds the acting agents by cell, ``acting[:n_acting]`` the acting agents in
+    increasing order. The search goes ring by ring outward from i's cell, every cell at distance 1,
+    then 2, and so on (the lowest agent number of the first ring that has one); once the rings have
+    covered as many cells as there are acting agents, it tries those agents one by one instead (few
+    agents far apart)."""
+    grid, offsets = rings.grid, rings.offsets
+    cell = cells[i]
+    here = rings.padded[cell]
+    covered, k = 0, 0
+    for d in range(1, rings.depth + 1):
         if covered >= n_acting:
             break
-        best = NOBODY
-        for r in range(max(row - d, 0), min(row + d, n_rows - 1) + 1):
-            rest = d - abs(r - row)
-            if col >= rest:
-                j = occupant[r * n_cols + col - rest]
-                if j != NOBODY and (best == NOBODY or j < best):
-                    best = j
-            if rest > 0 and col + rest < n_cols:
-                j = occupant[r * n_cols + col + rest]
-                if j != NOBODY and (best == NOBODY or j < best):
-                    best = j
-        if best != NOBODY:
-            return best, d
+        lowest = FAR
+        offset = offsets[k]
+        while offset != RING_END:
+            j = np.uint32(grid[here + offset])
+            if j < lowest:
+                lowest = j
+            k += 1
+            offset = offsets[k]
+        k += 1
+        if lowest != FAR:
+            return np.int64(lowest), d
         covered += 4 * d
+    row, col, rows, cols = rings.rows[cell], rings.cols[cell], rings.rows, rings.cols
     best, best_d = NOBODY, 0
-    for k in range(n_acting):
-        j = acting[k]
-        d = abs(rows[j] - row) + abs(cols[j] - col)
+    for m in range(n_acting):
+        j = acting[m]
+        other = cells[j]
+        d = abs(rows[other] - row) + abs(cols[other] - col)
         if j != i and (best == NOBODY or d < best_d):
             best, best_d = j, d
     return best, best_d
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def conflict(next_cell, goal_of, cells, done, preferred, index, i, among):
     """Whether agent i's preferred action would collide (rules.would_collide) with the preferred
     action of an agent j with ``among[j]``. Only the agents that can collide with it are tried:
     the agents aiming at i's target and the agent on it, from ``index`` (rules.index_agents with
-    the preferred actions)."""
+    the preferred actions). Compiled once and called from its three places, which LLVM inlines
+    (glamas.learners.episode): numba's copies cost the N-agent kernel 7 s of compile time."""
     target = next_cell[cells[i], preferred[i]]
     j = index.claimant[target]
     while j != NOBODY:
@@ -388,23 +446,16 @@ def conflict(next_cell, goal_of, cells, done, preferred, index, i, among):
 @njit(cache=True, inline="always")
 def in_range_of_any(group, cells, i):
     """Whether acting agent i could collide with some other acting agent in this step: an acting
-    agent on a cell in range of i's (rules.in_range_lists; ``group.index`` holds the acting
-    agents by cell)."""
-    cell, first, near, occupant = cells[i], group.in_range_first, group.in_range_cells, group.index.occupant
+    agent on a cell in range of i's (rules.in_range_lists; ``group.rings.grid`` holds the acting
+    agents by cell). ``group.deltas[i]``, i's distance to its nearest other agent, must be the
+    step's: farther than ``group.reach`` nobody is in range."""
+    if group.deltas[i] > group.reach:
+        return False
+    cell, first, near, grid = cells[i], group.in_range_first, group.in_range_padded, group.rings.grid
     for k in range(first[cell], first[cell + 1]):
-        if occupant[near[k]] != NOBODY:
+        if grid[near[k]] != NOBODY:
             return True
     return False
-
-
-@njit(cache=True, inline="always")
-def need_of(need, group, cells, coming, collided, i):
-    """Agent i's need under reading ``need`` (module docstring); ``collided`` is the step's."""
-    if need == NEED_IN_RANGE:
-        return in_range_of_any(group, cells, i)
-    if need == NEED_SAMPLED:
-        return coming[i]
-    return need == NEED_OUTCOME and collided[i]
 
 
 @njit(cache=True, inline="always")
@@ -482,18 +533,19 @@ class Group(NamedTuple):
     """True for every agent (:func:`conflict` with anyone)."""
     acting: np.ndarray
     """The acting agents in increasing order, first the step's count of them."""
-    rows: np.ndarray
-    """Each acting agent's row on the map."""
-    cols: np.ndarray
-    """Each acting agent's column on the map."""
+    rings: Rings
+    """The acting agents by cell, for the nearest other agent (:func:`nearest_other`)."""
     index: rules.CellIndex
     """The acting agents by cell and by preferred target, filled during a step."""
     step_index: rules.CellIndex
     """rules.step_indexed's own."""
     in_range_first: np.ndarray
     """(cells + 1,): where each cell's list of the cells in range starts (rules.in_range_lists)."""
-    in_range_cells: np.ndarray
-    """The cells in range, cell by cell (rules.in_range_lists)."""
+    in_range_padded: np.ndarray
+    """The cells in range, cell by cell (rules.in_range_lists), as places in ``rings.grid``."""
+    reach: int
+    """The largest Manhattan distance between two cells in range (2 on a grid): agents farther
+    apart can neither collide nor be in range."""
 
 
 @njit(cache=True, inline="always")
@@ -502,10 +554,15 @@ def group_arrays(world):
     :func:`per_run`'s."""
     n = world.starts.shape[0]
     first, near = rules.in_range_lists(world.next_cell, rules.shared_goals(world.goal_of))
+    around = rings(world)
+    reach = 0
+    for a in range(first.shape[0] - 1):
+        for k in range(first[a], first[a + 1]):
+            reach = max(reach, rules.manhattan(world.n_cols, a, near[k]))
+            near[k] = around.padded[near[k]]
     return Group(np.empty(n, np.int64), np.empty(n, np.int64), np.empty(n, np.bool_), np.empty(n, np.bool_),
                  np.empty(n, np.int64), np.empty(n, np.bool_), np.empty(n, np.bool_), np.ones(n, np.bool_),
-                 np.empty(n, np.int64), np.empty(n, np.int64), np.empty(n, np.int64), rules.cell_index(world),
-                 rules.cell_index(world), first, near)
+                 np.empty(n, np.int64), around, rules.cell_index(world), rules.cell_index(world), first, near, reach)
 
 
 @njit(cache=True, nogil=True)
@@ -577,30 +634,29 @@ def group_step(world, learning, automata, q, u, need_counts, state, arrays):
     ``group`` (:class:`Group`). Each agent's lookups go through the group's index of the cells
     (module docstring): a step costs in proportion to its acting agents."""
     in_range, buffers, agents, group = arrays
-    next_cell, goal_of, n_agents, n_cols = world.next_cell, world.goal_of, world.starts.shape[0], world.n_cols
+    next_cell, goal_of, n_agents = world.next_cell, world.goal_of, world.starts.shape[0]
     alpha, gamma = learning.q_learning_rate, learning.discount
     learn_first_level = automata.rule_distance < 0
     cells, done, actions, new_cells, rewards, bumped, collided, reached, acc = buffers
     choices, preferred, probs, x = agents
-    nearest, deltas, coming, needed, acting, rows, cols = (group.nearest, group.deltas, group.coming, group.needed,
-                                                           group.acting, group.rows, group.cols)
-    occupant = group.index.occupant
+    nearest, deltas, coming, needed, acting = group.nearest, group.deltas, group.coming, group.needed, group.acting
+    grid, padded = group.rings.grid, group.rings.padded
     n_acting = 0
     for i in range(n_agents):
         if not done[i]:
-            cell = cells[i]
             acting[n_acting] = i
             n_acting += 1
-            occupant[cell] = i
-            rows[i], cols[i] = cell // n_cols, cell % n_cols
+            grid[padded[cells[i]]] = i
     for i in range(n_agents):
         nearest[i], deltas[i] = NOBODY, 0
-        if not done[i]:
-            nearest[i], deltas[i] = nearest_other(occupant, n_cols, rows, cols, acting, n_acting, i)
-    for i in range(n_agents):
         choices[i] = ACT_ALONE
+        if done[i]:
+            continue
+        nearest[i], deltas[i] = nearest_other(group.rings, cells, acting, n_acting, i)
         if nearest[i] == NOBODY:
             continue
+        if automata.gla_need == NEED_IN_RANGE:  # decided by the cells before the move, read here near them
+            needed[i] = in_range_of_any(group, cells, i)
         x[i, 0] = deltas[i] * automata.gla_delta_scale
         if learn_first_level:
             choices[i] = gla.act(u[i], x[i], automata.gla_temperature, automata.gla_L, automata.gla_bounding,
@@ -611,8 +667,10 @@ def group_step(world, learning, automata, q, u, need_counts, state, arrays):
         if not done[i]:
             preferred[i] = epsilon_greedy(q[i, cells[i]], learning.exploit_prob, state)
     index_preferred(group, next_cell, cells, done, preferred)
-    for i in range(n_agents):
-        coming[i] = not done[i] and conflict(next_cell, goal_of, cells, done, preferred, group.index, i, group.everyone)
+    if automata.gla_need == NEED_SAMPLED:  # read by that reading only
+        for i in range(n_agents):
+            coming[i] = (not done[i] and deltas[i] <= group.reach
+                         and conflict(next_cell, goal_of, cells, done, preferred, group.index, i, group.everyone))
     coordinate_group(next_cell, goal_of, cells, done, choices, preferred, actions, group, state)
     paired = 0
     for i in range(n_agents):
@@ -623,9 +681,14 @@ def group_step(world, learning, automata, q, u, need_counts, state, arrays):
                                     reached)
     for i in range(n_agents):
         if nearest[i] != NOBODY:
-            needed[i] = need_of(automata.gla_need, group, cells, coming, collided, i)
+            if automata.gla_need == NEED_SAMPLED:
+                needed[i] = coming[i]
+            elif automata.gla_need == NEED_OUTCOME:
+                needed[i] = collided[i]
             need_counts[deltas[i], 1 if needed[i] else 0] += 1
     clear_preferred(group, next_cell, cells, done, preferred)
+    for k in range(n_acting):
+        grid[padded[cells[acting[k]]]] = NOBODY
     for i in range(n_agents):
         if not done[i]:
             q_update(q[i], cells[i], actions[i], rewards[i], new_cells[i], reached[i], alpha, gamma)
