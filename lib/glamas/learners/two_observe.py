@@ -29,16 +29,17 @@ acting agent; ``sampled``, its preferred action would collide with another actin
 coordinate. The log's coordinations count agent-steps coordinating with their nearest agent,
 halved: for two agents, the steps on which both coordinated.
 
-The group step looks only at each agent's neighbours, through an index of the cells (a
-rules.CellIndex: the acting agent on each cell, and the agents whose preferred action aims at each
-cell): the nearest other agent is searched ring by ring outward from the agent's cell (every cell at
-distance 1, then 2, ...; when the rings have covered more cells than there are acting agents, those
-are tried one by one instead), a coming collision among the agents aiming at the agent's target and
-the agent on it, "in range" among the agents on the cells in range of its cell
-(rules.in_range_lists), and the move goes through rules.step_indexed. Every answer is the one a
-search over all pairs of agents gives (the lowest-numbered agent among the nearest; the same
-agents in the coordination order), so the group step draws the same random numbers and learns the
-same as it did over all pairs, and a step costs in proportion to its acting agents.
+The group step looks only at each agent's neighbours, through indexes of the cells filled at the
+start of a step (:class:`Group`): the nearest other agent is searched ring by ring outward from the
+agent's cell on a grid of the acting agents (:func:`nearest_other`; once the rings have covered as
+many cells as there are acting agents, those are tried one by one instead), "in range" on the
+cells in range of its own (rules.in_range_lists) and only when the nearest agent is near enough,
+a coming collision among the agents aiming at the agent's target and the agent on it (a
+rules.CellIndex of the preferred actions, :func:`conflict`), and the move goes through
+rules.step_indexed. Every answer is the one the search over all pairs gives (the lowest-numbered
+agent among the nearest; the same agents in the coordination order), so the group step draws the
+same random numbers and learns the same as over all pairs, at a cost that grows with its acting
+agents, not with their pairs.
 
 For two agents :func:`group_step` plays exactly what :func:`pair_step`, the chapter's Alg. 4
 written for two, plays (same random numbers, Q tables, GLA parameters and counts, under every
@@ -431,8 +432,8 @@ def conflict(next_cell, goal_of, cells, done, preferred, index, i, among):
     """Whether agent i's preferred action would collide (rules.would_collide) with the preferred
     action of an agent j with ``among[j]``. Only the agents that can collide with it are tried:
     the agents aiming at i's target and the agent on it, from ``index`` (rules.index_agents with
-    the preferred actions). Compiled once and called from its three places, which LLVM inlines
-    (glamas.learners.episode): numba's copies cost the N-agent kernel 7 s of compile time."""
+    the preferred actions). Compiled once and called from its three places, where LLVM inlines it,
+    rather than copied into each by numba (glamas.learners.episode)."""
     target = next_cell[cells[i], preferred[i]]
     j = index.claimant[target]
     while j != NOBODY:
