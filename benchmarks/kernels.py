@@ -32,7 +32,8 @@ class Workload:
     episodes: int
     """Episodes of the run (CQ-learning: of the joint phase, after its ``cq_solo_episodes``)."""
     map: str = "tunnel_to_goal"
-    """A map of data/maps (glamas.gridworld.load_map)."""
+    """A map of data/maps, or a map's text (glamas.gridworld.load_map): a generated map's
+    (benchmarks.bench_many_agents)."""
     block: int = 1
     """Episodes per row of the log (it must divide ``episodes``); 1: a row per episode."""
     own: Any = None

@@ -11,7 +11,7 @@ and, for the line-world experiments, its learned parameters equal the kernel's n
 import numpy as np
 import pytest
 
-from benchmarks import kernels, python_gridworld, python_lineworld
+from benchmarks import bench_many_agents, kernels, python_gridworld, python_lineworld, python_many_agents
 from glamas import parallel, rng
 from glamas.experiments import and_network, single_gla
 from glamas.gridworld import BOUNCE_MODES, rules
@@ -102,6 +102,19 @@ def test_the_sparse_maq_reference_plays_groups_by_variable_elimination(monkeypat
     log = python_gridworld.run(workload, KernelStream(kernels.run_state(5)))
     np.testing.assert_array_equal(log, kernels.run_compiled(workload, seed=5).log[0])
     assert len(eliminations) > 100
+
+
+@pytest.mark.parametrize("learner", sorted(python_many_agents.REFERENCES))
+@pytest.mark.parametrize("n_agents, episodes, bounce", [(2, 100, "previous"), (16, 3, "start"), (128, 1, "previous")])
+def test_many_agent_reference_plays_the_kernels_episodes(learner, n_agents, episodes, bounce):
+    """bench_many_agents' plain-Python reference (the index of cells in lists) plays the kernel's
+    episodes on its generated warehouses, at its smallest and largest number of agents too."""
+    workload = bench_many_agents.workload(learner, n_agents, episodes, max_steps=200, bounce=bounce)
+    log = kernels.run_compiled(workload, seed=5).log[0]
+    np.testing.assert_array_equal(python_many_agents.run(workload, KernelStream(kernels.run_state(5))), log)
+    assert ep.metric(log, "collisions").sum() > 0
+    if learner != "independent":
+        assert ep.metric(log, "coordinations").sum() > 0
 
 
 @pytest.mark.parametrize("map_file", [TUNNEL, WAREHOUSE, SWAP, PAIRED_GOALS])

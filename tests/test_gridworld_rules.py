@@ -350,3 +350,74 @@ def test_in_range_table_exempts_the_goal_of_every_agent_only(own_goals):
     assert table[g.cell(0, 2), g.cell(1, 3)]  # both could enter (1, 2)
     assert table[g.cell(0, 1), g.cell(1, 2)]  # both could enter (1, 1), or (0, 2): a collision unless agents 1 and 2
     assert rules.shared_goals(g.goal_of).tolist() == g.shared_goal.tolist()
+
+
+# --- many agents: the indexed step ------------------------------------------------------------------
+
+def _crowds():
+    """Maps and bounce rules for the indexed step: the chapter's, goals of several agents, and
+    generated warehouses, some as crowded as starts and goals allow (chains of bounces)."""
+    from glamas.gridworld import generate
+    yield load_map("tunnel_to_goal"), rules.BOUNCE_PREVIOUS
+    yield load_map("tunnel_to_goal_4"), rules.BOUNCE_START
+    yield load_map(OWN_GOALS), rules.BOUNCE_PREVIOUS
+    for n, density, bounce in ((8, 0.5, rules.BOUNCE_PREVIOUS), (8, 0.5, rules.BOUNCE_START),
+                               (32, 0.3, rules.BOUNCE_PREVIOUS), (32, 0.5, rules.BOUNCE_START),
+                               (128, 0.1, rules.BOUNCE_PREVIOUS), (128, 0.4, rules.BOUNCE_START)):
+        yield generate.warehouse(n, seed=n, density=density), bounce
+
+
+@pytest.mark.parametrize("gridmap, bounce", list(_crowds()), ids=lambda x: getattr(x, "name", x))
+def test_indexed_step_plays_the_general_step(gridmap, bounce):
+    """step_indexed gives step's outputs and collisions on every step of a random walk (agents
+    leave at their goals, all start again when all are in), and leaves its index empty."""
+    world = rules.World(gridmap.next_cell, gridmap.goal_of, gridmap.starts, bounce, gridmap.n_cols)
+    index = rules.cell_index(world)
+    n = gridmap.n_agents
+    draws = np.random.default_rng(n)
+    cells, done = gridmap.starts.copy(), np.zeros(n, bool)
+    counts = np.zeros(3)  # collisions, steps with a later round, arrivals
+    for _ in range(3000 if n <= 8 else 600):
+        actions = draws.integers(0, 4, n)
+        general, indexed = ([np.empty(n, np.int64), np.empty(n), *(np.empty(n, bool) for _ in range(3))]
+                            for _ in range(2))
+        n_general = rules.step(world, cells, done, actions, *general)
+        n_indexed = rules.step_indexed(world, index, cells, done, actions, *indexed)
+        assert n_indexed == n_general
+        for x, y in zip(indexed, general):
+            assert np.array_equal(x, y)
+        counts += (n_general, _bounced_into(gridmap, cells, done, actions, general[3]), general[4].sum())
+        cells, done = general[0].copy(), done | general[4]
+        if done.all():
+            cells, done = gridmap.starts.copy(), np.zeros(n, bool)
+    assert (index.occupant == rules.NOBODY).all() and (index.claimant == rules.NOBODY).all()
+    assert counts[0] > 0 and counts[2] > 0
+    if n >= 8:
+        assert counts[1] > 0  # agents hit by a bounced agent: later rounds
+
+
+def _bounced_into(gridmap, cells, done, actions, collided):
+    """Agents that collided though no other acting agent aimed at their target or swapped with
+    them: a bounced agent hit them, in a later round."""
+    targets = np.where(done, -1, gridmap.next_cell[cells, actions])
+    aimed = np.bincount(targets[~done], minlength=gridmap.n_cells)
+    at = dict(zip(cells[~done].tolist(), np.flatnonzero(~done).tolist()))
+    swapped = [not done[i] and targets[at[targets[i]]] == cells[i] if targets[i] in at and at[targets[i]] != i else False
+               for i in range(len(cells))]
+    return int(sum(collided[i] and aimed[targets[i]] == 1 and not swapped[i] for i in range(len(cells))))
+
+
+def test_in_range_lists_and_table_are_could_collide_for_every_pair_of_cells():
+    """rules.in_range_lists and rules.in_range_table, which try only the cells that can reach a
+    cell in common, answer rules.could_collide for every pair of cells of every map."""
+    from glamas.gridworld import generate
+    from glamas.paths import MAPS
+    maps = [load_map(path) for path in sorted(MAPS.glob("*.txt"))] + [generate.warehouse(n, 1) for n in (2, 8, 32)]
+    for g in maps:
+        for goals in (g.shared_goal, g.is_goal):
+            tried = np.array([[rules.could_collide(g.next_cell, goals, a, b) for b in range(g.n_cells)]
+                              for a in range(g.n_cells)])
+            assert np.array_equal(rules.in_range_table(g.next_cell, goals), tried), g.name
+            first, near = rules.in_range_lists(g.next_cell, goals)
+            for a in range(g.n_cells):
+                assert sorted(near[first[a]:first[a + 1]].tolist()) == [b for b in np.flatnonzero(tried[a]) if b != a]

@@ -73,10 +73,16 @@ def _converging_three():
     return g, cells, np.zeros(3, np.bool_), np.array([S, E, N])
 
 
-def _resolve(g, cells, done, choices, preferred, state):
-    actions = np.zeros(3, np.int64)
-    count = two_observe.coordinate_group(g.next_cell, g.goal_of, cells, done, np.array(choices), preferred,
-                                           actions, np.zeros(3, np.int64), np.zeros(3, np.bool_), state)
+def _coordinate(g, cells, done, choices, preferred, state):
+    """two_observe.coordinate_group on ``g`` with the group's index filled as group_step fills it,
+    and emptied after: (count, actions)."""
+    group = two_observe.group_arrays(rules.world(g))
+    actions = np.zeros(len(cells), np.int64)
+    two_observe.index_preferred(group, g.next_cell, cells, done, preferred)
+    count = two_observe.coordinate_group(g.next_cell, g.goal_of, cells, done, np.array(choices), preferred, actions,
+                                         group, state)
+    two_observe.clear_preferred(group, g.next_cell, cells, done, preferred)
+    assert (group.index.occupant == rules.NOBODY).all() and (group.index.claimant == rules.NOBODY).all()
     return count, actions
 
 
@@ -84,7 +90,7 @@ def test_three_agents_aiming_at_one_cell_one_keeps_the_others_draw_another_actio
     g, cells, done, preferred = _converging_three()
     keepers = np.zeros(3)
     for state in run_states(11, 600):
-        count, actions = _resolve(g, cells, done, [COORDINATE] * 3, preferred, state)
+        count, actions = _coordinate(g, cells, done, [COORDINATE] * 3, preferred, state)
         assert count == 3
         kept = actions == preferred
         assert kept.sum() == 1
@@ -95,7 +101,7 @@ def test_three_agents_aiming_at_one_cell_one_keeps_the_others_draw_another_actio
 def test_an_agent_acting_alone_keeps_its_action_and_only_the_coordinating_pair_resolves():
     g, cells, done, preferred = _converging_three()
     for state in run_states(12, 100):
-        count, actions = _resolve(g, cells, done, [COORDINATE, COORDINATE, ACT_ALONE], preferred, state)
+        count, actions = _coordinate(g, cells, done, [COORDINATE, COORDINATE, ACT_ALONE], preferred, state)
         assert count == 2
         assert actions[2] == preferred[2]
         assert (actions[:2] == preferred[:2]).sum() == 1
@@ -106,7 +112,7 @@ def test_no_collision_coming_draws_nothing():
     preferred = np.array([E, W, E])  # (0,1)->(0,2), (1,0) bumps, (2,1)->(2,2): no two collide
     state = run_states(13, 1)[0]
     before = state.copy()
-    count, actions = _resolve(g, cells, done, [COORDINATE] * 3, preferred, state)
+    count, actions = _coordinate(g, cells, done, [COORDINATE] * 3, preferred, state)
     assert count == 0 and np.array_equal(actions, preferred) and np.array_equal(state, before)
 
 
@@ -119,7 +125,7 @@ def test_a_yielding_agent_no_longer_blocks_the_others():
     preferred = np.array([E, W, N])
     outcomes = set()
     for state in run_states(14, 300):
-        count, actions = _resolve(g, cells, np.zeros(3, np.bool_), [COORDINATE] * 3, preferred, state)
+        count, actions = _coordinate(g, cells, np.zeros(3, np.bool_), [COORDINATE] * 3, preferred, state)
         kept = tuple((actions == preferred).tolist())
         assert count == 3 and kept in {(True, False, False), (False, True, True)}
         outcomes.add(kept)
@@ -133,9 +139,8 @@ def test_two_agents_draw_what_the_two_agent_rule_draws():
         a, b = state.copy(), state.copy()
         expected = pref2.copy()
         two_observe.yield_at_random(pref2, expected, (0, 1), a)
-        actions = np.zeros(2, np.int64)
-        two_observe.coordinate_group(g.next_cell, g.goal_of, cells2, done2, np.array([COORDINATE] * 2), pref2,
-                                       actions, np.zeros(2, np.int64), np.zeros(2, np.bool_), b)
+        g2 = load_map(OPEN_3X3.replace("3", "."))
+        _, actions = _coordinate(g2, cells2, done2, [COORDINATE] * 2, pref2, b)
         assert np.array_equal(actions, expected) and np.array_equal(a, b)
 
 
@@ -147,6 +152,67 @@ def test_nearest_other_agent_ignores_agents_in_the_goal_and_breaks_ties_by_numbe
     assert nearest.tolist() == [1, 0, 0] and deltas.tolist() == [1, 1, 1]
     two_observe.nearest_others(rules.distance_table(g.n_cells, g.n_cols), cells, np.array([False, True, True]), nearest, deltas)
     assert nearest.tolist() == [two_observe.NOBODY] * 3
+
+
+@pytest.mark.parametrize("density", [0.02, 0.1, 0.5])
+def test_nearest_other_by_rings_is_the_nearest_of_all_pairs(density):
+    """two_observe.nearest_other (rings around the agent's cell, or the acting agents one by one
+    when they are few) finds what the search over all pairs finds (nearest_others): the nearest
+    acting agent, the lowest-numbered among equals, from crowded to nearly empty."""
+    from glamas.gridworld import generate
+    g = generate.warehouse(64, seed=2, density=density)
+    world = rules.world(g)
+    rings = two_observe.rings(world)
+    distances = rules.distance_table(g.n_cells, g.n_cols)
+    free = np.flatnonzero(~g.blocked)
+    draws = np.random.default_rng(3)
+    fallbacks = 0
+    for trial in range(200):
+        cells = draws.choice(free, g.n_agents, replace=False).astype(np.int64)
+        done = draws.random(g.n_agents) < draws.choice([0.0, 0.5, 0.95])
+        acting = np.flatnonzero(~done)
+        rings.grid[rings.padded[cells[acting]]] = acting
+        expected, deltas = np.zeros(g.n_agents, np.int64), np.zeros(g.n_agents, np.int64)
+        two_observe.nearest_others(distances, cells, done, expected, deltas)
+        for i in acting:
+            found = two_observe.nearest_other(rings, cells, acting, acting.size, i)
+            assert found == (expected[i], deltas[i] if expected[i] != two_observe.NOBODY else 0), (trial, i)
+            fallbacks += 2 * deltas[i] * (deltas[i] - 1) >= acting.size
+        rings.grid[rings.padded[cells[acting]]] = rules.NOBODY
+    assert fallbacks > 0  # the agents tried one by one, too
+
+
+def test_group_coordination_through_the_index_is_the_all_pairs_one():
+    """coordinate_group, which tries only the agents aiming at an agent's target or on it, gives
+    the actions and draws of the coordination over all pairs (benchmarks.python_gridworld), on
+    crowds of 64 agents with random choices and preferences."""
+    from benchmarks import python_gridworld
+    from glamas import rng
+    from glamas.gridworld import generate
+
+    class Stream:
+        def __init__(self, state):
+            self.state = state
+
+        def random(self):
+            return rng.uniform(self.state)
+
+    g = generate.warehouse(64, seed=4, density=0.4)
+    world = python_gridworld.World(g)
+    free = np.flatnonzero(~g.blocked)
+    draws = np.random.default_rng(5)
+    yielded = 0
+    for state in run_states(19, 100):
+        cells = draws.choice(free, g.n_agents, replace=False).astype(np.int64)
+        done = draws.random(g.n_agents) < 0.2
+        choices = np.where(draws.random(g.n_agents) < 0.7, COORDINATE, ACT_ALONE)
+        preferred = draws.integers(0, 4, g.n_agents)
+        expected = python_gridworld.coordinate_group(world, cells.tolist(), done.tolist(), choices.tolist(),
+                                                     preferred.tolist(), Stream(state.copy()))
+        _, actions = _coordinate(g, cells, done, choices, preferred, state)
+        assert actions.tolist() == expected
+        yielded += (actions != preferred).sum()
+    assert yielded > 0
 
 
 @pytest.mark.parametrize("reading", [{"gla_need": need, "gla_L": L} for need in sorted(two_observe.NEEDS)

@@ -29,6 +29,17 @@ k(k-1)/2 collisions.
 
 Precondition of :func:`step`: the acting agents are on distinct cells, none on one of its own
 goals (true from the start cells on, since the rules preserve it).
+
+**Many agents.** :func:`step` tries every pair of agents, which is what a step of N agents costs
+to check by hand and stays the rules' statement. :func:`step_indexed` reaches the same outcomes
+(rewards, collisions, bounce cells: every output equal) at a cost that grows with the number of
+agents and collisions only, through a :class:`CellIndex` of the cells: the acting agent on each
+cell and, per cell, the agents aiming at it. Under the precondition a collision in the first round
+is two agents aiming at one cell or swapping cells, found on the target cell; in a later round it is
+an agent that has just bounced and an agent that has not collided and stands on (aims at) the
+bounce cell, found there too. Bounce cells being distinct, the later rounds collide each such pair
+once whatever the order in which the pairs are tried, as :func:`step` does. The episode loops of N
+agents step with it (the chapter's two agents take :func:`step_pair`).
 """
 
 from typing import NamedTuple
@@ -43,6 +54,9 @@ ACTION_NAMES = ("N", "E", "S", "W")
 GOAL_REWARD = 100.0
 COLLISION_PENALTY = -10.0
 BUMP_PENALTY = -1.0
+
+NOBODY = -1
+"""No agent (an empty cell of a :class:`CellIndex`, the end of a list of agents)."""
 
 BOUNCE_PREVIOUS = 0
 BOUNCE_START = 1
@@ -62,6 +76,22 @@ class World(NamedTuple):
     """Where a collided agent goes: BOUNCE_PREVIOUS or BOUNCE_START."""
     n_cols: int
     """The map's width (cell = row * n_cols + col), for distances."""
+
+
+class CellIndex(NamedTuple):
+    """Agents by cell, for the steps of many agents (:func:`step_indexed`; 2observe's group step
+    keeps one of its own). Every cell is NOBODY between two steps: a step fills in the cells it
+    uses and empties them again, at a cost of its acting agents, not of the map."""
+
+    occupant: np.ndarray
+    """int (cells,): the acting agent on each cell (the acting agents are on distinct cells)."""
+    claimant: np.ndarray
+    """int (cells,): the highest-numbered acting agent aiming at each cell; the others aiming at
+    it follow in ``next_claimant``."""
+    next_claimant: np.ndarray
+    """int (agents,): the next lower-numbered agent aiming at the same cell, NOBODY after the last."""
+    queue: np.ndarray
+    """int (agents,): scratch, the agents in the order they collided (:func:`step_indexed`)."""
 
 
 def world(gridmap, bounce: str = "previous") -> World:
@@ -141,6 +171,123 @@ def step(world, cells, done, actions, new_cells, rewards, bumped, collided, reac
                 found += _collide_if(again, i, j, rewards, collided)
         n_collisions += found
 
+    for i in range(n):
+        arrived = not done[i] and goal_of[i, new_cells[i]]
+        reached[i] = arrived
+        rewards[i] += GOAL_REWARD if arrived else 0.0
+    return n_collisions
+
+
+@njit(cache=True, inline="always")
+def cell_index(world):
+    """An empty :class:`CellIndex` for the world's cells and agents (made once per run)."""
+    n_cells, n = world.next_cell.shape[0], world.starts.shape[0]
+    return CellIndex(np.full(n_cells, NOBODY, np.int64), np.full(n_cells, NOBODY, np.int64),
+                     np.full(n, NOBODY, np.int64), np.empty(n, np.int64))
+
+
+@njit(cache=True, inline="always")
+def index_agents(index, cells, done, targets_of, actions):
+    """Enter the acting agents in ``index``: each on its cell, and each in the list of the cell it
+    aims at, ``targets_of[cell, action]`` (the world's next_cell) for its action in ``actions``."""
+    occupant, claimant, next_claimant = index.occupant, index.claimant, index.next_claimant
+    for i in range(cells.shape[0]):
+        if done[i]:
+            continue
+        cell = cells[i]
+        target = targets_of[cell, actions[i]]
+        occupant[cell] = i
+        next_claimant[i] = claimant[target]
+        claimant[target] = i
+
+
+@njit(cache=True, inline="always")
+def clear_index(index, cells, done, targets_of, actions):
+    """Empty the cells :func:`index_agents` filled (with the same arguments)."""
+    occupant, claimant = index.occupant, index.claimant
+    for i in range(cells.shape[0]):
+        if not done[i]:
+            cell = cells[i]
+            occupant[cell] = NOBODY
+            claimant[targets_of[cell, actions[i]]] = NOBODY
+
+
+@njit(cache=True, inline="always")
+def _collide_queued(i, j, rewards, collided, queue, queued):
+    """Agents i and j collide: both pay the penalty; each is queued the first time it collides.
+    Returns the new length of the queue."""
+    rewards[i] += COLLISION_PENALTY
+    rewards[j] += COLLISION_PENALTY
+    if not collided[i]:
+        collided[i] = True
+        queue[queued] = i
+        queued += 1
+    if not collided[j]:
+        collided[j] = True
+        queue[queued] = j
+        queued += 1
+    return queued
+
+
+@njit(cache=True, inline="always")
+def step_indexed(world, index, cells, done, actions, new_cells, rewards, bumped, collided, reached):
+    """:func:`step` through the cell index ``index`` (:func:`cell_index`; empty, and left empty):
+    the same outputs and number of collisions (module docstring), with work in proportion to the
+    acting agents and their collisions instead of their pairs. Same precondition as :func:`step`."""
+    next_cell, goal_of, starts, bounce = world.next_cell, world.goal_of, world.starts, world.bounce
+    occupant, claimant, next_claimant, queue = index
+    n = cells.shape[0]
+    for i in range(n):
+        cell, is_done = cells[i], done[i]
+        target = next_cell[cell, actions[i]]  # a done agent's is ignored
+        new = cell if is_done else target
+        bump = not is_done and new == cell
+        new_cells[i] = new
+        bumped[i] = bump
+        rewards[i] = BUMP_PENALTY if bump else 0.0
+        collided[i] = False
+        reached[i] = False
+    index_agents(index, cells, done, next_cell, actions)
+
+    # First round: the agents aiming at one cell (a goal of not both), pair by pair, and swaps.
+    n_collisions, queued = 0, 0
+    for i in range(n):
+        if done[i]:
+            continue
+        new_i = new_cells[i]
+        goal_i = goal_of[i, new_i]
+        j = next_claimant[i]  # the lower-numbered agents aiming at new_i
+        while j != NOBODY:
+            if not (goal_i and goal_of[j, new_i]):
+                n_collisions += 1
+                queued = _collide_queued(i, j, rewards, collided, queue, queued)
+            j = next_claimant[j]
+        j = occupant[new_i]  # a swap, counted once: from its lower-numbered agent
+        if j > i and new_cells[j] == cells[i]:
+            n_collisions += 1
+            queued = _collide_queued(i, j, rewards, collided, queue, queued)
+
+    # Later rounds: the agents that collided in the last round bounce, onto the cells of agents
+    # that have not collided (which stand on the cells they aim at).
+    first = 0
+    while first < queued:
+        last = queued
+        for k in range(first, last):
+            a = queue[k]
+            new_cells[a] = cells[a] if bounce == BOUNCE_PREVIOUS else starts[a]
+        for k in range(first, last):
+            a = queue[k]
+            cell = new_cells[a]
+            goal_a = goal_of[a, cell]
+            b = claimant[cell]
+            while b != NOBODY:
+                if not collided[b] and not (goal_a and goal_of[b, cell]):
+                    n_collisions += 1
+                    queued = _collide_queued(a, b, rewards, collided, queue, queued)
+                b = next_claimant[b]
+        first = last
+
+    clear_index(index, cells, done, next_cell, actions)
     for i in range(n):
         arrived = not done[i] and goal_of[i, new_cells[i]]
         reached[i] = arrived
@@ -256,13 +403,82 @@ def could_collide(next_cell, shared_goal, a, b):
 @njit(cache=True)
 def in_range_table(next_cell, shared_goal):
     """:func:`could_collide` for every pair of cells, ``table[a, b]``: made once per run, so that a
-    kernel looks the answer up instead of trying the 16 joint actions every step."""
+    kernel looks the answer up instead of trying the 16 joint actions every step. Only the pairs
+    :func:`in_range_lists` tries can be in range: the table costs the map's cells, not their pairs,
+    to fill."""
     n_cells = next_cell.shape[0]
     table = np.zeros((n_cells, n_cells), np.bool_)
+    first, near = in_range_lists(next_cell, shared_goal)
     for a in range(n_cells):
-        for b in range(n_cells):
-            table[a, b] = could_collide(next_cell, shared_goal, a, b)
+        table[a, a] = could_collide(next_cell, shared_goal, a, a)
+        for k in range(first[a], first[a + 1]):
+            table[a, near[k]] = True
     return table
+
+
+@njit(cache=True)
+def in_range_lists(next_cell, shared_goal):
+    """:func:`could_collide` as lists, ``(first, near)``: the cells b != a in range of cell a are
+    ``near[first[a]:first[a + 1]]`` (12 at most on a grid). Two agents can collide only when a
+    move of one and a move of the other lead to one cell, or when one moves to the other's cell:
+    b is tried only when it has a move to a cell a has a move to, or a has a move to b, so a map of
+    C cells costs some 20 C tries, whatever its shape."""
+    n_cells = next_cell.shape[0]
+    into_first, into = _moves_into(next_cell)
+    tried = np.full(n_cells, NOBODY, np.int64)  # the last (pass, cell a) for which b was tried
+    first = np.zeros(n_cells + 1, np.int64)
+    near = np.empty(0, np.int64)
+    for fill in range(2):  # count, then fill
+        for a in range(n_cells):
+            count = 0
+            for action in range(N_ACTIONS):
+                target = next_cell[a, action]
+                for k in range(into_first[target], into_first[target + 1] + 1):
+                    b = into[k] if k < into_first[target + 1] else target  # what moves into the target, then the target
+                    if b != a and tried[b] != fill * n_cells + a:
+                        tried[b] = fill * n_cells + a
+                        if could_collide(next_cell, shared_goal, a, b):
+                            if fill:
+                                near[first[a] + count] = b
+                            count += 1
+            if not fill:
+                first[a + 1] = first[a] + count
+        if not fill:
+            near = np.empty(first[n_cells], np.int64)
+    return first, near
+
+
+@njit(cache=True)
+def _moves_into(next_cell):
+    """``(first, into)``: the cells with a move to cell t (other than t itself) are
+    ``into[first[t]:first[t + 1]]``."""
+    n_cells = next_cell.shape[0]
+    first = np.zeros(n_cells + 1, np.int64)
+    for b in range(n_cells):
+        for action in range(N_ACTIONS):
+            t = next_cell[b, action]
+            if t != b and _first_move_to(next_cell, b, action):
+                first[t + 1] += 1
+    for t in range(n_cells):
+        first[t + 1] += first[t]
+    into = np.empty(first[n_cells], np.int64)
+    filled = first[:n_cells].copy()
+    for b in range(n_cells):
+        for action in range(N_ACTIONS):
+            t = next_cell[b, action]
+            if t != b and _first_move_to(next_cell, b, action):
+                into[filled[t]] = b
+                filled[t] += 1
+    return first, into
+
+
+@njit(cache=True)
+def _first_move_to(next_cell, b, action):
+    """Whether ``action`` is the first of b's actions leading to its cell (each move counted once)."""
+    for earlier in range(action):
+        if next_cell[b, earlier] == next_cell[b, action]:
+            return False
+    return True
 
 
 @njit(cache=True)

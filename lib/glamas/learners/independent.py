@@ -46,12 +46,13 @@ def pair_step(world, learning, q, pair, state, buffers):
 @njit(cache=True, nogil=True)
 def run(world, learning, schedule, q, log, state):
     """One run of ``schedule.episodes`` episodes; learns in ``q`` and writes the binned ``log``."""
-    episodes(world, learning, schedule, q, log, state, ep.buffers(world.starts.shape[0]))
+    episodes(world, learning, schedule, q, log, state, ep.buffers(world.starts.shape[0]), rules.cell_index(world))
 
 
 @njit(**ep.LOOP)
-def episodes(world, learning, schedule, q, log, state, buffers):
-    """The episode loop of :func:`run`."""
+def episodes(world, learning, schedule, q, log, state, buffers, index):
+    """The episode loop of :func:`run`. While three or more agents act they step through the cell
+    index ``index`` (rules.step_indexed): the work of a step grows with its acting agents only."""
     alpha, gamma, exploit = learning.q_learning_rate, learning.discount, learning.exploit_prob
     starts, edges, max_steps = world.starts, schedule.edges, schedule.max_steps
     n_agents = starts.shape[0]
@@ -69,7 +70,8 @@ def episodes(world, learning, schedule, q, log, state, buffers):
                 for i in range(n_agents):
                     if not done[i]:
                         actions[i] = epsilon_greedy(q[i, cells[i]], exploit, state)
-                collisions = rules.step(world, cells, done, actions, new_cells, rewards, bumped, collided, reached)
+                collisions = rules.step_indexed(world, index, cells, done, actions, new_cells, rewards, bumped, collided,
+                                                reached)
                 for i in range(n_agents):
                     if not done[i]:
                         q_update(q[i], cells[i], actions[i], rewards[i], new_cells[i], reached[i], alpha, gamma)

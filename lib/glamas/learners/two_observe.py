@@ -29,6 +29,18 @@ acting agent; ``sampled``, its preferred action would collide with another actin
 coordinate. The log's coordinations count agent-steps coordinating with their nearest agent,
 halved: for two agents, the steps on which both coordinated.
 
+The group step looks only at each agent's neighbours, through indexes of the cells filled at the
+start of a step (:class:`Group`): the nearest other agent is searched ring by ring outward from the
+agent's cell on a grid of the acting agents (:func:`nearest_other`; once the rings have covered as
+many cells as there are acting agents, those are tried one by one instead), "in range" on the
+cells in range of its own (rules.in_range_lists) and only when the nearest agent is near enough,
+a coming collision among the agents aiming at the agent's target and the agent on it (a
+rules.CellIndex of the preferred actions, :func:`conflict`), and the move goes through
+rules.step_indexed. Every answer is the one the search over all pairs gives (the lowest-numbered
+agent among the nearest; the same agents in the coordination order), so the group step draws the
+same random numbers and learns the same as over all pairs, at a cost that grows with its acting
+agents, not with their pairs.
+
 For two agents :func:`group_step` plays exactly what :func:`pair_step`, the chapter's Alg. 4
 written for two, plays (same random numbers, Q tables, GLA parameters and counts, under every
 reading), so the episode loops step with :func:`pair_step` whenever two agents act, which is
@@ -58,7 +70,7 @@ COORDINATE = 1
 """GLA action: coordinate with the other agent this step."""
 N_GLA_INPUTS = 2
 """The GLA context [delta * delta_scale, 1]: the agents' Manhattan distance and a bias input."""
-NOBODY = -1
+NOBODY = rules.NOBODY
 """The nearest other agent of an agent that has nobody to observe (:func:`nearest_others`)."""
 
 NEED_IN_RANGE = 0
@@ -319,67 +331,176 @@ def random_order(members, count, state):
         members[i], members[j] = members[j], members[i]
 
 
+class Rings(NamedTuple):
+    """The map's cells as :func:`nearest_other` searches them, ring by ring around a cell: a grid
+    with a border of empty cells as wide as the widest ring searched, so that a ring is a list of
+    offsets, the same from every cell."""
+
+    grid: np.ndarray
+    """int32 (padded cells,): the acting agent on each cell, NOBODY elsewhere and on the border
+    (filled during a step, empty between steps; 32 bits, for the cache)."""
+    padded: np.ndarray
+    """int (cells,): each map cell's place in ``grid``."""
+    offsets: np.ndarray
+    """int: the offsets in ``grid`` of the cells at distance 1, RING_END, those at distance 2,
+    RING_END, and so on (a loop to the next RING_END is one the compiler does not vectorize: vector
+    gathers cost the few cells of a ring more than plain loads)."""
+    depth: int
+    """The rings in ``offsets``."""
+    rows: np.ndarray
+    """int (cells,): each map cell's row."""
+    cols: np.ndarray
+    """int (cells,): each map cell's column."""
+
+
+RING_END = np.iinfo(np.int64).min
+"""The end of a ring in ``Rings.offsets`` (no offset)."""
+FAR = np.uint32(0xFFFFFFFF)
+"""NOBODY in ``Rings.grid`` read as an unsigned number: above every agent's number."""
+
+
 @njit(cache=True, inline="always")
-def collision_coming(next_cell, goal_of, cells, done, preferred, i):
-    """Whether agent i's preferred action would collide with another agent's preferred action."""
-    for j in range(cells.shape[0]):
-        if j != i and rules.would_collide(next_cell, goal_of, cells, done, preferred, i, j):
+def rings(world):
+    """:class:`Rings` for the world: as many rings as :func:`nearest_other` can search before it
+    tries the agents one by one (rings 1 .. D cover 2 D (D + 1) cells, at least the agents)."""
+    n_agents, n_cells, n_cols = world.starts.shape[0], world.next_cell.shape[0], world.n_cols
+    n_rows = n_cells // n_cols
+    depth = 1
+    while 2 * depth * (depth + 1) < n_agents:
+        depth += 1
+    width = n_cols + 2 * depth
+    grid = np.full((n_rows + 2 * depth) * width, NOBODY, np.int32)
+    padded, rows, cols = np.empty(n_cells, np.int64), np.empty(n_cells, np.int64), np.empty(n_cells, np.int64)
+    for cell in range(n_cells):
+        rows[cell], cols[cell] = cell // n_cols, cell % n_cols
+        padded[cell] = (rows[cell] + depth) * width + cols[cell] + depth
+    offsets = np.empty(2 * depth * (depth + 1) + depth, np.int64)
+    k = 0
+    for d in range(1, depth + 1):
+        for dr in range(-d, d + 1):
+            rest = d - abs(dr)
+            for dc in range(-rest, rest + 1, max(2 * rest, 1)):  # -rest and rest, or 0
+                offsets[k] = dr * width + dc
+                k += 1
+        offsets[k] = RING_END
+        k += 1
+    return Rings(grid, padded, offsets, depth, rows, cols)
+
+
+@njit(cache=True, inline="always")
+def nearest_other(rings, cells, acting, n_acting, i):
+    """(the nearest other acting agent of acting agent i, its Manhattan distance): the lowest
+    number among the nearest, as :func:`nearest_others`; (NOBODY, 0) when i acts alone.
+
+    ``rings.grid`` holds the acting agents by cell, ``acting[:n_acting]`` the acting agents in
+    increasing order. The search goes ring by ring outward from i's cell, every cell at distance 1,
+    then 2, and so on (the lowest agent number of the first ring that has one); once the rings have
+    covered as many cells as there are acting agents, it tries those agents one by one instead (few
+    agents far apart)."""
+    grid, offsets = rings.grid, rings.offsets
+    cell = cells[i]
+    here = rings.padded[cell]
+    covered, k = 0, 0
+    for d in range(1, rings.depth + 1):
+        if covered >= n_acting:
+            break
+        lowest = FAR
+        offset = offsets[k]
+        while offset != RING_END:
+            j = np.uint32(grid[here + offset])
+            if j < lowest:
+                lowest = j
+            k += 1
+            offset = offsets[k]
+        k += 1
+        if lowest != FAR:
+            return np.int64(lowest), d
+        covered += 4 * d
+    row, col, rows, cols = rings.rows[cell], rings.cols[cell], rings.rows, rings.cols
+    best, best_d = NOBODY, 0
+    for m in range(n_acting):
+        j = acting[m]
+        other = cells[j]
+        d = abs(rows[other] - row) + abs(cols[other] - col)
+        if j != i and (best == NOBODY or d < best_d):
+            best, best_d = j, d
+    return best, best_d
+
+
+@njit(cache=True)
+def conflict(next_cell, goal_of, cells, done, preferred, index, i, among):
+    """Whether agent i's preferred action would collide (rules.would_collide) with the preferred
+    action of an agent j with ``among[j]``. Only the agents that can collide with it are tried:
+    the agents aiming at i's target and the agent on it, from ``index`` (rules.index_agents with
+    the preferred actions). Compiled once and called from its three places, where LLVM inlines it,
+    rather than copied into each by numba (glamas.learners.episode)."""
+    target = next_cell[cells[i], preferred[i]]
+    j = index.claimant[target]
+    while j != NOBODY:
+        if j != i and among[j] and rules.would_collide(next_cell, goal_of, cells, done, preferred, i, j):
+            return True
+        j = index.next_claimant[j]
+    j = index.occupant[target]
+    return j != NOBODY and j != i and among[j] and rules.would_collide(next_cell, goal_of, cells, done, preferred, i, j)
+
+
+@njit(cache=True, inline="always")
+def in_range_of_any(group, cells, i):
+    """Whether acting agent i could collide with some other acting agent in this step: an acting
+    agent on a cell in range of i's (rules.in_range_lists; ``group.rings.grid`` holds the acting
+    agents by cell). ``group.deltas[i]``, i's distance to its nearest other agent, must be the
+    step's: farther than ``group.reach`` nobody is in range."""
+    if group.deltas[i] > group.reach:
+        return False
+    cell, first, near, grid = cells[i], group.in_range_first, group.in_range_padded, group.rings.grid
+    for k in range(first[cell], first[cell + 1]):
+        if grid[near[k]] != NOBODY:
             return True
     return False
 
 
 @njit(cache=True, inline="always")
-def in_range_of_any(in_range, cells, done, i):
-    """Whether acting agent i could collide with some other acting agent in this step
-    (``in_range``: the table of rules.in_range_table)."""
-    for j in range(cells.shape[0]):
-        if j != i and not done[j] and in_range[cells[i], cells[j]]:
-            return True
-    return False
-
-
-@njit(cache=True, inline="always")
-def need_of(need, in_range, cells, done, coming, collided, i):
-    """Agent i's need under reading ``need`` (module docstring); ``collided`` is the step's."""
-    if need == NEED_IN_RANGE:
-        return in_range_of_any(in_range, cells, done, i)
-    if need == NEED_SAMPLED:
-        return coming[i]
-    return need == NEED_OUTCOME and collided[i]
-
-
-@njit(cache=True, inline="always")
-def coordinate_group(next_cell, goal_of, cells, done, choices, preferred, actions, order, kept, state):
+def coordinate_group(next_cell, goal_of, cells, done, choices, preferred, actions, group, state):
     """Section 5.2's coordination for a group (module docstring): fill ``actions`` from the
     ``preferred`` ones; return how many coordinating agents were in a coming collision.
 
-    ``order`` and ``kept`` are per-run buffers of one entry per agent.
+    ``group`` (:func:`group_arrays`) holds the per-run buffers, and in ``group.index`` the acting
+    agents by cell and by preferred target (:func:`index_preferred`), through which each agent
+    tries only the agents it could collide with (:func:`conflict`).
     """
+    order, kept, coordinating, index = group.order, group.kept, group.coordinating, group.index
     n = cells.shape[0]
-    count = 0
     for i in range(n):
         actions[i] = preferred[i]
-        if done[i] or choices[i] != COORDINATE:
-            continue
-        for j in range(n):
-            if j != i and choices[j] == COORDINATE and rules.would_collide(
-                    next_cell, goal_of, cells, done, preferred, i, j):
-                order[count] = i
-                count += 1
-                break
+        coordinating[i] = not done[i] and choices[i] == COORDINATE
+        kept[i] = False  # so far: kept[j] holds for the agents earlier in the order that keep theirs
+    count = 0
+    for i in range(n):
+        if coordinating[i] and conflict(next_cell, goal_of, cells, done, preferred, index, i, coordinating):
+            order[count] = i
+            count += 1
     random_order(order, count, state)
     for k in range(count):
         i = order[k]
-        kept[i] = True
-        for m in range(k):
-            j = order[m]
-            if kept[j] and rules.would_collide(next_cell, goal_of, cells, done, preferred, i, j):
-                kept[i] = False
-                break
-        if not kept[i]:
+        keep = not conflict(next_cell, goal_of, cells, done, preferred, index, i, kept)
+        kept[i] = keep
+        if not keep:
             other = rng.integer(state, 3)
             actions[i] = other + 1 if other >= preferred[i] else other
     return count
+
+
+@njit(cache=True, inline="always")
+def index_preferred(group, next_cell, cells, done, preferred):
+    """Enter the acting agents in ``group.index`` by cell and by the target of their preferred
+    action (rules.index_agents); :func:`clear_preferred` empties it."""
+    rules.index_agents(group.index, cells, done, next_cell, preferred)
+
+
+@njit(cache=True, inline="always")
+def clear_preferred(group, next_cell, cells, done, preferred):
+    """Empty what :func:`index_preferred` filled."""
+    rules.clear_index(group.index, cells, done, next_cell, preferred)
 
 
 @njit(cache=True, inline="always")
@@ -392,12 +513,57 @@ def per_run(world):
     return rules.in_range_table(world.next_cell, rules.shared_goals(world.goal_of)), ep.buffers(n), agents
 
 
+class Group(NamedTuple):
+    """:func:`group_step`'s per-run arrays (:func:`group_arrays`), one entry per agent unless said."""
+
+    nearest: np.ndarray
+    """Each agent's nearest other acting agent (NOBODY: done or alone)."""
+    deltas: np.ndarray
+    """Its distance to that agent."""
+    coming: np.ndarray
+    """Whether its preferred action would collide with another agent's."""
+    needed: np.ndarray
+    """Its need to coordinate (module docstring)."""
+    order: np.ndarray
+    """The coordination order (:func:`coordinate_group`)."""
+    kept: np.ndarray
+    """Who keeps its preferred action (:func:`coordinate_group`)."""
+    coordinating: np.ndarray
+    """Acting and chose to coordinate (:func:`coordinate_group`)."""
+    everyone: np.ndarray
+    """True for every agent (:func:`conflict` with anyone)."""
+    acting: np.ndarray
+    """The acting agents in increasing order, first the step's count of them."""
+    rings: Rings
+    """The acting agents by cell, for the nearest other agent (:func:`nearest_other`)."""
+    index: rules.CellIndex
+    """The acting agents by cell and by preferred target, filled during a step."""
+    step_index: rules.CellIndex
+    """rules.step_indexed's own."""
+    in_range_first: np.ndarray
+    """(cells + 1,): where each cell's list of the cells in range starts (rules.in_range_lists)."""
+    in_range_padded: np.ndarray
+    """The cells in range, cell by cell (rules.in_range_lists), as places in ``rings.grid``."""
+    reach: int
+    """The largest Manhattan distance between two cells in range (2 on a grid): agents farther
+    apart can neither collide nor be in range."""
+
+
 @njit(cache=True, inline="always")
 def group_arrays(world):
-    """:func:`group_step`'s per-run arrays, which :func:`episodes` adds to :func:`per_run`'s."""
+    """:func:`group_step`'s per-run arrays (:class:`Group`), which :func:`episodes` adds to
+    :func:`per_run`'s."""
     n = world.starts.shape[0]
-    return (np.empty(n, np.int64), np.empty(n, np.int64), np.empty(n, np.bool_), np.empty(n, np.bool_),
-            np.empty(n, np.int64), np.empty(n, np.bool_), rules.distance_table(world.next_cell.shape[0], world.n_cols))
+    first, near = rules.in_range_lists(world.next_cell, rules.shared_goals(world.goal_of))
+    around = rings(world)
+    reach = 0
+    for a in range(first.shape[0] - 1):
+        for k in range(first[a], first[a + 1]):
+            reach = max(reach, rules.manhattan(world.n_cols, a, near[k]))
+            near[k] = around.padded[near[k]]
+    return Group(np.empty(n, np.int64), np.empty(n, np.int64), np.empty(n, np.bool_), np.empty(n, np.bool_),
+                 np.empty(n, np.int64), np.empty(n, np.bool_), np.empty(n, np.bool_), np.ones(n, np.bool_),
+                 np.empty(n, np.int64), around, rules.cell_index(world), rules.cell_index(world), first, near, reach)
 
 
 @njit(cache=True, nogil=True)
@@ -466,21 +632,32 @@ def pair_step(world, learning, automata, q, u, need_counts, pair, state, arrays)
 def group_step(world, learning, automata, q, u, need_counts, state, arrays):
     """One step of Alg. 4 for any number of acting agents, with the group coordination of the
     module docstring; as :func:`pair_step` otherwise. ``arrays``: :func:`per_run`'s, then
-    ``group`` (:func:`group_arrays`): each agent's nearest other agent and its distance, whether a
-    collision is coming, its need, the coordination order and who keeps its action
-    (:func:`coordinate_group`), and the distance table."""
+    ``group`` (:class:`Group`). Each agent's lookups go through the group's index of the cells
+    (module docstring): a step costs in proportion to its acting agents."""
     in_range, buffers, agents, group = arrays
     next_cell, goal_of, n_agents = world.next_cell, world.goal_of, world.starts.shape[0]
     alpha, gamma = learning.q_learning_rate, learning.discount
     learn_first_level = automata.rule_distance < 0
     cells, done, actions, new_cells, rewards, bumped, collided, reached, acc = buffers
     choices, preferred, probs, x = agents
-    nearest, deltas, coming, needed, order, kept, distances = group
-    nearest_others(distances, cells, done, nearest, deltas)
+    nearest, deltas, coming, needed, acting = group.nearest, group.deltas, group.coming, group.needed, group.acting
+    grid, padded = group.rings.grid, group.rings.padded
+    n_acting = 0
     for i in range(n_agents):
+        if not done[i]:
+            acting[n_acting] = i
+            n_acting += 1
+            grid[padded[cells[i]]] = i
+    for i in range(n_agents):
+        nearest[i], deltas[i] = NOBODY, 0
         choices[i] = ACT_ALONE
+        if done[i]:
+            continue
+        nearest[i], deltas[i] = nearest_other(group.rings, cells, acting, n_acting, i)
         if nearest[i] == NOBODY:
             continue
+        if automata.gla_need == NEED_IN_RANGE:  # decided by the cells before the move, read here near them
+            needed[i] = in_range_of_any(group, cells, i)
         x[i, 0] = deltas[i] * automata.gla_delta_scale
         if learn_first_level:
             choices[i] = gla.act(u[i], x[i], automata.gla_temperature, automata.gla_L, automata.gla_bounding,
@@ -490,19 +667,29 @@ def group_step(world, learning, automata, q, u, need_counts, state, arrays):
     for i in range(n_agents):
         if not done[i]:
             preferred[i] = epsilon_greedy(q[i, cells[i]], learning.exploit_prob, state)
-    for i in range(n_agents):
-        coming[i] = collision_coming(next_cell, goal_of, cells, done, preferred, i)
-    coordinate_group(next_cell, goal_of, cells, done, choices, preferred, actions, order, kept, state)
+    index_preferred(group, next_cell, cells, done, preferred)
+    if automata.gla_need == NEED_SAMPLED:  # read by that reading only
+        for i in range(n_agents):
+            coming[i] = (not done[i] and deltas[i] <= group.reach
+                         and conflict(next_cell, goal_of, cells, done, preferred, group.index, i, group.everyone))
+    coordinate_group(next_cell, goal_of, cells, done, choices, preferred, actions, group, state)
     paired = 0
     for i in range(n_agents):
         if nearest[i] != NOBODY and choices[i] == COORDINATE and choices[nearest[i]] == COORDINATE:
             paired += 1
     acc[ep.column(n_agents, ep.COORDINATIONS)] += paired / 2
-    collisions = rules.step(world, cells, done, actions, new_cells, rewards, bumped, collided, reached)
+    collisions = rules.step_indexed(world, group.step_index, cells, done, actions, new_cells, rewards, bumped, collided,
+                                    reached)
     for i in range(n_agents):
         if nearest[i] != NOBODY:
-            needed[i] = need_of(automata.gla_need, in_range, cells, done, coming, collided, i)
+            if automata.gla_need == NEED_SAMPLED:
+                needed[i] = coming[i]
+            elif automata.gla_need == NEED_OUTCOME:
+                needed[i] = collided[i]
             need_counts[deltas[i], 1 if needed[i] else 0] += 1
+    clear_preferred(group, next_cell, cells, done, preferred)
+    for k in range(n_acting):
+        grid[padded[cells[acting[k]]]] = NOBODY
     for i in range(n_agents):
         if not done[i]:
             q_update(q[i], cells[i], actions[i], rewards[i], new_cells[i], reached[i], alpha, gamma)
