@@ -13,8 +13,8 @@ N-agent step with them. The reference takes the general step at every N.
 
 Every N plays the scaling study's step cap; small N run more episodes, so that each timing covers
 millions of agent-steps (their runs learn longer: the costs compare steps, not learning stages).
-Times are CPU times of this thread, medians over runs of different seeds. CQ-learning and sparse
-MAQ join when their N-agent kernels step through the index (``JOINING``).
+Times are CPU times of this thread, medians over runs of different seeds. CQ-learning and sparse MAQ are not timed here
+(``NOT_TIMED``).
 """
 
 import functools
@@ -29,9 +29,11 @@ from glamas.gridworld.maps import map_text
 from glamas.learners import episode as ep
 
 LEARNERS = ("two_observe", "independent", "two_observe_rule")
-JOINING = ("cq", "sparse_maq")
-"""Not timed yet: their N-agent kernels are being rewritten. Each joins ``LEARNERS`` once it steps
-through the index of cells, and its Python reference joins benchmarks.python_many_agents.REFERENCES."""
+NOT_TIMED = ("cq", "sparse_maq")
+"""Their N-agent steps compare pairs of agents as their papers do (CQ-learning tests every other
+agent, sparse MAQ builds the coordination graph over all close pairs) and move with the all-pairs
+rules (rules.step), so their cost per agent-step grows with N by design; benchmarks/
+bench_related_many_agents.py times them against their Python references at four agents."""
 AGENTS = (2, 8, 32, 128)
 MAP_SEED = 0
 MAX_STEPS = 1000
@@ -106,7 +108,7 @@ def main():
         costs = [cost for cost, _ in timed]
         print(f"{name:18s}" + "".join(f"{cost:9.1f}" for cost in costs) + f"{costs[-1] / costs[0]:7.2f}x   "
               + ", ".join(f"{count:,.0f}" for _, count in timed))
-    print(f"{', '.join(JOINING)}: not yet (their N-agent kernels are being rewritten)")
+    print(f"{', '.join(NOT_TIMED)}: not timed here (their steps compare pairs of agents; bench_related_many_agents)")
     (small, (e_small, cap_small)), (large, (e_large, cap_large)) = size["python"].items()
     print(f"\nplain Python reference (benchmarks.python_many_agents), one run: N={small} {e_small} episodes, "
           f"N={large} {e_large} episode(s) of at most {cap_large} steps; the kernel timed on the same work; "
