@@ -10,7 +10,7 @@ import pytest
 from numba import njit
 
 from glamas import cli, parallel, reproduce, rng
-from glamas.experiments import gridworld, single_gla
+from glamas.experiments import benchmark_maps, gridworld, single_gla
 from glamas.learners import and_network as and_network_learner
 from glamas.learners import registry, two_observe
 from glamas.learners import single_gla as single_gla_learner
@@ -29,7 +29,8 @@ def _assert_identical(a, b):
     a, b = _arrays(a), _arrays(b)
     assert a.keys() == b.keys() and a
     for name in a:
-        assert a[name].dtype == b[name].dtype and np.array_equal(a[name], b[name]), name
+        assert a[name].dtype == b[name].dtype, name
+        assert np.array_equal(a[name], b[name], equal_nan=a[name].dtype.kind == "f"), name
 
 
 @pytest.fixture(scope="module")
@@ -70,6 +71,18 @@ def test_a_dask_cluster_gives_the_one_thread_results_bit_for_bit(reference, dask
     backend = parallel.Dask(dask_scheduler)
     _assert_identical(single_gla.run(SINGLE, seed=11, workers=backend), reference["single"])
     _assert_identical(gridworld.run(GRID, seed=2, workers=backend), reference["grid"])
+
+
+def test_the_benchmark_sweep_on_a_two_worker_dask_cluster_is_the_local_one_bit_for_bit():
+    """The field's benchmark (two of its maps, learners of both kinds) on a cluster of two Dask
+    workers gives the results of one local thread."""
+    import distributed
+    config = benchmark_maps.BenchmarkConfig(maps=("isr", "tunnel_to_goal_3"), learners=("independent", "two_observe", "cq"),
+                                            runs=2, episodes=60, bins=6, evaluation_episodes=4)
+    local = benchmark_maps.run(config, seed=5, workers=parallel.Threads(1))
+    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=False,
+                                  dashboard_address=None) as cluster:
+        _assert_identical(benchmark_maps.run(config, seed=5, workers=parallel.Dask(cluster.scheduler_address)), local)
 
 
 def no_checkpoints(n_runs):

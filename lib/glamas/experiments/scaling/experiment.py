@@ -11,10 +11,11 @@ otherwise the learner is skipped at that N and the reason recorded), trains it a
 agent-mean learning curves.
 
 The related-work learners of :mod:`glamas.experiments.related_work` join the study in their N-agent
-forms: sparse tabular MAQ with pairwise coordination (:mod:`glamas.learners.sparse_maq`)
-and CQ-learning observing the nearest other agent (:mod:`glamas.learners.cq`). Besides their local
-Q tables they store joint values (sparse MAQ: every pair's joint table; CQ: 4 per marked joint
-state, measured) and CQ its reward windows; all of it counts in their values per run.
+forms: sparse cooperative Q-learning over the coordination graph of the agents close to each
+other (:mod:`glamas.learners.sparse_maq`) and CQ-learning testing every other agent and acting on
+the nearest one it marked (:mod:`glamas.learners.cq`). Besides their local Q tables they store
+joint values (sparse MAQ: every pair's joint table, the graph's possible edges; CQ: 4 per marked
+joint state, measured) and CQ its reward windows; all of it counts in their values per run.
 """
 
 import math
