@@ -81,7 +81,7 @@ def test_the_benchmark_sweep_on_a_two_worker_dask_cluster_is_the_local_one_bit_f
                                             runs=2, episodes=60, bins=6, evaluation_episodes=4)
     local = benchmark_maps.run(config, seed=5, workers=parallel.Threads(1))
     with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=False,
-                                  dashboard_address=None) as cluster:
+                                  dashboard_address=":0") as cluster:
         _assert_identical(benchmark_maps.run(config, seed=5, workers=parallel.Dask(cluster.scheduler_address)), local)
 
 

@@ -3,7 +3,7 @@
 
 from glamas.sources import prepare_kernel_cache
 
-__version__ = "0.5.0"
+__version__ = "0.6.0"
 """Raised whenever a change alters what an experiment computes: result files record it."""
 
 # Before any kernel is loaded: numba's cache does not notice edits to the functions a cached kernel

@@ -74,12 +74,13 @@ def table(result: BenchmarkResult, metric: str = "greedy_solution_collisions") -
     """One measurement of :func:`measure` per learner (rows) and map (columns); '-' where the
     learner did not run (its tables exceed the memory budget)."""
     m = measure(result)
-    maps = result.map_names()
-    lines = [f"{metric:28s}" + "".join(f"{name[:14]:>15s}" for name in maps)]
-    for name in result.names():
-        cells = [f"{m[f'{metric}_{name}_{map_name}']:15.3f}" if f"{metric}_{name}_{map_name}" in m else f"{'-':>15s}"
-                 for map_name in maps]
-        lines.append(f"{registry.label(name)[:28]:28s}" + "".join(cells))
+    maps, labels = result.map_names(), [registry.label(name) for name in result.names()]
+    first, width = max(len(metric), *map(len, labels)) + 2, max(10, *map(len, maps)) + 2
+    lines = [f"{metric:{first}s}" + "".join(f"{name:>{width}s}" for name in maps)]
+    for name, label in zip(result.names(), labels):
+        cells = [f"{m[f'{metric}_{name}_{map_name}']:{width}.3f}" if f"{metric}_{name}_{map_name}" in m
+                 else f"{'-':>{width}s}" for map_name in maps]
+        lines.append(f"{label:{first}s}" + "".join(cells))
     return "\n".join(lines)
 
 
