@@ -10,7 +10,7 @@ def main(argv=None):
         scaling.plot_sizes(axes[0], result, config, legend=False)
         for ax, metric in zip(axes[1:], ("collisions", "completion")):
             scaling.plot_greedy(ax, result, metric, legend=False)
-        plotting.legend_below_figure(axes[0], ncols=4)
+        plotting.legend_below_figure(axes[0], ncols=3)
 
 
 if __name__ == "__main__":

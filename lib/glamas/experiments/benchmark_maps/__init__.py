@@ -5,7 +5,7 @@ use) and registers it."""
 
 from pathlib import Path
 
-from glamas.experiments.benchmark_maps.analysis import claim_rows, excess_grid, measure, optimum_table, table
+from glamas.experiments.benchmark_maps.analysis import claim_rows, excess_grid, measure, optimum_table, solved_table, table
 from glamas.experiments.benchmark_maps.experiment import (FIELD_MAPS, BenchmarkConfig, BenchmarkResult, run, scaled,
                                                           seed_key)
 from glamas.experiments.faces import plots_on_first_use
@@ -17,7 +17,7 @@ PLOTS = ("plot_table", "plot_curves", "plot_optimum")
 __getattr__ = plots_on_first_use(__name__, PLOTS)
 
 __all__ = ["EXPERIMENT", "FIELD_MAPS", "BenchmarkConfig", "BenchmarkResult", "claim_rows", "excess_grid", "load",
-           "measure", "optimum_table", "run", "scaled", "seed_key", "table", *PLOTS]
+           "measure", "optimum_table", "run", "scaled", "seed_key", "solved_table", "table", *PLOTS]
 
 EXPERIMENT = register(Experiment("benchmark_maps", BenchmarkConfig, run, scaled, BenchmarkConfig.runs,
                                  BenchmarkConfig.episodes, BenchmarkResult, claim_rows=claim_rows,

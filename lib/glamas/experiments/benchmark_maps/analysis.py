@@ -65,6 +65,25 @@ def claim_measures(result: BenchmarkResult, m: dict) -> dict:
     return out
 
 
+SOLVED_COLLISIONS = 0.05
+"""A greedy policy that completes and collides at most this often per episode (once in 20
+episodes, the claims' threshold) counts as a collision-free solution in :func:`solved_table`."""
+
+
+def solved_table(result: BenchmarkResult) -> str:
+    """Per learner, the maps on which its greedy policy is a collision-free solution (it completes,
+    COMPLETION, with at most SOLVED_COLLISIONS collisions per episode), and how many of those maps
+    it solves optimally (its episodes no longer than the optimum's)."""
+    m, lines = measure(result), []
+    for name in result.names():
+        solved = [map_name for map_name in result.map_names()
+                  if m.get(f"greedy_solution_collisions_{name}_{map_name}", math.inf) <= SOLVED_COLLISIONS]
+        optimal = [map_name for map_name in solved if m[f"greedy_excess_length_{name}_{map_name}"] <= 0]
+        lines.append(f"{registry.label(name):24s} {len(solved)} of {len(result.map_names())}: "
+                     f"{', '.join(solved) or '-'}; optimal on {', '.join(optimal) or 'none'}")
+    return "\n".join(lines)
+
+
 def claim_rows(result: BenchmarkResult, config=None) -> list[dict]:
     """The benchmark's claims (data/chapter/benchmark_maps.json) with verdicts computed from ``result``."""
     return chapter.verdicts(chapter.load("benchmark_maps"), measure(result))

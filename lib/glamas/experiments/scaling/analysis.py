@@ -109,12 +109,17 @@ def size_table(result: ScalingResult) -> str:
     params = result.parameters()
     for k, method in enumerate(result.names()):
         for j, n in enumerate(result.agents):
-            t, s, a = result.table_shapes[k, j]
+            t, s, a = (_count(size) for size in result.shape(method, n))
             status = "ran" if result.ran[k, j] else "skipped: exceeds the memory budget"
             lines.append(f"{label(method):22s} {n:2d} {f'{t} x {s} x {a}':>27s} {result.joint_entries[k, j]:8.4g} "
                          f"{result.reward_samples[k, j]:8d} {params[k, j]:15.3g} "
-                         f"{result.bytes_needed[k, j] / 2 ** 30:14.3g}  {status}")
+                         f"{result.memory_needed(method, n) / 2 ** 30:14.3g}  {status}")
     return "\n".join(lines)
+
+
+def _count(size: int) -> str:
+    """A table's dimension: in full up to a million, else in three digits."""
+    return str(size) if size < 10 ** 6 else f"{float(size):.3g}"
 
 
 def performance_table(result: ScalingResult) -> str:

@@ -215,9 +215,20 @@ class ScalingResult:
             return np.clip(1.0 - rows[:, METRICS.index("capped")], 0.0, 1.0)
         return rows[:, METRICS.index(metric)]
 
+    def shape(self, method: str, n: int) -> tuple[int, int, int]:
+        """(tables, states, actions) of one method's Q tables at N, from its spec in Python integers:
+        exact however many agents (``table_shapes`` holds at most an int64's 2^63 - 1)."""
+        return registry.get(method).table_shape(self.config.gridmap(int(n)).n_cells, int(n))
+
+    def memory_needed(self, method: str, n: int) -> int:
+        """Bytes the tables of all runs of one method at N take, in Python integers (exact where
+        ``bytes_needed`` saturates)."""
+        return memory_needed(self.config, method, self.config.gridmap(int(n)))
+
     def q_entries(self) -> np.ndarray:
-        """(methods, agents): Q-table entries per run (all agents' tables together)."""
-        return self.table_shapes.prod(axis=2, dtype=float)  # exact below 2^53; int64 would wrap for many agents
+        """(methods, agents): Q-table entries per run (all agents' tables together), as floats
+        (infinite beyond a float's 1.8e308: the MMDP learner's of 128 agents)."""
+        return np.array([[_as_float(math.prod(self.shape(name, n))) for n in self.agents] for name in self.names()])
 
     def parameters(self) -> np.ndarray:
         """(methods, agents): values stored per run: Q entries, GLA parameters, joint values and
@@ -230,6 +241,14 @@ def seed_of(seed: int, name: str, n_agents: int) -> int:
     ``16 seed + N`` and SEED_STRIDES): distinct for every (seed, learner, N), and a learner gets the
     same streams at a given N whatever else is trained or registered."""
     return registry.master_seed(seed * 16 + n_agents, name, SEED_STRIDES)
+
+
+def _as_float(count: int) -> float:
+    """``count`` as a float, infinite where it exceeds a float's range."""
+    try:
+        return float(count)
+    except OverflowError:
+        return math.inf
 
 
 def _as_int64(count: int) -> int:

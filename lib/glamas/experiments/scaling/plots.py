@@ -1,6 +1,8 @@
 """The scaling study's figures, each on a given matplotlib Axes: the values stored per run against
 the number of agents, the final performance against it, and the learning curves at one N."""
 
+import math
+
 import numpy as np
 
 from glamas.experiments.scaling.analysis import final_with_band
@@ -33,6 +35,9 @@ def plot_sizes(ax, result: ScalingResult, config: ScalingConfig | None = None, l
         ok = result.ran[k]
         ax.plot(x[ok], params[k, ok], linestyle="none", **learner_style(method, marker=True))
         ax.plot(x[~ok], params[k, ~ok], linestyle="none", mfc="none", **learner_style(method, marker=True))
+        for n in result.agents[~np.isfinite(params[k])]:
+            digits = math.log10(math.prod(result.shape(method, n)))
+            ax.plot([], [], " ", label=f"off the axis: {label(method)}, N = {n}, about 10^{digits:.0f} values")
     ax.plot([], [], "o", color="0.4", mfc="none", linestyle="none", label="open: skipped (tables computed, not run)")
     ax.axhline(MACHINE_MEMORY_GIB * 2 ** 30 / BYTES_PER_VALUE, color="black", linestyle=":", linewidth=1,
                label=f"a {MACHINE_MEMORY_GIB} GiB workstation, one run")
