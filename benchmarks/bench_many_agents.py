@@ -22,11 +22,12 @@ import random
 import statistics
 import time
 
-from benchmarks import kernels, python_many_agents, timing
 from glamas import errors
 from glamas.gridworld import generate
 from glamas.gridworld.maps import map_text
 from glamas.learners import episode as ep
+
+from benchmarks import kernels, python_many_agents, timing
 
 LEARNERS = ("two_observe", "independent", "two_observe_rule")
 NOT_TIMED = ("cq", "sparse_maq")

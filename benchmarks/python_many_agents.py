@@ -17,10 +17,25 @@ same, so the reference's cost per agent-step measures the index's work at every 
 :func:`run` returns the log the kernel writes with blocks of one episode (benchmarks.python_gridworld.play).
 """
 
-from benchmarks.python_gridworld import (COORDINATE, Automata, World, below, epsilon_greedy, learn_own_cells,
-                                         play, tables, yield_action)
 from glamas.gridworld import rules
-from glamas.gridworld.rules import BUMP_PENALTY, COLLISION_PENALTY, GOAL_REWARD, N_ACTIONS
+from glamas.gridworld.rules import (
+    BUMP_PENALTY,
+    COLLISION_PENALTY,
+    GOAL_REWARD,
+    N_ACTIONS,
+)
+
+from benchmarks.python_gridworld import (
+    COORDINATE,
+    Automata,
+    World,
+    below,
+    epsilon_greedy,
+    learn_own_cells,
+    play,
+    tables,
+    yield_action,
+)
 
 NOBODY = -1
 

@@ -5,7 +5,6 @@ import collections
 
 import numpy as np
 import pytest
-
 from glamas import claims
 from glamas.curves import final
 from glamas.experiments import gridworld as gw
@@ -133,7 +132,7 @@ def test_a_yielding_agent_no_longer_blocks_the_others():
 
 
 def test_two_agents_draw_what_the_two_agent_rule_draws():
-    g, cells, done, preferred = _converging_three()
+    _, cells, done, preferred = _converging_three()
     cells2, done2, pref2 = cells[:2].copy(), done[:2].copy(), preferred[:2].copy()
     for state in run_states(15, 50):
         a, b = state.copy(), state.copy()
@@ -186,9 +185,10 @@ def test_group_coordination_through_the_index_is_the_all_pairs_one():
     """coordinate_group, which tries only the agents aiming at an agent's target or on it, gives
     the actions and draws of the coordination over all pairs (benchmarks.python_gridworld), on
     crowds of 64 agents with random choices and preferences."""
-    from benchmarks import python_gridworld
     from glamas import rng
     from glamas.gridworld import generate
+
+    from benchmarks import python_gridworld
 
     class Stream:
         def __init__(self, state):
@@ -365,6 +365,7 @@ def test_plots_refuse_unknown_metrics_and_agents(small_result):
 
 def test_figure_scripts_write_byte_identical_figures(tmp_path):
     import importlib.util
+
     from glamas.paths import REPO
     for name in ("scaling_sizes", "scaling_performance"):
         spec = importlib.util.spec_from_file_location(name, REPO / "paper_figures" / f"{name}.py")

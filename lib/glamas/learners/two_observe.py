@@ -407,9 +407,7 @@ def nearest_other(rings, cells, acting, n_acting, i):
         lowest = FAR
         offset = offsets[k]
         while offset != RING_END:
-            j = np.uint32(grid[here + offset])
-            if j < lowest:
-                lowest = j
+            lowest = min(lowest, np.uint32(grid[here + offset]))
             k += 1
             offset = offsets[k]
         k += 1
@@ -634,7 +632,7 @@ def group_step(world, learning, automata, q, u, need_counts, state, arrays):
     module docstring; as :func:`pair_step` otherwise. ``arrays``: :func:`per_run`'s, then
     ``group`` (:class:`Group`). Each agent's lookups go through the group's index of the cells
     (module docstring): a step costs in proportion to its acting agents."""
-    in_range, buffers, agents, group = arrays
+    _, buffers, agents, group = arrays  # the in-range table: the group's index answers instead
     next_cell, goal_of, n_agents = world.next_cell, world.goal_of, world.starts.shape[0]
     alpha, gamma = learning.q_learning_rate, learning.discount
     learn_first_level = automata.rule_distance < 0
