@@ -100,18 +100,24 @@ def claim_rows(result: ScalingResult) -> list[dict]:
     return chapter.verdicts(chapter.load("scaling"), measure(result))
 
 
+def _label_width(result: ScalingResult) -> int:
+    """The width of the tables' first column: the longest label of the result's methods."""
+    return max(22, *(len(label(method)) for method in result.names()))
+
+
 def size_table(result: ScalingResult) -> str:
     """Q tables per run (tables x states x actions), the related-work learners' joint values and
     reward samples per run, all values stored per run and memory for all runs, per method and N;
     skipped learners marked with the memory they would need."""
-    lines = [f"{'method':22s} {'N':>2s} {'tables x states x actions':>27s} {'joint':>8s} {'samples':>8s} "
+    w = _label_width(result)
+    lines = [f"{'method':{w}s} {'N':>2s} {'tables x states x actions':>27s} {'joint':>8s} {'samples':>8s} "
              f"{'parameters/run':>15s} {'GiB (all runs)':>14s}  status"]
     params = result.parameters()
     for k, method in enumerate(result.names()):
         for j, n in enumerate(result.agents):
             t, s, a = (_count(size) for size in result.shape(method, n))
             status = "ran" if result.ran[k, j] else "skipped: exceeds the memory budget"
-            lines.append(f"{label(method):22s} {n:2d} {f'{t} x {s} x {a}':>27s} {result.joint_entries[k, j]:8.4g} "
+            lines.append(f"{label(method):{w}s} {n:2d} {f'{t} x {s} x {a}':>27s} {result.joint_entries[k, j]:8.4g} "
                          f"{result.reward_samples[k, j]:8d} {params[k, j]:15.3g} "
                          f"{result.memory_needed(method, n) / 2 ** 30:14.3g}  {status}")
     return "\n".join(lines)
@@ -126,22 +132,24 @@ def performance_table(result: ScalingResult) -> str:
     """Final values (last 10 % of the episodes, mean over runs and agents; capped: the share of
     those episodes that hit the step cap) and the episode after which the mean steps stay within
     5 % of their final value, per method and N that ran."""
-    m = measure(result)
-    lines = [f"{'method':22s} {'N':>2s} {'steps':>7s} {'reward':>7s} {'collisions':>10s} "
+    m, w = measure(result), _label_width(result)
+    lines = [f"{'method':{w}s} {'N':>2s} {'steps':>7s} {'reward':>7s} {'collisions':>10s} "
              f"{'coordinations':>13s} {'converged by':>12s} {'capped %':>8s}"]
     for k, method in enumerate(result.names()):
         for j, n in enumerate(result.agents):
             if not result.ran[k, j]:
                 continue
-            lines.append(f"{label(method):22s} {n:2d} {m[f'steps_{method}_{n}']:7.2f} {m[f'reward_{method}_{n}']:7.1f} "
+            lines.append(f"{label(method):{w}s} {n:2d} {m[f'steps_{method}_{n}']:7.2f} {m[f'reward_{method}_{n}']:7.1f} "
                          f"{m[f'collisions_{method}_{n}']:10.2f} {m[f'coordinations_{method}_{n}']:13.2f} "
                          f"{m[f'convergence_{method}_{n}']:12.0f} {100 * m[f'capped_{method}_{n}']:8.1f}")
     return "\n".join(lines)
 
 
 PIVOT_METRICS = {"steps": "{:.1f}", "reward": "{:.1f}", "collisions": "{:.2f}", "coordinations": "{:.1f}",
-                 "capped": "{:.1%}", "convergence": "{:.0f}", "capped_runs": "{:.0f}"}
-"""What :func:`pivot_table` shows: the per-(method, N) measurements of :func:`measure` and their format."""
+                 "capped": "{:.1%}", "convergence": "{:.0f}", "capped_runs": "{:.0f}",
+                 "greedy_completion": "{:.0%}", "greedy_collisions": "{:.2f}", "greedy_solution_collisions": "{:.2f}"}
+"""What :func:`pivot_table` shows: the per-(method, N) measurements of :func:`measure` and their format
+(``greedy_*``: the greedy policy after training, :func:`evaluation_measures`)."""
 
 
 def pivot_table(result: ScalingResult, metric: str) -> str:
@@ -149,23 +157,23 @@ def pivot_table(result: ScalingResult, metric: str) -> str:
     'capped_runs' counts the runs in which some of the final 10 % of the episodes hit the step cap."""
     if metric not in PIVOT_METRICS:
         raise UserError(f"metric must be one of {sorted(PIVOT_METRICS)}, got {metric!r}")
-    m = measure(result)
-    lines = [f"{metric:22s}" + "".join(f"{f'N = {n}':>9s}" for n in result.agents)]
+    m, w = measure(result), max(_label_width(result), len(metric))
+    lines = [f"{metric:{w}s}" + "".join(f"{f'N = {n}':>9s}" for n in result.agents)]
     for k, method in enumerate(result.names()):
         cells = [PIVOT_METRICS[metric].format(m[f"{metric}_{method}_{n}"]) if ok else "-"
                  for n, ok in zip(result.agents, result.ran[k])]
-        lines.append(f"{label(method):22s}" + "".join(f"{cell:>9s}" for cell in cells))
+        lines.append(f"{label(method):{w}s}" + "".join(f"{cell:>9s}" for cell in cells))
     return "\n".join(lines)
 
 
 def growth_table(result: ScalingResult) -> str:
     """Per method: growth of the learned values per run, fitted over the N it ran at."""
-    m = measure(result)
-    lines = [f"{'method':22s} {'ran for N':>10s} {'factor per agent':>16s} {'log-log slope':>13s}"]
+    m, w = measure(result), _label_width(result)
+    lines = [f"{'method':{w}s} {'ran for N':>10s} {'factor per agent':>16s} {'log-log slope':>13s}"]
     for k, method in enumerate(result.names()):
         ran_at = [int(n) for n, ok in zip(result.agents, result.ran[k]) if ok]
         span = f"{min(ran_at)}-{max(ran_at)}" if ran_at else "none"
-        lines.append(f"{label(method):22s} {span:>10s} {m[f'growth_factor_{method}']:16.3g} "
+        lines.append(f"{label(method):{w}s} {span:>10s} {m[f'growth_factor_{method}']:16.3g} "
                      f"{m[f'loglog_slope_{method}']:13.2f}")
     return "\n".join(lines)
 
