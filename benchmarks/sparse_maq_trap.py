@@ -17,21 +17,11 @@ import argparse
 import numpy as np
 
 from glamas import errors, parallel
-from glamas.gridworld import load_map
-from glamas.learners import episode as ep
-from glamas.learners import registry, sparse_maq, spec
+from glamas.experiments import scaling
+from glamas.learners import registry, sparse_maq
 
 LEARNERS = ("sparse_maq", "sparse_maq_pairs")
 AGENTS = (2, 3, 4, 5, 6)
-MAX_STEPS = 1000
-"""The scaling study's step cap."""
-
-
-def aisle(gridmap) -> np.ndarray:
-    """The aisle's cells: not a goal, walled above and below (moving N or S bumps)."""
-    stay = np.arange(gridmap.n_cells)
-    walled = (gridmap.next_cell[:, 0] == stay) & (gridmap.next_cell[:, 2] == stay)
-    return np.flatnonzero(walled & ~gridmap.is_goal & ~gridmap.blocked)
 
 
 def aisle_rows(setup, gridmap, cells) -> np.ndarray:
@@ -42,21 +32,13 @@ def aisle_rows(setup, gridmap, cells) -> np.ndarray:
 
 
 def measure(name: str, n: int, runs: int, episodes: int, seed: int, workers) -> dict:
-    learner, gridmap = registry.get(name), load_map(f"warehouse_{n}")
-    setup = learner.setup()
-    schedule = ep.Schedule(episodes, ep.uniform_edges(episodes, episodes // 10), MAX_STEPS)
-    out = spec.train(learner, setup, gridmap, schedule, runs, registry.master_seed(seed, "sparse_maq"), workers=workers)
-    capped = ep.metric(out["log"], "capped")
-    trapped = out["log"][:, -1, :n] >= 0.9 * MAX_STEPS  # (runs, agents)
-    cells = aisle(gridmap)
-    own = out["q"][:, :, cells, :]
-    best = own.max(axis=-1).mean(axis=-1)  # (runs, agents): the mean over the aisle of the agent's best value
-    joint = out["q_pairs"][:, :, aisle_rows(setup, gridmap, cells), :]
-    return {"capped": capped.mean(), "capped_last": capped[:, -1].mean(), "trapped": int(trapped.sum()),
-            "agents": trapped.size, "own_zero": (own == 0.0).mean(),
-            "best_trapped": best[trapped].mean() if trapped.any() else float("nan"),
-            "best_free": best[~trapped].mean() if (~trapped).any() else float("nan"),
-            "joint_zero": (joint == 0.0).mean() if joint.size else float("nan"),
+    """The trap (glamas.experiments.scaling.trap) of learner ``name`` with N = ``n`` from sparse MAQ's
+    master seed, and the pairs' joint values on the aisle."""
+    t = scaling.trap(name, n, runs, episodes, workers=workers, master_seed=registry.master_seed(seed, "sparse_maq"))
+    gridmap = scaling.ScalingConfig().gridmap(n)
+    joint = t["outputs"]["q_pairs"][:, :, aisle_rows(registry.get(name).setup(), gridmap,
+                                                     scaling.aisle_cells(gridmap)), :]
+    return {**t, "joint_zero": (joint == 0.0).mean() if joint.size else float("nan"),
             "joint_max": joint.max() if joint.size else float("nan")}
 
 
@@ -67,14 +49,14 @@ def main():
     parser.add_argument("--workers", type=int, default=2)
     parser.add_argument("--seed", type=int, default=0)
     args = parser.parse_args()
-    print(f"{args.runs} runs x {args.episodes:,} episodes, step cap {MAX_STEPS}; last: the last tenth of the episodes")
+    print(f"{args.runs} runs x {args.episodes:,} episodes, step cap {scaling.ScalingConfig.max_steps}; last: the last tenth of the episodes")
     print(f"{'learner':17} N  capped  (last)  trapped agents  aisle own =0  best: trapped  free"
           f"  joint =0    max")
     for n in AGENTS:
         for name in LEARNERS:
             m = measure(name, n, args.runs, args.episodes, args.seed, parallel.Threads(args.workers))
             print(f"{name:17} {n}  {m['capped']:6.3f}  {m['capped_last']:6.3f}  {m['trapped']:7d} of {m['agents']:3d}"
-                  f"  {m['own_zero']:12.3f}  {m['best_trapped']:13.1f}  {m['best_free']:4.1f}"
+                  f"  {m['aisle_zero']:12.3f}  {m['best_trapped']:13.1f}  {m['best_free']:4.1f}"
                   f"  {m['joint_zero']:8.3f}  {m['joint_max']:5.1f}", flush=True)
 
 

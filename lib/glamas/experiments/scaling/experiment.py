@@ -327,3 +327,48 @@ def many_agents_scaled(runs: int, episodes: int) -> ManyAgentsConfig:
 def scaled(runs: int, episodes: int) -> ScalingConfig:
     """The study at ``runs`` and ``episodes``, in blocks that divide the episodes."""
     return ScalingConfig(runs=runs, episodes=episodes, bin_size=math.gcd(episodes, ScalingConfig.bin_size))
+
+
+TRAPPED = 0.9
+"""An agent is trapped when its mean steps over the last tenth of the episodes reach this share of
+the step cap (:func:`trap`)."""
+
+
+def aisle_cells(gridmap: GridMap) -> np.ndarray:
+    """The cells of a warehouse's one-track aisles: free, not a goal, walled above and below."""
+    stay = np.arange(gridmap.n_cells)
+    walled = (gridmap.next_cell[:, 0] == stay) & (gridmap.next_cell[:, 2] == stay)
+    return np.flatnonzero(walled & ~gridmap.is_goal & ~gridmap.blocked)
+
+
+def trap(name: str, n: int, runs: int, episodes: int, seed: int = 0, config: ScalingConfig = ScalingConfig(),
+         workers=None, master_seed: int | None = None) -> dict:
+    """What traps agents, measured: ``runs`` runs of learner ``name`` on the study's map of ``n``
+    agents with its settings and step cap, its Q tables kept. Returns the share of episodes that hit
+    the cap (``capped``; ``capped_last``: in the last tenth), the agents trapped at the end
+    (``trapped`` of ``agents``: TRAPPED), the share of the agents' own values on the aisle
+    (:func:`aisle_cells`) that are exactly 0 (``aisle_zero``), and the mean over the aisle of each
+    agent's best own value, for the trapped agents and the others (``best_trapped``, ``best_free``),
+    the same over the other free cells but the goal for the trapped agents (``elsewhere_trapped``),
+    and the runs' ``outputs``. The runs draw from the study's seeds of (seed, learner, N), or from
+    ``master_seed``."""
+    learner, gridmap = registry.get(name), config.gridmap(n)
+    schedule = ep.Schedule(episodes, ep.uniform_edges(episodes, episodes // 10), config.max_steps)
+    master_seed = seed_of(seed, name, n) if master_seed is None else master_seed
+    out = spec.train(learner, config.setup(name), gridmap, schedule, runs, master_seed, bounce=config.bounce,
+                     workers=workers)
+    capped = ep.metric(out["log"], "capped")
+    trapped = out["log"][:, -1, :n] >= TRAPPED * config.max_steps  # (runs, agents)
+    aisle = aisle_cells(gridmap)
+    elsewhere = np.setdiff1d(np.flatnonzero(~gridmap.blocked & ~gridmap.is_goal), aisle)
+    own = out["q"][:, :, aisle, :]
+    best = own.max(axis=-1).mean(axis=-1)  # (runs, agents)
+    best_elsewhere = out["q"][:, :, elsewhere, :].max(axis=-1).mean(axis=-1)
+    return {"capped": float(capped.mean()), "capped_last": float(capped[:, -1].mean()),
+            "trapped": int(trapped.sum()), "agents": int(trapped.size), "aisle_zero": float((own == 0.0).mean()),
+            "best_trapped": _mean_where(best, trapped), "best_free": _mean_where(best, ~trapped),
+            "elsewhere_trapped": _mean_where(best_elsewhere, trapped), "outputs": out}
+
+
+def _mean_where(values: np.ndarray, chosen: np.ndarray) -> float:
+    return float(values[chosen].mean()) if chosen.any() else math.nan
