@@ -6,15 +6,15 @@ N (benchmarks.python_many_agents; it plays the kernels' episodes: tests/test_ben
 
 Per step, an agent's work in the kernels depends on its neighbours and not on N: the rules and
 2observe's group step look agents up through an index of the cells (glamas.gridworld.rules.
-step_indexed, glamas.learners.two_observe.group_step), so the cost per agent-step should stay flat
-from N = 8 on. At N = 2 the kernels take their two-agent paths (rules.step_pair, the pair steps),
-written for the chapter's two agents; the ratio of the N = 128 cost to the N = 2 cost compares the
-N-agent step with them. The reference takes the general step at every N.
+step_indexed, glamas.learners.two_observe.group_step), so the cost per agent-step grows with an
+agent's neighbours (more of them in range in a crowd), not with N itself. At N = 2 the kernels take
+their two-agent paths (rules.step_pair, the pair steps), written for the chapter's two agents; the
+ratio of the N = 128 cost to the N = 2 cost compares the N-agent step with them. The reference takes the general step at every N.
 
 Every N plays the scaling study's step cap; small N run more episodes, so that each timing covers
 millions of agent-steps (their runs learn longer: the costs compare steps, not learning stages).
-Times are CPU times of this thread, medians over runs of different seeds. CQ-learning and sparse MAQ are not timed here
-(``NOT_TIMED``).
+Times are CPU times of this thread, medians over runs of different seeds. CQ-learning and sparse
+MAQ are not timed here (``NOT_TIMED``).
 """
 
 import functools

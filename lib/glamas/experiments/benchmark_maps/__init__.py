@@ -5,7 +5,8 @@ use) and registers it."""
 
 from pathlib import Path
 
-from glamas.experiments.benchmark_maps.analysis import claim_rows, excess_grid, measure, optimum_table, solved_table, table
+from glamas.experiments.benchmark_maps.analysis import (claim_rows, excess_grid, measure, optimum_table, solved_table,
+                                                        table)
 from glamas.experiments.benchmark_maps.experiment import (FIELD_MAPS, BenchmarkConfig, BenchmarkResult, run, scaled,
                                                           seed_key)
 from glamas.experiments.faces import plots_on_first_use

@@ -196,7 +196,7 @@ def trap_table(traps: dict) -> str:
     lines = [(f"{'learner':{w}s} {'capped':>7s} {'(last tenth)':>12s} {'trapped agents':>14s} {'aisle values = 0':>16s} "
               f"{'best on aisle: trapped':>22s} {'free':>6s} {'best elsewhere: trapped':>23s}")]
     for name, t in traps.items():
-        lines.append(f"{label(name):{w}s} {t['capped']:7.1%} {t['capped_last']:12.1%} {t['trapped']:7d} of {t['agents']:3d} "
-                     f"{t['aisle_zero']:16.1%} {t['best_trapped']:22.1f} {t['best_free']:6.1f} "
+        lines.append(f"{label(name):{w}s} {t['capped']:7.1%} {t['capped_last']:12.1%} "
+                     f"{t['trapped']:7d} of {t['agents']:3d} {t['aisle_zero']:16.1%} {t['best_trapped']:22.1f} {t['best_free']:6.1f} "
                      f"{t['elsewhere_trapped']:23.1f}")
     return "\n".join(lines)
