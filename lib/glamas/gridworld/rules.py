@@ -113,36 +113,6 @@ def _collide_if(hit, i, j, rewards, collided):
 
 
 @njit(cache=True, inline="always")
-def _move(next_cell, cells, done, actions, new_cells, rewards, bumped, collided, reached):
-    """The moves of a step before any collision (:func:`step`, :func:`step_indexed`): each acting
-    agent's target cell, its bump penalty, nothing collided or reached yet. Returns the number of
-    acting agents."""
-    acting = 0
-    for i in range(cells.shape[0]):
-        cell, is_done = cells[i], done[i]
-        target = next_cell[cell, actions[i]]  # a done agent's is ignored
-        new = cell if is_done else target
-        bump = not is_done and new == cell
-        new_cells[i] = new
-        bumped[i] = bump
-        rewards[i] = BUMP_PENALTY if bump else 0.0
-        collided[i] = False
-        reached[i] = False
-        acting += 0 if is_done else 1
-    return acting
-
-
-@njit(cache=True, inline="always")
-def _arrive(goal_of, done, new_cells, rewards, reached):
-    """The end of a step (:func:`step`, :func:`step_indexed`): the acting agents on one of their
-    goals have reached it and earn the goal reward."""
-    for i in range(done.shape[0]):
-        arrived = not done[i] and goal_of[i, new_cells[i]]
-        reached[i] = arrived
-        rewards[i] += GOAL_REWARD if arrived else 0.0
-
-
-@njit(cache=True, inline="always")
 def step(world, cells, done, actions, new_cells, rewards, bumped, collided, reached):
     """One joint move of all agents in ``world``; fills the output arrays, returns the number of
     collisions.
@@ -157,7 +127,18 @@ def step(world, cells, done, actions, new_cells, rewards, bumped, collided, reac
     """
     next_cell, goal_of, starts, bounce = world.next_cell, world.goal_of, world.starts, world.bounce
     n = cells.shape[0]
-    acting = _move(next_cell, cells, done, actions, new_cells, rewards, bumped, collided, reached)
+    acting = 0
+    for i in range(n):
+        cell, is_done = cells[i], done[i]
+        target = next_cell[cell, actions[i]]  # a done agent's is ignored
+        new = cell if is_done else target
+        bump = not is_done and new == cell
+        new_cells[i] = new
+        bumped[i] = bump
+        rewards[i] = BUMP_PENALTY if bump else 0.0
+        collided[i] = False
+        reached[i] = False
+        acting += 0 if is_done else 1
 
     # First round: the moves themselves (same target, a goal of not both; or a swap).
     n_collisions = 0
@@ -190,7 +171,10 @@ def step(world, cells, done, actions, new_cells, rewards, bumped, collided, reac
                 found += _collide_if(again, i, j, rewards, collided)
         n_collisions += found
 
-    _arrive(goal_of, done, new_cells, rewards, reached)
+    for i in range(n):
+        arrived = not done[i] and goal_of[i, new_cells[i]]
+        reached[i] = arrived
+        rewards[i] += GOAL_REWARD if arrived else 0.0
     return n_collisions
 
 
@@ -253,7 +237,18 @@ def step_indexed(world, index, cells, done, actions, new_cells, rewards, bumped,
     next_cell, goal_of, starts, bounce = world.next_cell, world.goal_of, world.starts, world.bounce
     occupant, claimant, next_claimant, queue = index
     n = cells.shape[0]
-    _move(next_cell, cells, done, actions, new_cells, rewards, bumped, collided, reached)
+    # The moves as step writes them, written out again: as one inlined helper shared with step,
+    # 2observe's group step around this call compiled about a third slower.
+    for i in range(n):
+        cell, is_done = cells[i], done[i]
+        target = next_cell[cell, actions[i]]  # a done agent's is ignored
+        new = cell if is_done else target
+        bump = not is_done and new == cell
+        new_cells[i] = new
+        bumped[i] = bump
+        rewards[i] = BUMP_PENALTY if bump else 0.0
+        collided[i] = False
+        reached[i] = False
     index_agents(index, cells, done, next_cell, actions)
 
     # First round: the agents aiming at one cell (a goal of not both), pair by pair, and swaps.
@@ -295,7 +290,10 @@ def step_indexed(world, index, cells, done, actions, new_cells, rewards, bumped,
         first = last
 
     clear_index(index, cells, done, next_cell, actions)
-    _arrive(goal_of, done, new_cells, rewards, reached)
+    for i in range(n):
+        arrived = not done[i] and goal_of[i, new_cells[i]]
+        reached[i] = arrived
+        rewards[i] += GOAL_REWARD if arrived else 0.0
     return n_collisions
 
 
