@@ -113,6 +113,28 @@ def act(u, x, temperature, L, mode, probs, state):
 
 
 @njit(cache=True, inline="always")
+def act_two(u, x, temperature, L, mode, probs, state):
+    """:func:`act` for a GLA of two actions (2observe's): the same probabilities, left in probs,
+    and the same draw, bit for bit, written without a branch on which action is the likelier.
+    While a GLA is undecided that branch goes either way at random, and the processor mispredicts
+    it; 2observe's steps took 6 % (128 agents) to 10 % (2 agents) less time without it
+    (benchmarks/bench_many_agents.py)."""
+    z_0, z_1 = 0.0, 0.0
+    for k in range(x.shape[0]):
+        z_0 += x[k] * bound(u[0, k], L, mode)
+    for k in range(x.shape[0]):
+        z_1 += x[k] * bound(u[1, k], L, mode)
+    z_0, z_1 = z_0 / temperature, z_1 / temperature
+    first_larger = z_0 >= z_1
+    largest, other = (z_0, z_1) if first_larger else (z_1, z_0)
+    e = np.exp(other - largest)  # exp(0) is 1 exactly: as boltzmann's 1.0 for the largest when they tie
+    p_0, p_1 = (1.0, e) if first_larger else (e, 1.0)
+    total = p_0 + p_1
+    probs[0], probs[1] = p_0 / total, p_1 / total
+    return 0 if rng.uniform(state) < probs[0] else 1
+
+
+@njit(cache=True, inline="always")
 def grad_log_g(x, action, probs, temperature, grad):
     """d ln g(x, a, v) / d v_jk = (x_k / T) (1[j == a] - g(x, a_j, v)), with probs = g(x, ., v)."""
     for j in range(grad.shape[0]):

@@ -298,9 +298,9 @@ def gla_feedback(table, penalty_per_cell, choice, need, both, delta):
     """r_c of Alg. 4 (Fig. 10, reconstructed): table[choice, need], minus ``penalty_per_cell *
     delta`` when both coordinated without need (Section 5.3's 0 - delta/10)."""
     beta = table[choice, 1 if need else 0]
-    if both and not need:
-        beta -= penalty_per_cell * delta
-    return beta
+    # & rather than and: both sides read, no branch on the choices, which go either way while the
+    # GLAs learn (as in the group step's tests of both choices)
+    return beta - (penalty_per_cell * delta if both & (not need) else 0.0)
 
 
 @njit(cache=True, inline="always")
@@ -477,15 +477,18 @@ def coordinate_group(next_cell, goal_of, cells, done, choices, preferred, action
     """
     order, kept, coordinating, index = group.order, group.kept, group.coordinating, group.index
     n = cells.shape[0]
+    n_coordinating = 0
     for i in range(n):
         actions[i] = preferred[i]
-        coordinating[i] = not done[i] and choices[i] == COORDINATE
+        coordinating[i] = (not done[i]) & (choices[i] == COORDINATE)
         kept[i] = False  # so far: kept[j] holds for the agents earlier in the order that keep theirs
+        order[n_coordinating] = i  # the coordinating agents first, counted without a branch on them
+        n_coordinating += coordinating[i]
     count = 0
-    for i in range(n):
-        if coordinating[i] and conflict(next_cell, goal_of, cells, done, preferred, index, i, coordinating):
-            order[count] = i
-            count += 1
+    for k in range(n_coordinating):
+        i = order[k]
+        order[count] = i  # then those of them in a coming collision
+        count += conflict(next_cell, goal_of, cells, done, preferred, index, i, coordinating)
     random_order(order, count, state)
     for k in range(count):
         i = order[k]
@@ -607,8 +610,8 @@ def pair_step(world, learning, automata, q, u, need_counts, pair, state, arrays)
     x = inputs[i]  # both agents' GLAs see the same input
     x[0] = delta * automata.gla_delta_scale
     if learn_first_level:
-        choices[i] = gla.act(u[i], x, temperature, L, bounding, probs[i], state)
-        choices[j] = gla.act(u[j], x, temperature, L, bounding, probs[j], state)
+        choices[i] = gla.act_two(u[i], x, temperature, L, bounding, probs[i], state)
+        choices[j] = gla.act_two(u[j], x, temperature, L, bounding, probs[j], state)
     else:
         choices[i] = choices[j] = COORDINATE if delta < rule_distance else ACT_ALONE
     preferred[i] = epsilon_greedy(q[i, cells[i]], exploit, state)
@@ -667,8 +670,8 @@ def group_step(world, learning, automata, q, u, need_counts, state, arrays):
             needed[i] = in_range_of_any(group, cells, i)
         x[i, 0] = deltas[i] * automata.gla_delta_scale
         if learn_first_level:
-            choices[i] = gla.act(u[i], x[i], automata.gla_temperature, automata.gla_L, automata.gla_bounding,
-                                 probs[i], state)
+            choices[i] = gla.act_two(u[i], x[i], automata.gla_temperature, automata.gla_L,
+                                     automata.gla_bounding, probs[i], state)
         elif deltas[i] < automata.rule_distance:
             choices[i] = COORDINATE
     for i in range(n_agents):
@@ -682,8 +685,8 @@ def group_step(world, learning, automata, q, u, need_counts, state, arrays):
     coordinate_group(next_cell, goal_of, cells, done, choices, preferred, actions, group, state)
     paired = 0
     for i in range(n_agents):
-        if nearest[i] != NOBODY and choices[i] == COORDINATE and choices[nearest[i]] == COORDINATE:
-            paired += 1
+        if nearest[i] != NOBODY:
+            paired += (choices[i] == COORDINATE) & (choices[nearest[i]] == COORDINATE)
     acc[ep.column(n_agents, ep.COORDINATIONS)] += paired / 2
     collisions = rules.step_indexed(world, group.step_index, cells, done, actions, new_cells, rewards, bumped, collided,
                                     reached)
@@ -704,7 +707,7 @@ def group_step(world, learning, automata, q, u, need_counts, state, arrays):
         for i in range(n_agents):
             if nearest[i] == NOBODY:
                 continue
-            both = choices[i] == COORDINATE and choices[nearest[i]] == COORDINATE
+            both = (choices[i] == COORDINATE) & (choices[nearest[i]] == COORDINATE)
             beta = gla_feedback(automata.gla_feedback, automata.coordination_penalty_per_cell, choices[i],
                                 needed[i], both, deltas[i])
             gla.update(u[i], x[i], choices[i], beta, automata.gla_learning_rate, automata.gla_temperature,
