@@ -156,8 +156,9 @@ def test_network_structure_is_checked():
         gla.GLANetwork(n_context=1, unit_actions=(2, 2), output_table=(0, 1))
 
 
+@pytest.mark.parametrize("temperature", [0.5, 0.3])
 @pytest.mark.parametrize("bounding", ["clip", "printed"])
-def test_act_two_is_act_for_two_actions(bounding):
+def test_act_two_is_act_for_two_actions(bounding, temperature):
     """act_two (the branch-free act of 2observe's GLAs) gives act's probabilities and draw, bit for
     bit: on ties (exp(0) = 1 exactly), on either action the likelier, inside and outside the box."""
     draws = np.random.default_rng(0)
@@ -168,6 +169,6 @@ def test_act_two_is_act_for_two_actions(bounding):
         state_general, state_two = rng.run_states(7, 1)[0], rng.run_states(7, 1)[0]
         probs_general, probs_two = np.empty(2), np.empty(2)
         for _ in range(5):
-            action = gla.act(u, x, 0.5, 2.0, mode, probs_general, state_general)
-            assert gla.act_two(u, x, 0.5, 2.0, mode, probs_two, state_two) == action
+            action = gla.act(u, x, temperature, 2.0, mode, probs_general, state_general)
+            assert gla.act_two(u, x, temperature, 2.0, mode, probs_two, state_two) == action
             assert probs_two.tobytes() == probs_general.tobytes()

@@ -117,8 +117,8 @@ def act_two(u, x, temperature, L, mode, probs, state):
     """:func:`act` for a GLA of two actions (2observe's): the same probabilities, left in probs,
     and the same draw, bit for bit, written without a branch on which action is the likelier.
     While a GLA is undecided that branch goes either way at random, and the processor mispredicts
-    it; 2observe's steps took 6 % (128 agents) to 10 % (2 agents) less time without it
-    (benchmarks/bench_many_agents.py)."""
+    it: with act_two instead of act, 2observe's steps took 6 % (128 agents) to 10 % (2 agents) less
+    time (benchmarks/bench_many_agents.py)."""
     z_0, z_1 = 0.0, 0.0
     for k in range(x.shape[0]):
         z_0 += x[k] * bound(u[0, k], L, mode)
