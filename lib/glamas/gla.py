@@ -86,15 +86,21 @@ def bound(eta, L, mode):
 
 
 @njit(cache=True, inline="always")
+def logit(u, x, temperature, L, mode, i):
+    """x.h(u_i) / T, the exponent of action i in eq. 15."""
+    z = 0.0
+    for k in range(u.shape[1]):
+        z += x[k] * bound(u[i, k], L, mode)
+    return z / temperature
+
+
+@njit(cache=True, inline="always")
 def boltzmann(u, x, temperature, L, mode, probs):
     """Eq. 15 at h(u): probs[i] = exp(x.h(u_i)/T) / sum_j exp(x.h(u_j)/T), written into probs."""
-    n_actions, n_inputs = u.shape
+    n_actions = u.shape[0]
     largest = -np.inf
     for i in range(n_actions):
-        z = 0.0
-        for k in range(n_inputs):
-            z += x[k] * bound(u[i, k], L, mode)
-        probs[i] = z / temperature
+        probs[i] = logit(u, x, temperature, L, mode, i)
         largest = max(largest, probs[i])
     total = 0.0
     for i in range(n_actions):
@@ -119,12 +125,7 @@ def act_two(u, x, temperature, L, mode, probs, state):
     While a GLA is undecided that branch goes either way at random, and the processor mispredicts
     it: with act_two instead of act, 2observe's steps took 6 % (128 agents) to 10 % (2 agents) less
     time (benchmarks/bench_many_agents.py)."""
-    z_0, z_1 = 0.0, 0.0
-    for k in range(x.shape[0]):
-        z_0 += x[k] * bound(u[0, k], L, mode)
-    for k in range(x.shape[0]):
-        z_1 += x[k] * bound(u[1, k], L, mode)
-    z_0, z_1 = z_0 / temperature, z_1 / temperature
+    z_0, z_1 = logit(u, x, temperature, L, mode, 0), logit(u, x, temperature, L, mode, 1)
     first_larger = z_0 >= z_1
     largest, other = (z_0, z_1) if first_larger else (z_1, z_0)
     e = np.exp(other - largest)  # exp(0) is 1 exactly: as boltzmann's 1.0 for the largest when they tie
