@@ -368,8 +368,13 @@ def test_figure_script_refuses_a_stale_result_and_names_rerun(tmp_path):
 def _package(tmp_path):
     package = tmp_path / "pkg"
     (package / "__pycache__").mkdir(parents=True)
-    (package / "kernel.py").write_text("x = 1\n")
+    (package / "kernel.py").write_text(KERNEL.format(x=1))
+    (package / "figure.py").write_text("y = 1\n")  # imports no numba and no kernel imports it
     return package
+
+
+KERNEL = "from numba import njit\n\nx = {x}\n"
+
 
 
 def test_cached_kernels_are_dropped_when_a_source_changes(tmp_path):
@@ -379,7 +384,9 @@ def test_cached_kernels_are_dropped_when_a_source_changes(tmp_path):
     for path in cached:
         path.write_bytes(b"old code")
     assert not sources.refresh_kernel_cache(package) and all(path.exists() for path in cached)
-    (package / "kernel.py").write_text("x = 2\n")
+    (package / "figure.py").write_text("y = 2\n")  # cannot change a kernel: the cache stays
+    assert not sources.refresh_kernel_cache(package) and all(path.exists() for path in cached)
+    (package / "kernel.py").write_text(KERNEL.format(x=2))
     assert sources.refresh_kernel_cache(package) and not any(path.exists() for path in cached)
 
 
@@ -389,7 +396,7 @@ def test_a_numba_cache_directory_elsewhere_is_refreshed_too(tmp_path, monkeypatc
     sources.refresh_kernel_cache(package)
     cached = sources.cache_directory(package) / "kernel.run-1.py311.nbi"
     cached.write_bytes(b"old code")
-    (package / "kernel.py").write_text("x = 2\n")
+    (package / "kernel.py").write_text(KERNEL.format(x=2))
     assert sources.refresh_kernel_cache(package) and not cached.exists()
 
 

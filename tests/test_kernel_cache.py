@@ -154,3 +154,10 @@ def test_cache_locators_chosen_by_the_user_turn_caching_off(tmp_path, monkeypatc
         os.environ.pop(sources.CACHE_OFF_VARIABLE, None)
     stderr = capsys.readouterr().err.splitlines()
     assert _off(stderr) and "NUMBA_CACHE_LOCATOR_CLASSES=UserWideCacheLocator" in stderr[0]
+
+
+def test_a_module_a_kernel_imports_is_a_kernel_source_and_a_figure_module_is_not():
+    names = {path.relative_to(sources.PACKAGE).as_posix() for path in sources.kernel_source_files()}
+    # modules with kernels, and gla.py and rng.py whose functions the kernels call
+    assert {"gridworld/rules.py", "learners/two_observe.py", "gla.py", "rng.py"} <= names
+    assert not {"plotting.py", "figures.py", "cli.py", "verify.py"} & names

@@ -90,4 +90,4 @@ def test_a_toy_experiment_goes_through_memory_reproduce_ledger_and_verify(coin, 
     monkeypatch.setattr(verify, "FIGURES", tmp_path / "committed" / "figures")
     assert verify.differences(tmp_path / "recomputed") == []  # the same seed gives the same files
     (tmp_path / "recomputed" / "figures" / "coin_figure.png").write_bytes(b"not a figure")
-    assert verify.differences(tmp_path / "recomputed") == ["figures/coin_figure.png: differs from the committed figure"]
+    assert verify.differences(tmp_path / "recomputed") == ["figures/coin_figure.png: differs from the committed figure: its bytes differ"]

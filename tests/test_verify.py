@@ -90,7 +90,7 @@ def test_a_differing_figure_is_named(twins, capsys):
     out, _, _ = twins
     (out / "figures" / "fig5.png").write_bytes(b"\x89PNG drawn otherwise")
     status, printed = _verified(out, capsys)
-    assert status == 1 and printed[0] == "figures/fig5.png: differs from the committed figure"
+    assert status == 1 and printed[0] == "figures/fig5.png: differs from the committed figure: its bytes differ"
 
 
 @pytest.mark.parametrize("argv", [[], ["a", "b"], ["nowhere"]])
@@ -102,3 +102,39 @@ def test_bad_usage_is_an_error_line_on_stderr_and_status_2(tmp_path, capsys, mon
     captured = capsys.readouterr()
     assert captured.out == "" and captured.err.startswith("usage: python -m glamas.verify")
     assert len([line for line in captured.err.splitlines() if "error: " in line]) == 1
+
+
+def _pdf_with_text_at(x_points: float) -> bytes:
+    """A one-page PDF with one label ``x_points`` points from its left edge."""
+    import io
+
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig = plt.figure(figsize=(2, 1))
+    fig.text(x_points / 144.0, 0.5, "label")
+    buffer = io.BytesIO()
+    fig.savefig(buffer, format="pdf", metadata={"CreationDate": None, "Producer": None})
+    plt.close(fig)
+    return buffer.getvalue()
+
+
+def test_a_pdf_equal_within_the_tolerance_is_said_apart_and_passes(twins, capsys):
+    out, _, committed_figures = twins
+    (committed_figures / "label.pdf").write_bytes(_pdf_with_text_at(30.0))
+    (out / "figures" / "label.pdf").write_bytes(_pdf_with_text_at(30.0 + 1e-9))
+    status, printed = _verified(out, capsys)
+    assert status == 0 and len(printed) == 2
+    assert printed[0].startswith("figures/label.pdf: the same figure, not the same bytes: numbers within ")
+    assert printed[1] == ("every committed result and figure is what the code computes (1 PDF figure the same "
+                          "within 1e-06 pt, not byte for byte), and nothing else was computed")
+
+
+def test_a_label_moved_by_a_hundredth_of_a_point_is_a_difference(twins, capsys):
+    out, _, committed_figures = twins
+    (committed_figures / "label.pdf").write_bytes(_pdf_with_text_at(30.0))
+    (out / "figures" / "label.pdf").write_bytes(_pdf_with_text_at(30.01))
+    status, printed = _verified(out, capsys)
+    assert status == 1 and printed[0].startswith("figures/label.pdf: differs from the committed figure: PDF object ")
+    assert printed[-1] == "1 difference from the committed results and figures"

@@ -8,6 +8,7 @@ import math
 import numpy as np
 
 from glamas.errors import UserError
+from glamas.portable import weighted_sum
 
 FINAL_FRACTION = 0.1
 """The "final" value of a curve is its mean over the last 10 % of the episodes (or iterations)."""
@@ -49,13 +50,13 @@ def final(curves: np.ndarray, episodes: np.ndarray) -> float:
     """Mean over runs and over the last FINAL_FRACTION of the episodes: each block (ending at
     ``episodes``) weighted by how many of its episodes lie in that last part."""
     weights = _final_weights(episodes)
-    return float(curves.mean(axis=0) @ weights / weights.sum())
+    return float(weighted_sum(curves.mean(axis=0), weights) / weights.sum())
 
 
 def final_by_run(curves: np.ndarray, episodes: np.ndarray) -> np.ndarray:
     """:func:`final` of each run on its own."""
     weights = _final_weights(episodes)
-    return curves @ weights / weights.sum()
+    return weighted_sum(curves, weights) / weights.sum()
 
 
 def final_per_run(curves: np.ndarray, fraction: float = FINAL_FRACTION) -> np.ndarray:

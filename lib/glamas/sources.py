@@ -1,10 +1,13 @@
-"""The library's source hash, and numba's compiled-kernel cache kept in step with it.
+"""The hash of the library's kernel sources, and numba's compiled-kernel cache kept in step with it.
 
 numba's on-disk cache (``cache=True``) keys a kernel on its own file only: after an edit to a
 function it calls in *another* file, it would serve the old machine code. :func:`refresh_kernel_cache`
-keeps a stamp file with the hash of every ``lib/glamas/**/*.py`` beside the cache; when the sources
-no longer match it, the cached kernels (``*.nbi`` index and ``*.nbc`` data files) are deleted and
-the stamp rewritten, under a file lock, so that worker processes importing at once do it once.
+keeps a stamp file with the hash of the kernel sources (:func:`kernel_source_files`: every module
+that imports numba, and every module of glamas they import, directly or not) beside the cache; when
+they no longer match it, the cached kernels (``*.nbi`` index and ``*.nbc`` data files) are deleted
+and the stamp rewritten, under a file lock, so that worker processes importing at once do it once.
+A module no kernel module imports (the figures, the command line, the analyses without kernels)
+cannot change a kernel's machine code, so an edit there keeps the cache.
 
 Which cache: numba caches a function in the first of its locators (``numba.core.caching``) whose
 directory it can write: with NUMBA_CACHE_DIR set, the directory it names after the source's
@@ -20,6 +23,7 @@ never come from a stale cache, and numba never falls back.
 
 import hashlib
 import os
+import re
 import sys
 import tempfile
 from pathlib import Path
@@ -42,10 +46,38 @@ def source_files(package: Path = PACKAGE) -> list[Path]:
     return sorted(package.rglob("*.py"))
 
 
+_IMPORT = re.compile(r"^[ \t]*(?:from[ \t]+(\w+(?:\.\w+)*)[ \t]+import[ \t]+(?:\(([^)]*)\)|([^\n#]*))"
+                     r"|import[ \t]+(\w+(?:\.\w+)*))", re.M)
+
+
+def kernel_source_files(package: Path = PACKAGE) -> list[Path]:
+    """The sources a compiled kernel can depend on, in a fixed order: every module of the package
+    whose text names numba, and every module of the package those import, directly or not (read
+    from their import statements; a package's ``__init__`` stands for the package)."""
+    files = source_files(package)
+    texts = {path: path.read_text(encoding="utf-8", errors="replace") for path in files}
+    by_name = {}
+    for path in files:
+        parts = (package.name,) + path.relative_to(package).with_suffix("").parts
+        by_name[".".join(parts[:-1] if parts[-1] == "__init__" else parts)] = path
+    reached = [path for path in files if "numba" in texts[path]]
+    seen = set(reached)
+    while reached:
+        for module, names, line, plain in _IMPORT.findall(texts[reached.pop()]):
+            candidates = [plain] if plain else [module] + [f"{module}.{name.split()[0]}"
+                                                           for name in (names or line).split(",") if name.strip()]
+            for path in (by_name.get(name) for name in candidates):
+                if path is not None and path not in seen:
+                    seen.add(path)
+                    reached.append(path)
+    return sorted(seen)
+
+
 def source_hash(package: Path = PACKAGE) -> str:
-    """SHA-256 over the package's sources (relative paths and contents): it changes with any edit."""
+    """SHA-256 over the kernel sources (:func:`kernel_source_files`: relative paths and contents):
+    it changes with any edit that can change a kernel."""
     digest = hashlib.sha256()
-    for path in source_files(package):
+    for path in kernel_source_files(package):
         digest.update(path.relative_to(package).as_posix().encode())
         digest.update(b"\0")
         digest.update(path.read_bytes())

@@ -5,21 +5,25 @@ with those in ``data/results`` and the figures in ``DIR/figures`` with those in
 ``paper_figures/output``: every committed file must have a recomputed twin of the same name and
 every recomputed file a committed one, so that a file missing on either side cannot pass. Twin
 result files must hold the same configuration and arrays (the provenance record may differ, since
-committed files can predate it), twin figures the same bytes; a file that cannot be read, on
-either side, is a difference too.
+committed files can predate it), twin figures the same figure (:func:`glamas.figure_files.compare`:
+PNG byte for byte, PDF as structure with every real number within its tolerance); a file that cannot
+be read, on either side, is a difference too.
 
-It prints one line per difference, then a summary line, and exits 0 when everything is equal, 1
-on any difference, 2 on bad usage (the usage and one line ``error: ...`` on stderr).
+It prints one line per difference, then one per PDF that is the same figure but not the same bytes
+(a number's last decimal rounded otherwise on another processor: not a difference, but said), then a
+summary line, and exits 0 when everything is equal, 1 on any difference, 2 on bad usage (the usage
+and one line ``error: ...`` on stderr).
 """
 
 import argparse
 import zipfile
 import zlib
 from pathlib import Path
+from typing import NamedTuple
 
 import numpy as np
 
-from glamas import errors
+from glamas import errors, figure_files
 from glamas.committed import figure_advice, result_advice, shown
 from glamas.paths import FIGURES, RESULTS
 
@@ -32,28 +36,43 @@ class UnreadableFile(Exception):
     """A file of one side could not be read; the message says which side, and why."""
 
 
+class Finding(NamedTuple):
+    """One line of the report."""
+
+    text: str
+    difference: bool
+    """True for a difference; False for a figure that is the same within the tolerance only."""
+
+
+def findings(directory: Path) -> list[Finding]:
+    """Everything :func:`main` reports of ``directory``'s recomputation against the committed files,
+    both ways: the differences, and the figures equal within the PDF tolerance only."""
+    return (_compare(Path(directory) / "results", RESULTS, result_differences)
+            + _compare(Path(directory) / "figures", FIGURES, figure_findings))
+
+
 def differences(directory: Path) -> list[str]:
     """Every difference between ``directory``'s recomputation and the committed files, both ways."""
-    return (_compare(Path(directory) / "results", RESULTS, result_differences)
-            + _compare(Path(directory) / "figures", FIGURES, figure_differences))
+    return [found.text for found in findings(directory) if found.difference]
 
 
-def _compare(recomputed: Path, committed: Path, compare) -> list[str]:
-    """The differences between the files of two directories: a name in one only, or twins that
-    ``compare(recomputed_file, committed_file)`` finds different or cannot read."""
+def _compare(recomputed: Path, committed: Path, compare) -> list[Finding]:
+    """The findings of two directories: a name in one only, or twins that
+    ``compare(recomputed_file, committed_file)`` finds different (or the same within a tolerance
+    only), or cannot read."""
     ours, theirs = _names(recomputed), _names(committed)
     found = []
     for name in sorted(ours | theirs):
         label = f"{recomputed.name}/{name}"
         if name not in ours:
-            found.append(f"{label}: committed ({shown(committed)}) but not recomputed")
+            found.append(Finding(f"{label}: committed ({shown(committed)}) but not recomputed", True))
         elif name not in theirs:
-            found.append(f"{label}: recomputed but not committed (no {shown(committed / name)})")
+            found.append(Finding(f"{label}: recomputed but not committed (no {shown(committed / name)})", True))
         else:
             try:
-                found += [f"{label}: {text}" for text in compare(recomputed / name, committed / name)]
+                found += [Finding(f"{label}: {text}", real) for text, real in compare(recomputed / name, committed / name)]
             except UnreadableFile as error:
-                found.append(f"{label}: {error}")
+                found.append(Finding(f"{label}: {error}", True))
     return found
 
 
@@ -62,18 +81,23 @@ def _names(directory: Path) -> set:
     return {path.name for path in directory.iterdir()} if directory.is_dir() else set()
 
 
-def result_differences(recomputed: Path, committed: Path) -> list[str]:
-    """What differs between two result files (empty: the same configuration and arrays)."""
+def result_differences(recomputed: Path, committed: Path) -> list[tuple]:
+    """What differs between two result files, as (text, True) (empty: the same configuration and arrays)."""
     a, b = _arrays(recomputed, "recomputed"), _arrays(committed, "committed")
     if set(a) != set(b):
-        return [f"arrays {sorted(set(a) ^ set(b))} are in only one of the files"]
-    return [f"{key} differs" for key in sorted(a) if not _equal(a[key], b[key])]
+        return [(f"arrays {sorted(set(a) ^ set(b))} are in only one of the files", True)]
+    return [(f"{key} differs", True) for key in sorted(a) if not _equal(a[key], b[key])]
 
 
-def figure_differences(recomputed: Path, committed: Path) -> list[str]:
-    """What differs between two figure files (empty: the same bytes)."""
-    same = _bytes(recomputed, "recomputed") == _bytes(committed, "committed")
-    return [] if same else ["differs from the committed figure"]
+def figure_findings(recomputed: Path, committed: Path) -> list[tuple]:
+    """(text, is a difference) of two figure files (:func:`glamas.figure_files.compare`): nothing
+    for the same bytes; for a PDF that is the same figure within the tolerance only, a note."""
+    found = figure_files.compare(_bytes(recomputed, "recomputed"), _bytes(committed, "committed"), recomputed.suffix)
+    if found.same_bytes:
+        return []
+    if found.equal:
+        return [(f"the same figure, not the same bytes: {found.detail} (rounding of another processor)", False)]
+    return [(f"differs from the committed figure: {found.detail}", True)]
 
 
 def _arrays(path: Path, side: str) -> dict:
@@ -122,12 +146,16 @@ def main(argv=None) -> int:
     if missing:
         parser.error(f"{args.directory} holds no {' and no '.join(missing)}: give the directory "
                      "`make verify` recomputed into")
-    found = differences(args.directory)
-    for line in found:
+    found = findings(args.directory)
+    real = [line.text for line in found if line.difference]
+    close = [line.text for line in found if not line.difference]
+    for line in real + close:
         print(line)
-    print(f"{len(found)} difference{'s' * (len(found) != 1)} from the committed results and figures" if found else
-          "every committed result and figure is what the code computes, and nothing else was computed")
-    return 1 if found else 0
+    within = (f" ({len(close)} PDF figure{'s' * (len(close) != 1)} the same within "
+              f"{figure_files.TOLERANCE:g} pt, not byte for byte)") if close else ""
+    print(f"{len(real)} difference{'s' * (len(real) != 1)} from the committed results and figures{within}" if real else
+          f"every committed result and figure is what the code computes{within}, and nothing else was computed")
+    return 1 if real else 0
 
 
 if __name__ == "__main__":

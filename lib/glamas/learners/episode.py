@@ -37,6 +37,8 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
+from glamas import portable
+
 MEASURES = ("length", "collisions", "coordinations", "capped")
 """The per-episode measurements after the agents' columns: steps until every agent was in the goal,
 agent-agent collision events, coordinations (what counts as one is the learner's: 2observe's steps
@@ -72,7 +74,7 @@ def uniform_edges(n_episodes: int, block: int) -> np.ndarray:
 def log_edges(n_episodes: int, blocks: int) -> np.ndarray:
     """Edges of at most ``blocks`` blocks whose ends are log-spaced from episode 1 to
     ``n_episodes`` (rounded; the first blocks one episode wide)."""
-    ends = np.unique(np.round(np.geomspace(1, n_episodes, blocks)).astype(np.int64))
+    ends = np.unique(np.round(portable.geomspace(1, n_episodes, blocks)).astype(np.int64))
     return np.concatenate([np.zeros(1, np.int64), ends])
 
 

@@ -16,6 +16,7 @@ from glamas.experiments.gridworld.experiment import GridworldConfig, GridworldRe
 from glamas.gridworld import GridMap, dp, rules
 from glamas.learners import episode as ep
 from glamas.learners import registry, spec, two_observe
+from glamas.portable import weighted_sum
 
 
 ZERO_COLLISIONS = 0.05
@@ -43,7 +44,7 @@ def measure(result: GridworldResult) -> dict:
         m[f"coordinations_{name}"] = final(result.curves(name, "coordinations"), x)
         m[f"convergence_{name}"] = float(np.median(convergence_episodes(result.steps(name), x)))
         m[f"zero_collisions_after_{name}"] = zero_collisions_after(result, name)
-        m[f"capped_episodes_{name}"] = float(result.curves(name, "capped").mean(axis=0) @ result.widths())
+        m[f"capped_episodes_{name}"] = float(weighted_sum(result.curves(name, "capped").mean(axis=0), result.widths()))
         m.update(evaluation_measures(result, name))
     if "two_observe" in result.names():
         m.update(first_level_shares(result))

@@ -7,6 +7,7 @@ import math
 import numpy as np
 
 from glamas import claims as chapter
+from glamas import portable
 from glamas.curves import BAND_DRAWS, convergence_episode, final, ratio
 from glamas.errors import UserError
 from glamas.experiments.gridworld.analysis import COMPLETION
@@ -21,9 +22,9 @@ def growth(agents, values) -> dict:
     agents, values = np.asarray(agents, float), np.asarray(values, float)
     if agents.size < 2:
         return {"factor_per_agent": math.nan, "loglog_slope": math.nan}
-    slope = np.polyfit(agents, np.log(values), 1)[0]
-    loglog = np.polyfit(np.log(agents), np.log(values), 1)[0]
-    return {"factor_per_agent": float(np.exp(slope)), "loglog_slope": float(loglog)}
+    slope = portable.line_slope(agents, portable.log(values))
+    loglog = portable.line_slope(portable.log(agents), portable.log(values))
+    return {"factor_per_agent": float(portable.exp(np.float64(slope))), "loglog_slope": loglog}
 
 
 def measure(result: ScalingResult) -> dict:

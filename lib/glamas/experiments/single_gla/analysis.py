@@ -7,7 +7,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 from numba import njit
 
-from glamas import claims, gla, lineworld
+from glamas import claims, gla, lineworld, portable
 from glamas.curves import final_per_run
 from glamas.experiments.single_gla.experiment import SingleGLAConfig, SingleGLAResult
 from glamas.errors import UserError
@@ -145,8 +145,7 @@ def _line_search(encoding, region3, agent, x1, x2, angles):
     if features.shape[1] == 1:
         directions = np.array([[1.0], [-1.0]])
     else:
-        theta = np.arange(angles) * (2 * np.pi / angles)
-        directions = np.column_stack([np.cos(theta), np.sin(theta)])
+        directions = np.column_stack(portable.cos_sin_of_turns(np.arange(angles) / angles))
     return features, directions, wants_left
 
 

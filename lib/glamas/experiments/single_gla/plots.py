@@ -7,6 +7,7 @@ from glamas import lineworld
 from glamas.experiments.single_gla.analysis import B_BEST_LINE_OFFSETS, bounded
 from glamas.experiments.single_gla.experiment import SingleGLAResult
 from glamas.plotting import legend_below, plot_mean_band
+from glamas.portable import weighted_sum
 from glamas.errors import UserError
 
 
@@ -36,7 +37,7 @@ def plot_learned_lines(ax, result: SingleGLAResult, run_index: int, grid: int = 
     x1, x2 = lineworld.state_grid(grid)
     xs = np.column_stack([x1, x2, np.ones_like(x1)])
     hu = bounded(u, result.config)
-    prefers_left = [(xs @ (hu[agent, 0] - hu[agent, 1])) > 0 for agent in range(2)]
+    prefers_left = [weighted_sum(xs, hu[agent, 0] - hu[agent, 1]) > 0 for agent in range(2)]
     t = np.linspace(-1.0, 1.0, 401)
     _draw_reference_lines(ax, t, result.config.region3_reward)
     for agent, (name, colour) in enumerate((("A", "tab:red"), ("B", "tab:purple"))):

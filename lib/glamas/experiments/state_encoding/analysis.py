@@ -9,6 +9,7 @@ from glamas import claims, gla, lineworld
 from glamas.curves import BOOTSTRAP_DRAWS
 from glamas.experiments.single_gla.analysis import best_actions, contexts
 from glamas.experiments.single_gla.experiment import SingleGLAConfig, SingleGLAResult
+from glamas.portable import weighted_sum
 
 
 @njit(cache=True)
@@ -77,7 +78,7 @@ def curve_mean(curves: np.ndarray, iteration: np.ndarray) -> np.ndarray:
     """(runs,) each curve's mean over the iterations from the first to the last checkpoint
     (trapezoids between checkpoints): the height of the learning curve averaged over the run."""
     widths = np.diff(iteration)
-    return (curves[:, 1:] + curves[:, :-1]) @ widths / (2.0 * widths.sum())
+    return weighted_sum(curves[:, 1:] + curves[:, :-1], widths) / (2.0 * widths.sum())
 
 
 REACH_TOLERANCE = 0.05

@@ -6,7 +6,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from glamas import checks, memory
+from glamas import checks, memory, portable
 from glamas.experiments.single_gla.experiment import PARAMETERS, SingleGLAConfig, SingleGLAResult, run, scaled
 from glamas.errors import UserError
 
@@ -59,7 +59,7 @@ class EncodingConfig:
         """The iterations after which the parameters are recorded: 0 and ``checkpoints`` log-spaced
         ones from 10 (or the last iteration, if fewer) to the last (rounded, duplicates dropped)."""
         last = self.experiment.iterations
-        spaced = np.rint(np.geomspace(min(10, last), last, self.checkpoints)).astype(np.int64)
+        spaced = np.rint(portable.geomspace(min(10, last), last, self.checkpoints)).astype(np.int64)
         return np.unique(np.concatenate([[0], spaced]))
 
     def memory_bytes(self) -> int:
