@@ -28,19 +28,22 @@ $(EXTRAS): $(READY) requirements-extras.txt
 figures: $(READY)
 	$(PY) -m glamas.reproduce --all
 
-## test: unit tests, then every notebook under nbval, each on one pytest worker per core
-## (pytest-xdist; TEST_WORKERS=1 runs them one after the other)
+## test: every kernel compiled once into numba's cache (glamas.precompile, one process per core), then
+## the unit tests and every notebook under nbval in one pytest session, on one worker per core
+## (pytest-xdist; TEST_WORKERS=1 runs them one after the other; a notebook's cells run in order on
+## one worker, in one kernel: notebooks/conftest.py)
 TEST_WORKERS ?= auto
+NBVAL := --nbval --nbval-current-env --nbval-sanitize-with notebooks/sanitize.cfg
 
-test: unit notebooks-check
+test: $(READY) $(EXTRAS)
+	$(PY) -m glamas.precompile
+	$(PY) -m pytest -p no:cacheprovider -n $(TEST_WORKERS) --dist loadgroup $(NBVAL) tests $(NOTEBOOKS)
 
 unit: $(READY) $(EXTRAS)
 	$(PY) -m pytest -p no:cacheprovider -n $(TEST_WORKERS) tests
 
-# --dist loadfile: a notebook's cells run in order on one worker, in one kernel
 notebooks-check: $(READY)
-	$(PY) -m pytest -p no:cacheprovider -n $(TEST_WORKERS) --dist loadfile --nbval --nbval-current-env \
-		--nbval-sanitize-with notebooks/sanitize.cfg $(NOTEBOOKS)
+	$(PY) -m pytest -p no:cacheprovider -n $(TEST_WORKERS) --dist loadgroup $(NBVAL) $(NOTEBOOKS)
 
 ## notebooks: re-execute every notebook in place at paper scale (commit the outputs)
 notebooks: $(READY)

@@ -361,18 +361,3 @@ def test_plots_refuse_unknown_metrics_and_agents(small_result):
     with pytest.raises(ValueError, match="no results for N = 5"):
         sc.plot_curves(ax, small_result, 5)
     plt.close(fig)
-
-
-def test_figure_scripts_write_byte_identical_figures(tmp_path):
-    import importlib.util
-
-    from glamas.paths import REPO
-    for name in ("scaling_sizes", "scaling_performance"):
-        spec = importlib.util.spec_from_file_location(name, REPO / "paper_figures" / f"{name}.py")
-        module = importlib.util.module_from_spec(spec)
-        spec.loader.exec_module(module)
-        args = ["--runs", "1", "--iterations", "100", "--workers", "1", "--results", str(tmp_path / "r")]
-        module.main(args + ["--out", str(tmp_path / "a")])
-        module.main(args + ["--out", str(tmp_path / "b")])
-        for suffix in ("png", "pdf"):
-            assert (tmp_path / "a" / f"{name}.{suffix}").read_bytes() == (tmp_path / "b" / f"{name}.{suffix}").read_bytes()

@@ -6,6 +6,7 @@ episode from which a curve has converged."""
 import math
 
 import numpy as np
+from numba import njit
 
 from glamas.errors import UserError
 from glamas.portable import weighted_sum
@@ -75,8 +76,28 @@ def mean_and_band(curves: np.ndarray, seed: int = 0):
     if curves.shape[0] < 2:
         return mean, mean, mean
     picks = np.random.default_rng(seed).integers(0, curves.shape[0], (BAND_DRAWS, curves.shape[0]))
-    low, high = np.percentile(curves[picks].mean(axis=1), [2.5, 97.5], axis=0)
+    low, high = np.percentile(resampled_means(curves, picks), [2.5, 97.5], axis=0)
     return mean, low, high
+
+
+def resampled_means(curves: np.ndarray, picks: np.ndarray) -> np.ndarray:
+    """(draws, points): for each row of ``picks`` (draws, k), the mean of those rows of ``curves``
+    (runs, points): ``curves[picks].mean(axis=1)`` to the bit (each sum in the order of the picks),
+    without the (draws, k, points) copy that indexing makes."""
+    return _resampled_means(np.ascontiguousarray(curves, dtype=np.float64), np.ascontiguousarray(picks, dtype=np.int64))
+
+
+@njit(cache=True)
+def _resampled_means(curves, picks):
+    draws, k = picks.shape
+    out = np.empty((draws, curves.shape[1]))
+    for d in range(draws):
+        row = out[d]
+        row[:] = curves[picks[d, 0]]
+        for j in range(1, k):
+            row += curves[picks[d, j]]
+        row /= k
+    return out
 
 
 def convergence_episode(curves: np.ndarray, episodes: np.ndarray, tolerance: float = CONVERGENCE_TOLERANCE) -> float:
@@ -130,8 +151,8 @@ def convergence_ratio(curves: np.ndarray, baseline: np.ndarray, episodes: np.nda
         a = _mean_curve_episodes(curves.mean(axis=0), episodes, definition, tolerance, level)
         b = _mean_curve_episodes(baseline.mean(axis=0), episodes, definition, tolerance, level)
         point = a / max(b, 1.0)
-        ratios = (_mean_curve_episodes(curves[picks_a].mean(axis=1), episodes, definition, tolerance, level)
-                  / np.maximum(_mean_curve_episodes(baseline[picks_b].mean(axis=1), episodes, definition,
+        ratios = (_mean_curve_episodes(resampled_means(curves, picks_a), episodes, definition, tolerance, level)
+                  / np.maximum(_mean_curve_episodes(resampled_means(baseline, picks_b), episodes, definition,
                                                     tolerance, level), 1.0))
     low, high = np.percentile(ratios, [2.5, 97.5])
     return float(point), float(low), float(high)

@@ -46,13 +46,14 @@ def source_files(package: Path = PACKAGE) -> list[Path]:
     return sorted(package.rglob("*.py"))
 
 
+_NUMBA = re.compile(r"^[ \t]*(?:from|import)[ \t]+numba\b", re.M)
 _IMPORT = re.compile(r"^[ \t]*(?:from[ \t]+(\w+(?:\.\w+)*)[ \t]+import[ \t]+(?:\(([^)]*)\)|([^\n#]*))"
                      r"|import[ \t]+(\w+(?:\.\w+)*))", re.M)
 
 
 def kernel_source_files(package: Path = PACKAGE) -> list[Path]:
     """The sources a compiled kernel can depend on, in a fixed order: every module of the package
-    whose text names numba, and every module of the package those import, directly or not (read
+    that imports numba, and every module of the package those import, directly or not (read
     from their import statements; a package's ``__init__`` stands for the package)."""
     files = source_files(package)
     texts = {path: path.read_text(encoding="utf-8", errors="replace") for path in files}
@@ -60,7 +61,7 @@ def kernel_source_files(package: Path = PACKAGE) -> list[Path]:
     for path in files:
         parts = (package.name,) + path.relative_to(package).with_suffix("").parts
         by_name[".".join(parts[:-1] if parts[-1] == "__init__" else parts)] = path
-    reached = [path for path in files if "numba" in texts[path]]
+    reached = [path for path in files if _NUMBA.search(texts[path])]
     seen = set(reached)
     while reached:
         for module, names, line, plain in _IMPORT.findall(texts[reached.pop()]):

@@ -8,8 +8,11 @@ from glamas.experiments.and_network.analysis import (claim_rows, init_dependence
 from glamas.experiments.and_network.experiment import (DEFAULT_SWEEP, RERUN_STREAM, ANDNetworkConfig,
                                                        ANDNetworkResult, SweepResult, final_left_by_region, left_map,
                                                        run, scaled, sweep)
+from pathlib import Path
+
 from glamas.experiments.faces import plots_on_first_use
 from glamas.experiments.registry import Experiment, register
+from glamas.paths import RESULTS
 
 PLOTS = ("plot_parabola", "plot_boundaries", "plot_prob_left", "plot_stuck_fraction")
 """The drawing functions of :mod:`.plots` this face hands on."""
@@ -17,7 +20,7 @@ __getattr__ = plots_on_first_use(__name__, PLOTS)
 
 __all__ = ["DEFAULT_SWEEP", "FIG7", "FIG7_SWEEP", "RERUN_STREAM", "ANDNetworkConfig", "ANDNetworkResult",
            "SweepResult", "claim_rows", "final_left_by_region", "init_dependence", "left_map", "measure",
-           "measure_sweep", "run", "stuck_runs", "sweep", "sweep_claim_rows", "typical_runs", *PLOTS]
+           "load_sweep", "measure_sweep", "run", "stuck_runs", "sweep", "sweep_claim_rows", "typical_runs", *PLOTS]
 
 FIG7 = register(Experiment("and_network", ANDNetworkConfig, run, scaled, ANDNetworkConfig.runs,
                            ANDNetworkConfig.iterations, ANDNetworkResult,
@@ -29,3 +32,8 @@ FIG7_SWEEP = register(Experiment("and_network_sweep", ANDNetworkConfig, sweep, s
                                  chapter=False, copies=len(DEFAULT_SWEEP) + 1))
 """The stuck sweep: experiment 2 at each region II reward of DEFAULT_SWEEP, and the highest
 reward's rerun on another stream."""
+
+
+def load_sweep(config: ANDNetworkConfig = ANDNetworkConfig(), seed: int = 0, results_dir: Path = RESULTS) -> SweepResult:
+    """The committed (or ``results_dir``'s) sweep of ``config`` and ``seed``, its configuration checked."""
+    return FIG7_SWEEP.load(results_dir, config, seed)

@@ -4,9 +4,6 @@
 
 from pathlib import Path
 
-import numpy as np
-
-from glamas import results
 from glamas.experiments.faces import plots_on_first_use
 from glamas.experiments.gridworld.analysis import (claim_rows, convergence_comparison, convergence_report,
                                                    convergence_spread, coordination_probability, evaluation_table,
@@ -26,7 +23,7 @@ __getattr__ = plots_on_first_use(__name__, PLOTS)
 
 __all__ = ["CHAPTER_LEARNERS", "EXPERIMENT", "GridworldConfig", "GridworldResult", "claim_rows", "convergence_comparison",
            "convergence_report", "convergence_spread", "coordination_probability", "evaluation_table", "in_range_share",
-           "learner_bytes", "load", "matches_committed", "measure", "need_probability", "optimum", "result_of",
+           "learner_bytes", "load", "measure", "need_probability", "optimum", "result_of",
            "run", "state_action_spaces", "state_action_table", "stuck_by_start", "summary_table", "trainings",
            "with_learner", "zero_collisions_table", *PLOTS]
 
@@ -41,9 +38,3 @@ def load(config: GridworldConfig = GridworldConfig(), seed: int = 0, results_dir
     """The committed (or ``results_dir``'s) result of ``config`` and ``seed``, its configuration checked."""
     return EXPERIMENT.load(results_dir, config, seed)
 
-
-def matches_committed(result: GridworldResult, config: GridworldConfig, seed: int = 0) -> bool:
-    """Whether ``result`` equals, array for array, the committed result of ``config`` and ``seed``
-    (data/results/gridworld.npz, its configuration checked)."""
-    stored = results.load(EXPERIMENT.file(RESULTS), config, seed=seed)
-    return all(np.array_equal(getattr(result, name), stored[name]) for name in stored)

@@ -2,6 +2,7 @@
 policies (:func:`evaluate`), the best single line each context allows (exhaustive search), the
 shares of Fig. 5a's regions the learned lines get right, and the claims' numbers."""
 
+import functools
 from dataclasses import dataclass, replace
 
 import numpy as np
@@ -46,9 +47,14 @@ def regions(x1, x2):
 def contexts(encoding: int, agent: int, x1: np.ndarray, x2: np.ndarray) -> np.ndarray:
     """(points, context length) the agent's contexts at the given positions."""
     out = np.empty((x1.shape[0], lineworld.CONTEXT_LENGTH[encoding]))
+    _fill_contexts(encoding, agent, x1, x2, out)
+    return out
+
+
+@njit(cache=True)
+def _fill_contexts(encoding, agent, x1, x2, out):
     for i in range(x1.shape[0]):
         lineworld.context(encoding, agent, x1[i], x2[i], out[i])
-    return out
 
 
 @dataclass(frozen=True)
@@ -100,6 +106,7 @@ def _correct_runs(params: np.ndarray, config: SingleGLAConfig) -> np.ndarray:
     return np.stack([_correct_on_grid(u, config) for u in params])
 
 
+@functools.lru_cache(maxsize=None)  # a constant of the problem, asked for by every measure
 def best_line_reward(encoding_name: str, agent: int, grid: int = 200, angles: int = 720,
                      region3_reward: str = "move_apart") -> float:
     """The best expected reward a single line (a fixed threshold on a linear function of the
@@ -139,13 +146,15 @@ def best_line_plays(encoding: int, region3: int, agent: int, x1: np.ndarray, x2:
 
 def _line_search(encoding, region3, agent, x1, x2, angles):
     """The inputs of :func:`_best_threshold`: the agent's contexts without the bias input, the
-    directions to try, and where the agent's part of the rewarded joint action is L."""
+    directions to try (the second half the first's negatives, exactly), and where the agent's part
+    of the rewarded joint action is L."""
     features = np.ascontiguousarray(contexts(encoding, agent, x1, x2)[:, :-1])
     wants_left = best_actions(x1, x2, agent, region3) == lineworld.LEFT
     if features.shape[1] == 1:
         directions = np.array([[1.0], [-1.0]])
     else:
-        directions = np.column_stack(portable.cos_sin_of_turns(np.arange(angles) / angles))
+        half = np.column_stack(portable.cos_sin_of_turns(np.arange(angles // 2) / angles))
+        directions = np.concatenate([half, -half])
     return features, directions, wants_left
 
 
@@ -159,36 +168,65 @@ def _projection(features, direction):
     return projection
 
 
-@njit(cache=True)
 def _best_threshold(features, directions, wants_left, counts):
     """Per row of ``counts``: the largest weighted count of points a rule 'L iff w.x is above the
     threshold' gets right, over every direction w and every threshold between two distinct
     projections (or beyond all of them); with the first best direction's index (-1: L everywhere)
-    and its threshold."""
-    best = np.zeros(counts.shape[0])
-    best_direction = np.full(counts.shape[0], -1, dtype=np.int64)
-    best_threshold = np.full(counts.shape[0], -np.inf)
-    left_total = np.zeros(counts.shape[0])
-    for r in range(counts.shape[0]):
-        for j in range(counts.shape[1]):
-            if wants_left[j]:
-                left_total[r] += counts[r, j]
-        best[r] = left_total[r]
-    for d in range(directions.shape[0]):
+    and its threshold.
+
+    Direction d + D/2 is minus direction d, so its projections are the negatives of d's and its
+    order of the points is d's reversed: each sort serves two directions, d's order walked forward
+    and backward. The sort is numpy's (stable, many times faster than numba's; within a run of
+    equal projections the order does not matter). The counts are whole numbers, so their sums do
+    not depend on the order they are added in, and the first best direction is the one a walk over
+    d = 0, 1, ... finds."""
+    by_point = np.ascontiguousarray(np.asarray(counts, dtype=np.float64).T)  # (points, rows): rows walk together
+    half = directions.shape[0] // 2
+    left_total = (by_point * wants_left[:, None]).sum(axis=0)  # whole numbers: exact in any order
+    found = np.full((2 * half, by_point.shape[1]), -np.inf)
+    at = np.zeros_like(found)
+    for d in range(half):
         projection = _projection(features, directions[d])
-        order = np.argsort(projection, kind="mergesort")
-        for r in range(counts.shape[0]):
-            right_below, left_above = 0.0, left_total[r]
-            for i in range(order.shape[0]):
-                j = order[i]
-                if wants_left[j]:
-                    left_above -= counts[r, j]
-                else:
-                    right_below += counts[r, j]
-                if (i + 1 == order.shape[0] or projection[order[i + 1]] != projection[j]) \
-                        and right_below + left_above > best[r]:
-                    best[r] = right_below + left_above
-                    best_direction[r], best_threshold[r] = d, projection[j]
+        order = np.argsort(projection, kind="stable")
+        _walk(projection, order, wants_left, by_point, left_total, 1.0, found[d], at[d])
+        _walk(projection, order[::-1], wants_left, by_point, left_total, -1.0, found[d + half], at[d + half])
+    return _first_best(found, at, left_total)
+
+
+@njit(cache=True)
+def _walk(projection, order, wants_left, by_point, left_total, sign, found, at):
+    """One direction's split points in ``order`` (ascending ``sign`` x projection), for every row
+    of counts at once (``by_point``: points by rows): the largest count right and the first
+    threshold reaching it into ``found`` and ``at`` (one per row)."""
+    n, rows = order.shape[0], by_point.shape[1]
+    right_below, left_above = np.zeros(rows), left_total.copy()
+    for i in range(n):
+        j = order[i]
+        if wants_left[j]:
+            for r in range(rows):
+                left_above[r] -= by_point[j, r]
+        else:
+            for r in range(rows):
+                right_below[r] += by_point[j, r]
+        if i + 1 == n or projection[order[i + 1]] != projection[j]:
+            for r in range(rows):
+                value = right_below[r] + left_above[r]
+                if value > found[r]:
+                    found[r], at[r] = value, sign * projection[j]
+
+
+@njit(cache=True)
+def _first_best(found, at, left_total):
+    """Per row, the best of ``found`` (directions by rows) if it beats L everywhere
+    (``left_total``), the first direction reaching it and its threshold."""
+    rows = found.shape[1]
+    best = left_total.copy()
+    best_direction = np.full(rows, -1, dtype=np.int64)
+    best_threshold = np.full(rows, -np.inf)
+    for d in range(found.shape[0]):
+        for r in range(rows):
+            if found[d, r] > best[r]:
+                best[r], best_direction[r], best_threshold[r] = found[d, r], d, at[d, r]
     return best, best_direction, best_threshold
 
 
@@ -207,6 +245,7 @@ def region_shares(correct: np.ndarray, x1: np.ndarray, x2: np.ndarray) -> np.nda
     return np.column_stack([both[:, labels == k].mean(axis=1) for k in REGIONS])
 
 
+@functools.lru_cache(maxsize=None)  # a constant of the configuration, asked for by every measure
 def best_lines_region_shares(config: SingleGLAConfig, angles: int = 720) -> np.ndarray:
     """(3,) :func:`region_shares` of each agent's best single line (:func:`best_line_plays`, on
     the evaluation grid): what Fig. 5b would show for the best lines the context allows under
@@ -218,7 +257,9 @@ def best_lines_region_shares(config: SingleGLAConfig, angles: int = 720) -> np.n
     encoding, region3 = lineworld.encoding_code(config.context), lineworld.region3_code(config.region3_reward)
     x1, x2 = lineworld.state_grid(config.eval_grid)
     plays = np.stack([best_line_plays(encoding, region3, agent, x1, x2, angles) for agent in range(2)])
-    return region_shares(plays[None].astype(np.float64), x1, x2)[0]
+    shares = region_shares(plays[None].astype(np.float64), x1, x2)[0]
+    shares.flags.writeable = False  # cached: shared by every caller
+    return shares
 
 
 def best_response_gap(params: np.ndarray, config: SingleGLAConfig, agent: int, grid: int = 100,

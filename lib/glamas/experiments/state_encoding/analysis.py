@@ -6,6 +6,7 @@ import numpy as np
 from numba import njit
 
 from glamas import claims, gla, lineworld
+from glamas.memo import digest, memoized
 from glamas.curves import BOOTSTRAP_DRAWS
 from glamas.experiments.single_gla.analysis import best_actions, contexts
 from glamas.experiments.single_gla.experiment import SingleGLAConfig, SingleGLAResult
@@ -63,6 +64,15 @@ def grid_points(config: SingleGLAConfig) -> tuple:
             rows[:, 2 * n + 1].astype(np.int64), counts / 2.0)
 
 
+def _reads(result: SingleGLAResult) -> tuple:
+    """What :func:`expected_curves` reads of a result: its checkpoints' parameters and the settings
+    of the policies and the grid (a result recorded in other windows has the same curves)."""
+    config = result.config
+    return (config.context, config.region3_reward, config.eval_grid, config.temperature, config.L, config.bounding,
+            digest(result.checkpoint_params))
+
+
+@memoized(_reads)
 def expected_curves(result: SingleGLAResult) -> np.ndarray:
     """(runs, checkpoints) the team's expected feedback (:func:`team_rewards` on the evaluation
     grid) at every checkpoint of every run: Fig. 6's learning curve without sampling noise."""
