@@ -37,13 +37,13 @@ NBVAL := --nbval --nbval-current-env --nbval-sanitize-with notebooks/sanitize.cf
 
 test: $(READY) $(EXTRAS)
 	$(PY) -m glamas.precompile
-	$(PY) -m pytest -p no:cacheprovider -n $(TEST_WORKERS) --dist loadgroup $(NBVAL) tests $(NOTEBOOKS)
+	$(PY) -m pytest -p no:cacheprovider -n $(TEST_WORKERS) $(NBVAL) tests $(NOTEBOOKS)
 
 unit: $(READY) $(EXTRAS)
 	$(PY) -m pytest -p no:cacheprovider -n $(TEST_WORKERS) tests
 
 notebooks-check: $(READY)
-	$(PY) -m pytest -p no:cacheprovider -n $(TEST_WORKERS) --dist loadgroup $(NBVAL) $(NOTEBOOKS)
+	$(PY) -m pytest -p no:cacheprovider -n $(TEST_WORKERS) $(NBVAL) $(NOTEBOOKS)
 
 ## notebooks: re-execute every notebook in place at paper scale (commit the outputs)
 notebooks: $(READY)
