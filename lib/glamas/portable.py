@@ -19,7 +19,10 @@ result of each experiment against digests committed beside the results, so that 
 gives other bits is found (docs/speed.md, "What is portable").
 """
 
+import math
+
 import numpy as np
+from numba import njit, vectorize
 
 # fdlibm e_log.c
 _LN2_HI = 6.93147180369123816490e-01
@@ -50,22 +53,25 @@ _POW10 = np.array([float(f"1e{k}") for k in range(_POW10_FROM, 309)])
 """The double nearest 10**k for every k a double reaches (reading a decimal rounds correctly)."""
 
 
-def _horner(z, coefficients):
-    """c0 + z (c1 + z (c2 + ...)), one rounding per operation, in this order."""
-    total = np.full_like(z, coefficients[-1])
-    for c in coefficients[-2::-1]:
-        total = c + z * total
+@njit(cache=True)
+def _horner(z, c):
+    """c[0] + z (c[1] + z (c[2] + ...)), one rounding per operation, in this order."""
+    total = c[-1]
+    for i in range(len(c) - 2, -1, -1):
+        total = c[i] + z * total
     return total
 
 
+@njit(cache=True)
 def _split(x):
     """x = m * 2**k with m in [sqrt(1/2), sqrt(2)) (exact), for finite x > 0: (f = m - 1, k)."""
-    m, k = np.frexp(x)  # m in [1/2, 1)
-    low = m < 0.7071067811865476
-    m = np.where(low, 2.0 * m, m)
-    return m - 1.0, (k - low).astype(np.float64)  # m - 1 is exact for m in [1/2, 2]
+    m, k = math.frexp(x)  # m in [1/2, 1)
+    if m < 0.7071067811865476:
+        return 2.0 * m - 1.0, float(k - 1)  # m - 1 is exact for m in [1/2, 2]
+    return m - 1.0, float(k)
 
 
+@njit(cache=True)
 def _log1p_of_split(f):
     """ln(1 + f) for f = m - 1 of :func:`_split` (fdlibm's log, its polynomial in s = f / (2 + f))."""
     s = f / (2.0 + f)
@@ -77,41 +83,107 @@ def _log1p_of_split(f):
     return f - (hfsq - s * (hfsq + (t2 + t1)))
 
 
-def _positive(x, compute):
-    """``compute`` on the finite positive entries of ``x``; log's values elsewhere (0: -inf,
-    negative or NaN: NaN, +inf: +inf)."""
-    x = np.asarray(x, dtype=np.float64)
-    ok = np.isfinite(x) & (x > 0)
-    out = compute(np.where(ok, x, 1.0))
-    edge = np.where(x == 0, -np.inf, np.where(x == np.inf, np.inf, np.nan))
-    return np.where(ok, out, edge)
+@njit(cache=True)
+def _edge_of_log(x):
+    """A logarithm's value where x is not finite and positive: -inf at 0, +inf at +inf, else NaN."""
+    return -np.inf if x == 0.0 else (np.inf if x == np.inf else np.nan)
 
 
-def log(x):
-    """The natural logarithm of ``x`` (fdlibm's e_log.c)."""
-    def compute(x):
-        f, k = _split(x)
-        return k * _LN2_HI + (k * _LN2_LO + _log1p_of_split(f))
-    return _positive(x, compute)
+@njit(cache=True)
+def _log(x):
+    if not (0.0 < x < np.inf):
+        return _edge_of_log(x)
+    f, k = _split(x)
+    return k * _LN2_HI + (k * _LN2_LO + _log1p_of_split(f))
 
 
-def log10(x):
-    """The base-10 logarithm of ``x`` (fdlibm's e_log10.c); exactly k at the double nearest 10**k."""
-    def compute(x):
-        f, k = _split(x)
-        y = k * _LOG10_2HI + (k * _LOG10_2LO + _IVLN10 * _log1p_of_split(f))
-        whole = np.rint(y)
-        at = np.clip(whole - _POW10_FROM, 0, _POW10.size - 1).astype(np.int64)
-        return np.where(_POW10[at] == x, whole, y)
-    return _positive(x, compute)
+@njit(cache=True)
+def _log10(x):
+    if not (0.0 < x < np.inf):
+        return _edge_of_log(x)
+    f, k = _split(x)
+    y = k * _LOG10_2HI + (k * _LOG10_2LO + _IVLN10 * _log1p_of_split(f))
+    whole = np.rint(y)
+    at = int(min(max(whole - _POW10_FROM, 0.0), _POW10.size - 1.0))
+    return whole if _POW10[at] == x else y
 
 
-def log2(x):
-    """The base-2 logarithm of ``x``; exactly k at 2**k."""
-    def compute(x):
-        f, k = _split(x)
-        return k + _IVLN2 * _log1p_of_split(f)
-    return _positive(x, compute)
+@njit(cache=True)
+def _log2(x):
+    if not (0.0 < x < np.inf):
+        return _edge_of_log(x)
+    f, k = _split(x)
+    return k + _IVLN2 * _log1p_of_split(f)
+
+
+@njit(cache=True)
+def _exp_reduced(r, hi, lo):
+    """exp(r) for |r| <= ln(2) / 2, r = hi - lo (fdlibm's polynomial and its last step)."""
+    t = r * r
+    c = r - t * _horner(t, _P)
+    return 1.0 - ((lo - (r * c) / (2.0 - c)) - hi)
+
+
+@njit(cache=True)
+def _exp(x):
+    if x != x:
+        return np.nan
+    if x > _EXP_HIGH:
+        return np.inf
+    if x < _EXP_LOW:
+        return 0.0
+    k = np.rint(x * _IVLN2)
+    hi = x - k * _LN2_HI  # exact: ln2_hi has its last 32 bits zero
+    lo = k * _LN2_LO
+    return math.ldexp(_exp_reduced(hi - lo, hi, lo), int(k))
+
+
+@njit(cache=True)
+def _power10(y):
+    if y != y:
+        return np.nan
+    if y == np.inf:
+        return np.inf
+    if y == -np.inf:
+        return 0.0
+    safe = min(max(y, -330.0), 310.0)
+    if safe == np.rint(safe) and _POW10_FROM <= safe < _POW10_FROM + _POW10.size:
+        return _POW10[int(safe - _POW10_FROM)]
+    if safe > 308.3:
+        return np.inf
+    k = np.rint(safe * _LOG2_10)
+    r = (safe - k * _LOG10_2HI) - k * _LOG10_2LO  # |r| <= 0.151
+    x = r * _LN10
+    return math.ldexp(_exp_reduced(x, x, 0.0), int(k))
+
+
+@njit(cache=True)
+def _power2(y):
+    if y != y:
+        return np.nan
+    if y == np.inf:
+        return np.inf
+    if y == -np.inf:
+        return 0.0
+    k = math.floor(min(max(y, -1100.0), 1100.0))  # 2**floor(y) exactly, times 2**f for the fraction f
+    return math.ldexp(_exp((y - k) * _LN2), int(k))
+
+
+def _ufunc(function, doc: str):
+    """A numpy ufunc (any shape; a scalar gives a scalar) of a compiled function of one float,
+    compiled (or read from numba's cache) when first called, not on import."""
+    ufunc = vectorize(cache=True)(function.py_func)
+    ufunc.__doc__ = doc
+    return ufunc
+
+
+log = _ufunc(_log, "The natural logarithm of ``x`` (fdlibm's e_log.c).")
+log10 = _ufunc(_log10, "The base-10 logarithm of ``x`` (fdlibm's e_log10.c); exactly k at the double nearest 10**k.")
+log2 = _ufunc(_log2, "The base-2 logarithm of ``x``; exactly k at 2**k.")
+exp = _ufunc(_exp, "e to the power ``x`` (fdlibm's e_exp.c): exp(r) times 2**k for x = k ln(2) + r.")
+power10 = _ufunc(_power10, "10 to the power ``y``: 2**k times 10**r for y = k log10(2) + r; exactly the double "
+                           "nearest 10**k at a whole k.")
+_power_of_2 = _ufunc(_power2, "2 to the power ``y``: 2**floor(y) exactly, times 2**f for its fraction f.")
 
 
 def log_base(x, base: float):
@@ -123,53 +195,13 @@ def log_base(x, base: float):
     return log(x) / float(log(np.float64(base)))
 
 
-def _exp_reduced(r, hi, lo):
-    """exp(r) for |r| <= ln(2) / 2, r = hi - lo (fdlibm's polynomial and its last step)."""
-    t = r * r
-    c = r - t * _horner(t, _P)
-    return 1.0 - ((lo - (r * c) / (2.0 - c)) - hi)
-
-
-def exp(x):
-    """e to the power ``x`` (fdlibm's e_exp.c): exp(r) times 2**k for x = k ln(2) + r."""
-    x = np.asarray(x, dtype=np.float64)
-    finite = np.isfinite(x)
-    safe = np.clip(np.where(finite, x, 0.0), _EXP_LOW, _EXP_HIGH)
-    k = np.rint(safe * _IVLN2)
-    hi = safe - k * _LN2_HI  # exact: ln2_hi has its last 32 bits zero
-    lo = k * _LN2_LO
-    y = np.ldexp(_exp_reduced(hi - lo, hi, lo), k.astype(np.int64))
-    y = np.where(x > _EXP_HIGH, np.inf, np.where(x < _EXP_LOW, 0.0, y))
-    return np.where(finite, y, np.where(x == np.inf, np.inf, np.where(x == -np.inf, 0.0, np.nan)))
-
-
-def power10(y):
-    """10 to the power ``y``: 2**k times 10**r for y = k log10(2) + r; exactly the double nearest
-    10**k at a whole k."""
-    y = np.asarray(y, dtype=np.float64)
-    finite = np.isfinite(y)
-    safe = np.clip(np.where(finite, y, 0.0), -330.0, 310.0)
-    k = np.rint(safe * _LOG2_10)
-    r = (safe - k * _LOG10_2HI) - k * _LOG10_2LO  # |r| <= 0.151
-    x = r * _LN10
-    out = np.ldexp(_exp_reduced(x, x, np.zeros_like(x)), k.astype(np.int64))
-    whole = (safe == np.rint(safe)) & (safe >= _POW10_FROM) & (safe < _POW10_FROM + _POW10.size)
-    at = np.clip(safe - _POW10_FROM, 0, _POW10.size - 1).astype(np.int64)
-    out = np.where(whole, _POW10[at], np.where(safe > 308.3, np.inf, out))
-    return np.where(finite, out, np.where(y == np.inf, np.inf, np.where(y == -np.inf, 0.0, np.nan)))
-
-
 def power(base: float, y):
     """``base`` (> 0) to the power ``y``."""
     if base == 10:
         return power10(y)
-    y = np.asarray(y, dtype=np.float64)
-    if base == 2:  # 2**floor(y) exactly, times 2**f for the fraction f in [0, 1)
-        finite = np.isfinite(y)
-        k = np.floor(np.clip(np.where(finite, y, 0.0), -1100.0, 1100.0))
-        out = np.ldexp(exp((y - k) * _LN2), k.astype(np.int64))
-        return np.where(finite, out, np.where(y == np.inf, np.inf, np.where(y == -np.inf, 0.0, np.nan)))
-    return exp(y * float(log(np.float64(base))))
+    if base == 2:
+        return _power_of_2(y)
+    return exp(np.asarray(y, dtype=np.float64) * float(log(np.float64(base))))
 
 
 def geomspace(start: float, stop: float, num: int) -> np.ndarray:
