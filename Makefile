@@ -31,7 +31,7 @@ figures: $(READY)
 ## test: every kernel compiled once into numba's cache (glamas.precompile, one process per core), then
 ## the unit tests and every notebook under nbval in one pytest session, on one worker per core
 ## (pytest-xdist; TEST_WORKERS=1 runs them one after the other; a notebook's cells run in order on
-## one worker, in one kernel: notebooks/conftest.py)
+## one worker, in one kernel, and each worker keeps to a core: conftest.py)
 TEST_WORKERS ?= auto
 NBVAL := --nbval --nbval-current-env --nbval-sanitize-with notebooks/sanitize.cfg
 
