@@ -8,7 +8,7 @@ import numpy as np
 
 from glamas import claims as chapter
 from glamas import portable
-from glamas.curves import BAND_DRAWS, convergence_episode, final, ratio
+from glamas.curves import BAND_DRAWS, convergence_episode, convergence_episodes, final, final_by_run, ratio, resampled_means
 from glamas.errors import UserError
 from glamas.experiments.gridworld.analysis import COMPLETION
 from glamas.experiments.scaling.experiment import RELATED_METHODS, ScalingResult, label
@@ -183,10 +183,10 @@ def final_with_band(result: ScalingResult, method: str, n: int, metric: str) -> 
     """The final value of ``metric`` (as :func:`measure`) and its 95 % bootstrap interval: runs
     resampled with replacement, the statistic recomputed from each resample's mean curve."""
     curves = result.curves(method, n, "steps" if metric == "convergence" else metric)
-    statistic = convergence_episode if metric == "convergence" else final
+    statistic, of_rows = ((convergence_episode, convergence_episodes) if metric == "convergence"
+                          else (final, final_by_run))
     draws = np.random.default_rng(0).integers(0, curves.shape[0], (BAND_DRAWS, curves.shape[0]))
-    values = [statistic(curves[pick], result.episodes) for pick in draws]
-    low, high = np.percentile(values, [2.5, 97.5])
+    low, high = np.percentile(of_rows(resampled_means(curves, draws), result.episodes), [2.5, 97.5])
     return statistic(curves, result.episodes), float(low), float(high)
 
 
