@@ -88,13 +88,15 @@ verify: $(READY)
 	$(PY) -m glamas.verify "$$VERIFY"
 
 ## benchmark-maps: the sparse-interaction benchmark: every learner on the field's maps (TunnelToGoal
-## with 2, 3 and 4 agents, ISR, CIT, CMU) against each map's exact optimum, recomputed into
-## $(MAPS_OUT)/results with its figures in $(MAPS_OUT)/figures (emptied first, as make reproduce does)
+## with 2, 3 and 4 agents, ISR, CIT, CMU) against each map's exact optimum, under the chapter's rewards
+## and under the field's, recomputed into $(MAPS_OUT)/results with its figures in $(MAPS_OUT)/figures
+## (emptied first, as make reproduce does)
 MAPS_OUT ?= out/benchmark-maps
 export MAPS_OUT
 
 benchmark-maps: $(READY)
 	$(PY) -m glamas.reproduce --experiment benchmark_maps --fresh "$$MAPS_OUT"
+	$(PY) -m glamas.reproduce --experiment benchmark_maps_field --out "$$MAPS_OUT/figures" --results "$$MAPS_OUT/results"
 
 clean-env:
 	rm -rf "$(VENV)"

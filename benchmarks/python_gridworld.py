@@ -15,7 +15,8 @@ blocks of one episode: a row per episode in the columns of glamas.learners.episo
 import math
 
 from benchmarks import python_gla
-from glamas.gridworld.rules import BUMP_PENALTY, COLLISION_PENALTY, GOAL_REWARD, N_ACTIONS
+from glamas.gridworld.rewards import CHAPTER
+from glamas.gridworld.rules import N_ACTIONS
 from glamas.learners.two_observe import box
 
 COORDINATE = 1
@@ -75,33 +76,33 @@ class World:
         (c0, c1), (d0, d1) = cells, done
         new0 = c0 if d0 else self.next_cell[c0][actions[0]]
         new1 = c1 if d1 else self.next_cell[c1][actions[1]]
-        r0 = BUMP_PENALTY if not d0 and new0 == c0 else 0.0
-        r1 = BUMP_PENALTY if not d1 and new1 == c1 else 0.0
+        r0 = CHAPTER.bump if not d0 and new0 == c0 else 0.0
+        r1 = CHAPTER.bump if not d1 and new1 == c1 else 0.0
         hit = not d0 and not d1 and ((new0 == new1 and not self.both_goal(0, 1, new0)) or (new0 == c1 and new1 == c0))
         if hit:
-            r0 += COLLISION_PENALTY
-            r1 += COLLISION_PENALTY
+            r0 += CHAPTER.collision
+            r1 += CHAPTER.collision
             new0, new1 = self.bounced(cells)
         reached = [not d0 and self.goal_of[0][new0], not d1 and self.goal_of[1][new1]]
         if reached[0]:
-            r0 += GOAL_REWARD
+            r0 += CHAPTER.goal
         if reached[1]:
-            r1 += GOAL_REWARD
+            r1 += CHAPTER.goal
         return [new0, new1], [r0, r1], reached, int(hit)
 
     def step(self, cells, done, actions):
         """One joint move of any number of agents, bounce rounds included (rules.step)."""
         n = len(cells)
         new = [c if d else self.next_cell[c][a] for c, d, a in zip(cells, done, actions)]
-        rewards = [BUMP_PENALTY if not d and m == c else 0.0 for c, d, m in zip(cells, done, new)]
+        rewards = [CHAPTER.bump if not d and m == c else 0.0 for c, d, m in zip(cells, done, new)]
         pairs = [(i, j) for i in range(n) for j in range(i + 1, n) if not done[i] and not done[j]]
         found = [(i, j) for i, j in pairs if (new[i] == new[j] and not self.both_goal(i, j, new[i]))
                  or (new[i] == cells[j] and new[j] == cells[i])]
         collided, collisions, back = [False] * n, 0, self.bounced(cells)
         while found:  # bounced agents may land where another agent now is
             for i, j in found:
-                rewards[i] += COLLISION_PENALTY
-                rewards[j] += COLLISION_PENALTY
+                rewards[i] += CHAPTER.collision
+                rewards[j] += CHAPTER.collision
                 collided[i] = collided[j] = True
             collisions += len(found)
             new = [back[i] if collided[i] else new[i] for i in range(n)]
@@ -110,7 +111,7 @@ class World:
         reached = [not d and self.goal_of[i][m] for i, (d, m) in enumerate(zip(done, new))]
         for i in range(n):
             if reached[i]:
-                rewards[i] += GOAL_REWARD
+                rewards[i] += CHAPTER.goal
         return new, rewards, reached, collisions
 
 
@@ -244,10 +245,10 @@ def shared_reward(rewards, reached, finished):
     for r, entered in zip(rewards, reached):
         total += r
         if entered:
-            total -= GOAL_REWARD
+            total -= CHAPTER.goal
             arrived = True
     if finished and arrived:
-        total += GOAL_REWARD
+        total += CHAPTER.goal
     return total
 
 

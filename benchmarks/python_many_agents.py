@@ -18,12 +18,8 @@ same, so the reference's cost per agent-step measures the index's work at every 
 """
 
 from glamas.gridworld import rules
-from glamas.gridworld.rules import (
-    BUMP_PENALTY,
-    COLLISION_PENALTY,
-    GOAL_REWARD,
-    N_ACTIONS,
-)
+from glamas.gridworld.rewards import CHAPTER
+from glamas.gridworld.rules import N_ACTIONS
 
 from benchmarks.python_gridworld import (
     COORDINATE,
@@ -74,14 +70,14 @@ class IndexedWorld(World):
         cells, rewards, reached, collisions)."""
         n = len(cells)
         new = [c if d else self.next_cell[c][a] for c, d, a in zip(cells, done, actions)]
-        rewards = [BUMP_PENALTY if not d and m == c else 0.0 for c, d, m in zip(cells, done, new)]
+        rewards = [CHAPTER.bump if not d and m == c else 0.0 for c, d, m in zip(cells, done, new)]
         aiming = self.index(cells, done, actions)
         collided, queue, back = [False] * n, [], self.bounced(cells)
         collisions = 0
 
         def collide(i, j):
-            rewards[i] += COLLISION_PENALTY
-            rewards[j] += COLLISION_PENALTY
+            rewards[i] += CHAPTER.collision
+            rewards[j] += CHAPTER.collision
             for k in (i, j):
                 if not collided[k]:
                     collided[k] = True
@@ -117,7 +113,7 @@ class IndexedWorld(World):
         reached = [not d and self.goal_of[i][m] for i, (d, m) in enumerate(zip(done, new))]
         for i in range(n):
             if reached[i]:
-                rewards[i] += GOAL_REWARD
+                rewards[i] += CHAPTER.goal
         return new, rewards, reached, collisions
 
     def nearest(self, cells, acting, i):

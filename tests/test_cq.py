@@ -7,6 +7,7 @@ import pytest
 
 from glamas import parallel
 from glamas.gridworld import load_map, rules, tunnel_to_goal
+from glamas.gridworld.rewards import CHAPTER
 from glamas.learners import cq, spec
 from glamas.learners import episode as ep
 from glamas.learners.two_observe import NOBODY
@@ -18,7 +19,7 @@ WINDOW = 20
 T = cq.t_critical_values(2 * WINDOW - 2, 0.01)
 """The reference settings: t[19] = 2.861, the two-sided 1 % point at 19 degrees of freedom."""
 DETECTION = cq.detection(cq.LEARNER.setup(), tunnel_to_goal())[0]
-COLLISION = rules.COLLISION_PENALTY
+COLLISION = CHAPTER.collision
 
 
 def summary(rewards, size=WINDOW):

@@ -16,6 +16,7 @@ import numpy as np
 import pytest
 
 from glamas.gridworld import load_map, rules
+from glamas.gridworld.rewards import CHAPTER
 
 FIELD = {
     "tunnel_to_goal": dict(size=(5, 5), cells=25, starts=[(0, 0), (4, 0)], goals=[(2, 0), (2, 0)],
@@ -102,19 +103,19 @@ def test_the_chapters_rewards_hold(name):
             out = [np.empty(n, np.int64), np.empty(n), *(np.empty(n, bool) for _ in range(3))]
             rules.step(world, cells, done, actions, *out)
             cells, total, steps = out[0], total + out[1][agent], steps + 1
-        assert (steps, total) == (FIELD[name]["shortest"][agent], rules.GOAL_REWARD)
+        assert (steps, total) == (FIELD[name]["shortest"][agent], CHAPTER.goal)
     corner = np.array([g.starts[0]] + [g.goal_cells(k)[0] for k in range(1, n)], np.int64)
     bumps = [a for a in range(4) if g.next_cell[corner[0], a] == corner[0]]
     out = [np.empty(n, np.int64), np.empty(n), *(np.empty(n, bool) for _ in range(3))]
     rules.step(world, corner, np.arange(n) != 0, np.full(n, bumps[0], np.int64), *out)
-    assert out[1][0] == rules.BUMP_PENALTY == -1.0
+    assert out[1][0] == CHAPTER.bump == -1.0
     a, b, target = _two_cells_one_step_from(g, agents=(0, 1))
     actions = np.zeros(n, np.int64)
     actions[0] = [x for x in range(4) if g.next_cell[a, x] == target][0]
     actions[1] = [x for x in range(4) if g.next_cell[b, x] == target][0]
     cells = np.array([a, b] + [g.goal_cells(k)[0] for k in range(2, n)], np.int64)
     rules.step(world, cells, np.arange(n) >= 2, actions, *out)
-    assert out[1][:2].tolist() == [rules.COLLISION_PENALTY] * 2 == [-10.0, -10.0]
+    assert out[1][:2].tolist() == [CHAPTER.collision] * 2 == [-10.0, -10.0]
 
 
 def _towards_goal(g, agent, cell):

@@ -180,7 +180,7 @@ def exhaustive_value(gridmap, gamma, bounce="previous"):
                 out = (np.empty(n, np.int64), np.empty(n), np.empty(n, bool), np.empty(n, bool), np.empty(n, bool))
                 rules.step(world, np.array(cells, np.int64), done, actions, *out)
                 all_in = bool((done | out[4]).all())
-                total = value + gamma ** t * rules.shared_reward(out[1], out[4], all_in)
+                total = value + gamma ** t * rules.shared_reward(world.payoffs, out[1], out[4], all_in)
                 if all_in:
                     best = max(best, total)
                 else:

@@ -4,6 +4,7 @@ import numpy as np
 import pytest
 
 from glamas.gridworld import rules, load_map, tunnel_to_goal
+from glamas.gridworld.rewards import CHAPTER, FIELD
 from glamas.gridworld.rules import E, N, S, W
 from glamas.learners import episode
 
@@ -31,7 +32,7 @@ def play(gridmap, cells, actions, done=None, bounce=rules.BOUNCE_PREVIOUS):
     done = np.zeros(n, dtype=bool) if done is None else np.array(done, dtype=bool)
     out = {"new_cells": np.empty(n, np.int64), "rewards": np.empty(n), "bumped": np.empty(n, bool),
            "collided": np.empty(n, bool), "reached": np.empty(n, bool)}
-    world = rules.World(gridmap.next_cell, gridmap.goal_of, gridmap.starts, bounce, gridmap.n_cols)
+    world = rules.world(gridmap)._replace(bounce=bounce)
     out["n_collisions"] = rules.step(world, cells, done, np.array(actions, dtype=np.int64), out["new_cells"],
                                      out["rewards"], out["bumped"], out["collided"], out["reached"])
     return out
@@ -58,7 +59,7 @@ def test_wall_bump_costs_one_and_stays(tunnel):
     # (1, 0) south is the wall in front of the goal row; (3, 0) north likewise.
     out = play(tunnel, [tunnel.cell(1, 0), tunnel.cell(3, 0)], [S, N])
     assert out["new_cells"].tolist() == [tunnel.cell(1, 0), tunnel.cell(3, 0)]
-    assert out["rewards"].tolist() == [rules.BUMP_PENALTY] * 2 == [-1.0, -1.0]
+    assert out["rewards"].tolist() == [CHAPTER.bump] * 2 == [-1.0, -1.0]
     assert out["bumped"].all() and out["n_collisions"] == 0
 
 
@@ -74,7 +75,7 @@ def test_same_target_collides_and_bounces_back(tunnel):
     out = play(tunnel, [a, b], [S, N])
     assert out["n_collisions"] == 1
     assert out["new_cells"].tolist() == [a, b]
-    assert out["rewards"].tolist() == [rules.COLLISION_PENALTY] * 2 == [-10.0, -10.0]
+    assert out["rewards"].tolist() == [CHAPTER.collision] * 2 == [-10.0, -10.0]
     assert out["collided"].all() and not out["bumped"].any()
 
 
@@ -107,7 +108,7 @@ def test_goal_pays_and_is_absorbing(tunnel):
     goal = tunnel.cell(2, 0)
     out = play(tunnel, [tunnel.cell(2, 1), goal], [W, E], done=[False, True])
     assert out["new_cells"].tolist() == [goal, goal]
-    assert out["rewards"].tolist() == [rules.GOAL_REWARD, 0.0] == [100.0, 0.0]
+    assert out["rewards"].tolist() == [CHAPTER.goal, 0.0] == [100.0, 0.0]
     assert out["reached"].tolist() == [True, False]
     assert out["n_collisions"] == 0
 
@@ -176,13 +177,16 @@ def test_would_collide(tunnel):
     assert rules.would_collide(tunnel.next_cell, tunnel.goal_of, swap, done, np.array([E, W]), 0, 1)
 
 
+PAYOFFS = CHAPTER.kernel_bundle()
+
+
 def test_shared_reward_pays_the_goal_once_when_the_last_agent_arrives():
     rewards = np.array([100.0, -10.0])
     reached = np.array([True, False])
-    assert rules.shared_reward(rewards, reached, False) == -10.0
-    assert rules.shared_reward(np.array([0.0, 99.0]), np.array([False, True]), True) == 99.0
-    assert rules.shared_reward(np.array([100.0, 100.0]), np.array([True, True]), True) == 100.0
-    assert rules.shared_reward(np.array([0.0, 0.0]), np.array([False, False]), True) == 0.0
+    assert rules.shared_reward(PAYOFFS, rewards, reached, False) == -10.0
+    assert rules.shared_reward(PAYOFFS, np.array([0.0, 99.0]), np.array([False, True]), True) == 99.0
+    assert rules.shared_reward(PAYOFFS, np.array([100.0, 100.0]), np.array([True, True]), True) == 100.0
+    assert rules.shared_reward(PAYOFFS, np.array([0.0, 0.0]), np.array([False, False]), True) == 0.0
 
 
 def test_manhattan(tunnel):
@@ -203,19 +207,25 @@ def every_agent_goal(gridmap, n_agents):
     return np.tile(gridmap.shared_goal, (n_agents, 1))
 
 
-def _step_outputs(step, gridmap, cells, done, actions, bounce, agents):
-    """``step``'s collisions and the outputs of ``agents``."""
+def _step_outputs(step, gridmap, cells, done, actions, bounce, agents, rewards):
+    """``step``'s collisions and the outputs of ``agents`` under the reward formulation ``rewards``."""
     n = cells.shape[0]
     out = (np.empty(n, np.int64), np.empty(n), np.empty(n, bool), np.empty(n, bool), np.empty(n, bool))
     starts = np.arange(n, dtype=np.int64)  # distinct start cells, for the bounce to the start
-    world = rules.World(gridmap.next_cell, every_agent_goal(gridmap, n), starts, bounce, gridmap.n_cols)
+    world = rules.World(gridmap.next_cell, every_agent_goal(gridmap, n), starts, bounce, gridmap.n_cols,
+                        rewards.kernel_bundle())
     collisions = step(world, cells, done, actions, *out)
     return [collisions] + [a[list(agents)].tolist() for a in out]
 
 
+FORMULATIONS = {"chapter": CHAPTER, "field": FIELD}
+"""The reward formulations the fast paths are held to the general step under."""
+
+
+@pytest.mark.parametrize("rewards", FORMULATIONS.values(), ids=FORMULATIONS)
 @pytest.mark.parametrize("bounce", [rules.BOUNCE_PREVIOUS, rules.BOUNCE_START])
 @pytest.mark.parametrize("pair", [(0, 1), (0, 2), (1, 2)])
-def test_two_agent_fast_path_equals_the_general_step(tunnel, bounce, pair):
+def test_two_agent_fast_path_equals_the_general_step(tunnel, bounce, pair, rewards):
     """step_pair gives step's outputs for agents i and j, the third agent in the goal, for every
     joint action from every pair of cells the rules can reach (distinct acting cells; a done
     agent on the goal)."""
@@ -230,17 +240,20 @@ def test_two_agent_fast_path_equals_the_general_step(tunnel, bounce, pair):
         for joint in range(16):
             actions = np.zeros(3, np.int64)
             actions[[i, j]] = divmod(joint, 4)
-            fast = _step_outputs(lambda *step: rules.step_pair(*step, pair), tunnel, cells, done, actions, bounce, pair)
-            assert fast == _step_outputs(rules.step, tunnel, cells, done, actions, bounce, pair), (a, b, done, actions)
+            fast = _step_outputs(lambda *step: rules.step_pair(*step, pair), tunnel, cells, done, actions, bounce, pair,
+                                 rewards)
+            assert fast == _step_outputs(rules.step, tunnel, cells, done, actions, bounce, pair, rewards), \
+                (a, b, done, actions)
 
 
+@pytest.mark.parametrize("rewards", FORMULATIONS.values(), ids=FORMULATIONS)
 @pytest.mark.parametrize("lone", [0, 1, 2])
-def test_lone_agent_step_equals_the_general_step(tunnel, lone):
+def test_lone_agent_step_equals_the_general_step(tunnel, lone, rewards):
     """step_alone gives step's outputs for the only acting agent (the others on the goal), from
     every free cell with every action, and no collision."""
     goal = int(np.flatnonzero(tunnel.is_goal)[0])
     world = rules.World(tunnel.next_cell, every_agent_goal(tunnel, 3), np.zeros(3, np.int64), rules.BOUNCE_PREVIOUS,
-                        tunnel.n_cols)
+                        tunnel.n_cols, rewards.kernel_bundle())
     done = np.arange(3) != lone
     assert episode.few_acting(done) == (lone, -1) and episode.few_acting(np.zeros(3, bool)) == (-1, -1)
     assert episode.few_acting(np.arange(3) == lone) == tuple(a for a in range(3) if a != lone)
@@ -326,11 +339,12 @@ def _placements(g, pair, third):
         yield cells, done
 
 
+@pytest.mark.parametrize("rewards", FORMULATIONS.values(), ids=FORMULATIONS)
 @pytest.mark.parametrize("bounce", [rules.BOUNCE_PREVIOUS, rules.BOUNCE_START])
 @pytest.mark.parametrize("pair", [(0, 1), (0, 2), (1, 2)])
-def test_two_agent_fast_path_equals_the_general_step_with_own_goals(own_goals, bounce, pair):
+def test_two_agent_fast_path_equals_the_general_step_with_own_goals(own_goals, bounce, pair, rewards):
     g, third = own_goals, 3 - sum(pair)
-    world = rules.World(g.next_cell, g.goal_of, g.starts, bounce, g.n_cols)
+    world = rules.world(g, rewards=rewards)._replace(bounce=bounce)
     for cells, done in _placements(g, pair, third):
         for joint in range(16):
             actions = np.zeros(3, np.int64)
@@ -367,11 +381,16 @@ def _crowds():
         yield generate.warehouse(n, seed=n, density=density), bounce
 
 
-@pytest.mark.parametrize("gridmap, bounce", list(_crowds()), ids=lambda x: getattr(x, "name", x))
-def test_indexed_step_plays_the_general_step(gridmap, bounce):
+CROWDS = [(*crowd, (CHAPTER, FIELD)[k % 2]) for k, crowd in enumerate(_crowds())]
+"""The crowds under the chapter's rewards and the field's in turn."""
+
+
+@pytest.mark.parametrize("gridmap, bounce, rewards", CROWDS,
+                         ids=lambda x: getattr(x, "name", x if isinstance(x, int) else None))
+def test_indexed_step_plays_the_general_step(gridmap, bounce, rewards):
     """step_indexed gives step's outputs and collisions on every step of a random walk (agents
     leave at their goals, all start again when all are in), and leaves its index empty."""
-    world = rules.World(gridmap.next_cell, gridmap.goal_of, gridmap.starts, bounce, gridmap.n_cols)
+    world = rules.world(gridmap, rewards=rewards)._replace(bounce=bounce)
     index = rules.cell_index(world)
     n = gridmap.n_agents
     draws = np.random.default_rng(n)

@@ -3,7 +3,9 @@
 The joint MMDP of a map has one state per assignment of cells to the agents (an agent on one of its
 own goal cells is done: it no longer acts), one action per joint action (4**n), deterministic
 transitions given by :func:`glamas.gridworld.rules.step` and the MMDP learner's shared reward
-(:func:`glamas.gridworld.rules.shared_reward`). States no play can reach (two acting agents on
+(:func:`glamas.gridworld.rules.shared_reward`), under the chapter's reward formulation
+(:data:`glamas.gridworld.rewards.CHAPTER`): the search's stopping rule and the bounds rest on its
++100 at the goal being the only positive reward. States no play can reach (two acting agents on
 one cell, an agent on a blocked cell) and the all-done states are absorbing with reward 0.
 
 :func:`value_iteration` is Alg. 2 with eq. 6 and the chapter's stopping rule (largest change
@@ -25,6 +27,7 @@ from glamas.errors import UserError
 from glamas.gridworld import joint_search, rules
 from glamas.gridworld.joint import joint_index, split_index
 from glamas.gridworld.maps import GridMap
+from glamas.gridworld.rewards import CHAPTER
 from glamas.gridworld.rules import N_ACTIONS
 
 
@@ -171,7 +174,7 @@ def _tabulate(world, blocked, next_state, reward, agent_rewards, collisions, age
                 agent_rewards[s, ja, i] = rewards[i]
                 agent_bumped[s, ja, i] = bumped[i]
                 agent_reached[s, ja, i] = reached[i]
-            reward[s, ja] = rules.shared_reward(rewards, reached, all_done_after)
+            reward[s, ja] = rules.shared_reward(world.payoffs, rewards, reached, all_done_after)
             next_state[s, ja] = joint_index(new_cells, n_cells)
 
 
@@ -359,8 +362,8 @@ def optimum_bounds(gridmap: GridMap, gamma: float) -> OptimumBounds:
     _check_gamma_epsilon(gamma, 1.0)
     steps = shortest_steps(gridmap)
     last = int(steps.max())
-    return OptimumBounds(steps, last, rules.GOAL_REWARD * gamma ** (last - 1), rules.GOAL_REWARD * gridmap.n_agents,
-                         float(np.sum(rules.GOAL_REWARD * gamma ** (steps - 1.0))))
+    return OptimumBounds(steps, last, CHAPTER.goal * gamma ** (last - 1), CHAPTER.goal * gridmap.n_agents,
+                         float(np.sum(CHAPTER.goal * gamma ** (steps - 1.0))))
 
 
 @dataclass(frozen=True, eq=False)
@@ -392,7 +395,7 @@ def searched_optimum(gridmap: GridMap, gamma: float, bounce: str = "previous", m
     max_steps = 4 * lowest if max_steps is None else max_steps
     for horizon in range(lowest, max_steps + 1):
         layers, best = joint_search.search_layers(world, distances, gamma, horizon, max_candidates)
-        if best is not None and best[0] >= rules.GOAL_REWARD * gamma ** horizon:
+        if best is not None and best[0] >= CHAPTER.goal * gamma ** horizon:
             episode = play(gridmap, bounce, joint_search.best_actions(layers, best))
             return SearchedOptimum(best[0], episode, horizon, sum(layer[0].shape[0] for layer in layers))
     raise RuntimeError(f"no episode of {gridmap.name!r} within {max_steps} steps is provably optimal; raise max_steps")

@@ -14,24 +14,28 @@ import numpy as np
 from glamas.errors import UserError
 from glamas.gridworld import rules
 from glamas.gridworld.maps import GridMap
+from glamas.gridworld.rewards import CHAPTER, Rewards
 
 
 class GridworldEnv:
     """The chapter's gridworld game for ``gridmap.n_agents`` agents, named ``agent_1``, ``agent_2``, ...
 
-    ``bounce`` is where collided agents go ('previous' cell or 'start' cell). An agent that enters
+    ``bounce`` is where collided agents go ('previous' cell or 'start' cell), ``rewards`` what a
+    step pays (:mod:`glamas.gridworld.rewards`, the chapter's by default). An agent that enters
     one of its goal cells (``gridmap.goal_of``; another agent's goal is an ordinary cell for it) is
     terminated and takes no further actions; every agent is truncated after ``max_steps``.
     """
 
-    def __init__(self, gridmap: GridMap, bounce: str = "previous", max_steps: int = 1000):
+    def __init__(self, gridmap: GridMap, bounce: str = "previous", max_steps: int = 1000, rewards: Rewards = CHAPTER):
         if bounce not in rules.BOUNCE_MODES:
             raise UserError(f"bounce must be one of {sorted(rules.BOUNCE_MODES)}, got {bounce!r}")
         if not isinstance(max_steps, (int, np.integer)) or max_steps < 1:
             raise UserError(f"max_steps must be a positive integer, got {max_steps!r}")
+        if not isinstance(rewards, Rewards):
+            raise UserError(f"rewards must be a glamas.gridworld.rewards.Rewards, got {rewards!r}")
         self.gridmap = gridmap
         self.bounce = bounce
-        self._world = rules.world(gridmap, bounce)
+        self._world = rules.world(gridmap, bounce, rewards)
         self.max_steps = int(max_steps)
         self.possible_agents = [f"agent_{k}" for k in range(1, gridmap.n_agents + 1)]
         self.agents: list[str] = []

@@ -94,7 +94,7 @@ def expand(world, distances, states, values, discount, steps_left, size):
             if not within_reach:
                 continue
             next_states[count] = joint_index(new_cells, n_cells)
-            next_values[count] = values[k] + discount * rules.shared_reward(rewards, reached, all_in)
+            next_values[count] = values[k] + discount * rules.shared_reward(world.payoffs, rewards, reached, all_in)
             parents[count], joint_actions[count], finished[count] = k, joint, all_in
             count += 1
     return next_states[:count], next_values[:count], parents[:count], joint_actions[:count], finished[:count]

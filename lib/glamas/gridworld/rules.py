@@ -1,12 +1,14 @@
 """The rules of the chapter's gridworld (Section 5.3), compiled for the simulation kernels.
 
 Agents move N, E, S or W. Each agent has its own goal cells (``GridMap.goal_of``; the chapter's
-two agents share one). Entering one of its goal cells pays an agent +100 and is absorbing: an agent
-in its goal no longer acts and has left the game, so no agent collides with it (another agent may
-walk through the cell). Another agent's goal is an ordinary cell for an agent. A move into a wall,
-a blocked cell or the border is a bump: -1 and the agent stays. Two acting agents collide when they
-target the same cell, unless it is a goal of both (a bumped agent's target is its own cell), or
-swap cells; each pays -10 per collision it is in and bounces back.
+two agents share one). Entering one of its goal cells is absorbing: an agent in its goal no longer
+acts and has left the game, so no agent collides with it (another agent may walk through the
+cell). Another agent's goal is an ordinary cell for an agent. A move into a wall, a blocked cell
+or the border is a bump: the agent stays. Two acting agents collide when they target the same
+cell, unless it is a goal of both (a bumped agent's target is its own cell), or swap cells; both
+bounce back. What each of these pays is the world's reward formulation
+(:class:`glamas.gridworld.rewards.Rewards`, ``World.payoffs``): under the chapter's, +100 at the
+goal, -1 for a bump and -10 per collision an agent is in, added to its move's reward.
 
 At goal cells: agents entering a cell that is the goal of both together do not collide (both are
 done, as the chapter's two agents entering their shared goal); agents entering a cell that is the
@@ -21,9 +23,9 @@ arrives.
 
 N agents (the chapter has two): a bounced agent can land on a cell another agent has just
 entered (A follows B, B collides with C and bounces back onto A). Such agents collide as well:
-each pair sharing a cell that is not a goal of both is one more collision (-10 each) and both
-bounce. This repeats until no two acting agents share such a cell. Bounce cells are distinct, so
-every round bounces at least one agent that had not yet bounced, no pair collides twice in a step,
+each pair sharing a cell that is not a goal of both is one more collision and both bounce. This
+repeats until no two acting agents share such a cell. Bounce cells are distinct, so every round
+bounces at least one agent that had not yet bounced, no pair collides twice in a step,
 and the loop ends within N rounds. k agents aiming at the same cell (a goal of none of them) make
 k(k-1)/2 collisions.
 
@@ -47,13 +49,11 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
+from glamas.gridworld.rewards import CHAPTER, Payoffs, Rewards
+
 N, E, S, W = 0, 1, 2, 3
 N_ACTIONS = 4
 ACTION_NAMES = ("N", "E", "S", "W")
-
-GOAL_REWARD = 100.0
-COLLISION_PENALTY = -10.0
-BUMP_PENALTY = -1.0
 
 NOBODY = -1
 """No agent (an empty cell of a :class:`CellIndex`, the end of a list of agents)."""
@@ -76,6 +76,8 @@ class World(NamedTuple):
     """Where a collided agent goes: BOUNCE_PREVIOUS or BOUNCE_START."""
     n_cols: int
     """The map's width (cell = row * n_cols + col), for distances."""
+    payoffs: Payoffs
+    """What a step pays (the reward formulation, :class:`glamas.gridworld.rewards.Rewards`)."""
 
 
 class CellIndex(NamedTuple):
@@ -94,16 +96,34 @@ class CellIndex(NamedTuple):
     """int (agents,): scratch, the agents in the order they collided (:func:`step_indexed`)."""
 
 
-def world(gridmap, bounce: str = "previous") -> World:
-    """The kernels' view of ``gridmap`` with the collision rule ``bounce`` ('previous' or 'start')."""
-    return World(gridmap.next_cell, gridmap.goal_of, gridmap.starts, BOUNCE_MODES[bounce], gridmap.n_cols)
+def world(gridmap, bounce: str = "previous", rewards: Rewards = CHAPTER) -> World:
+    """The kernels' view of ``gridmap`` with the collision rule ``bounce`` ('previous' or 'start')
+    and the reward formulation ``rewards``."""
+    return World(gridmap.next_cell, gridmap.goal_of, gridmap.starts, BOUNCE_MODES[bounce], gridmap.n_cols,
+                 rewards.kernel_bundle())
 
 
 @njit(cache=True, inline="always")
-def _collide_if(hit, i, j, rewards, collided):
-    """When ``hit``: agents i and j pay the collision penalty and are marked collided. Returns 1
+def move_reward(payoffs, bump):
+    """What an acting agent's move pays before collisions and the goal: a bump's or a move's reward."""
+    return payoffs.bump if bump else payoffs.move
+
+
+@njit(cache=True, inline="always")
+def settle(payoffs, reward, hit, arrived):
+    """An acting agent's reward for the step, from its move's reward with the collisions added
+    (``reward``): the collision's reward alone if it collided and the formulation says a collision
+    replaces the move's reward, else ``reward``; plus the goal's reward if it ``arrived``."""
+    if hit and payoffs.collision_replaces_move:
+        reward = payoffs.collision
+    return reward + payoffs.goal if arrived else reward
+
+
+@njit(cache=True, inline="always")
+def _collide_if(hit, i, j, rewards, collided, payoffs):
+    """When ``hit``: agents i and j pay the collision's reward and are marked collided. Returns 1
     for a collision, else 0 (the arrays are written either way, without a branch)."""
-    penalty = COLLISION_PENALTY if hit else 0.0
+    penalty = payoffs.collision if hit else 0.0
     hit_i, hit_j = collided[i], collided[j]
     rewards[i] += penalty
     rewards[j] += penalty
@@ -119,13 +139,15 @@ def step(world, cells, done, actions, new_cells, rewards, bumped, collided, reac
 
     ``cells``, ``done`` and ``actions`` are the agents' current cells, whether each is already in
     its goal (then its action is ignored) and their actions. Writes each agent's ``new_cells``,
-    ``rewards`` (goal +100, bump -1, -10 per collision, summed), and whether it ``bumped``,
+    ``rewards`` (``world.payoffs``: under the chapter's, goal +100, bump -1, -10 per collision,
+    summed), and whether it ``bumped``,
     ``collided`` or ``reached`` its goal in this step. Returns the number of colliding pairs.
     Inlined like every piece of the episode loops: left as a call, it cost sparse MAQ's loop of
     four agents 164 against 98 ns per step (the loops are compiled without reference counting,
     glamas.learners.episode, so the two-agent paths beside it are not slowed).
     """
     next_cell, goal_of, starts, bounce = world.next_cell, world.goal_of, world.starts, world.bounce
+    payoffs = world.payoffs
     n = cells.shape[0]
     acting = 0
     for i in range(n):
@@ -135,7 +157,7 @@ def step(world, cells, done, actions, new_cells, rewards, bumped, collided, reac
         bump = not is_done and new == cell
         new_cells[i] = new
         bumped[i] = bump
-        rewards[i] = BUMP_PENALTY if bump else 0.0
+        rewards[i] = 0.0 if is_done else move_reward(payoffs, bump)
         collided[i] = False
         reached[i] = False
         acting += 0 if is_done else 1
@@ -149,7 +171,7 @@ def step(world, cells, done, actions, new_cells, rewards, bumped, collided, reac
             new_j, cell_j, done_j = new_cells[j], cells[j], done[j]
             same_target = new_i == new_j and not (goal_i and goal_of[j, new_j])
             hit = not (done_i or done_j) and (same_target or (new_i == cell_j and new_j == cell_i))
-            n_collisions += _collide_if(hit, i, j, rewards, collided)
+            n_collisions += _collide_if(hit, i, j, rewards, collided, payoffs)
 
     # Later rounds: bounced agents may land where another agent now is.
     found, rounds = n_collisions, 0
@@ -168,13 +190,13 @@ def step(world, cells, done, actions, new_cells, rewards, bumped, collided, reac
                 shared = new_i == new_j and not (goal_i and goal_of[j, new_j])
                 # both already at their (distinct) bounce cells: only a broken precondition gets there
                 again = not (done_i or done_j) and shared and not (hit_i and hit_j)
-                found += _collide_if(again, i, j, rewards, collided)
+                found += _collide_if(again, i, j, rewards, collided, payoffs)
         n_collisions += found
 
     for i in range(n):
         arrived = not done[i] and goal_of[i, new_cells[i]]
         reached[i] = arrived
-        rewards[i] += GOAL_REWARD if arrived else 0.0
+        rewards[i] = settle(payoffs, rewards[i], collided[i], arrived)
     return n_collisions
 
 
@@ -213,11 +235,11 @@ def clear_index(index, cells, done, targets_of, actions):
 
 
 @njit(cache=True, inline="always")
-def _collide_queued(i, j, rewards, collided, queue, queued):
-    """Agents i and j collide: both pay the penalty; each is queued the first time it collides.
+def _collide_queued(i, j, rewards, collided, queue, queued, penalty):
+    """Agents i and j collide: both pay ``penalty``; each is queued the first time it collides.
     Returns the new length of the queue."""
-    rewards[i] += COLLISION_PENALTY
-    rewards[j] += COLLISION_PENALTY
+    rewards[i] += penalty
+    rewards[j] += penalty
     if not collided[i]:
         collided[i] = True
         queue[queued] = i
@@ -235,6 +257,8 @@ def step_indexed(world, index, cells, done, actions, new_cells, rewards, bumped,
     the same outputs and number of collisions (module docstring), with work in proportion to the
     acting agents and their collisions instead of their pairs. Same precondition as :func:`step`."""
     next_cell, goal_of, starts, bounce = world.next_cell, world.goal_of, world.starts, world.bounce
+    payoffs = world.payoffs
+    penalty = payoffs.collision
     occupant, claimant, next_claimant, queue = index
     n = cells.shape[0]
     # The moves as step writes them, written out again: as one inlined helper shared with step,
@@ -246,7 +270,7 @@ def step_indexed(world, index, cells, done, actions, new_cells, rewards, bumped,
         bump = not is_done and new == cell
         new_cells[i] = new
         bumped[i] = bump
-        rewards[i] = BUMP_PENALTY if bump else 0.0
+        rewards[i] = 0.0 if is_done else move_reward(payoffs, bump)
         collided[i] = False
         reached[i] = False
     index_agents(index, cells, done, next_cell, actions)
@@ -262,12 +286,12 @@ def step_indexed(world, index, cells, done, actions, new_cells, rewards, bumped,
         while j != NOBODY:
             if not (goal_i and goal_of[j, new_i]):
                 n_collisions += 1
-                queued = _collide_queued(i, j, rewards, collided, queue, queued)
+                queued = _collide_queued(i, j, rewards, collided, queue, queued, penalty)
             j = next_claimant[j]
         j = occupant[new_i]  # a swap, counted once: from its lower-numbered agent
         if j > i and new_cells[j] == cells[i]:
             n_collisions += 1
-            queued = _collide_queued(i, j, rewards, collided, queue, queued)
+            queued = _collide_queued(i, j, rewards, collided, queue, queued, penalty)
 
     # Later rounds: the agents that collided in the last round bounce, onto the cells of agents
     # that have not collided (which stand on the cells they aim at).
@@ -285,7 +309,7 @@ def step_indexed(world, index, cells, done, actions, new_cells, rewards, bumped,
             while b != NOBODY:
                 if not collided[b] and not (goal_a and goal_of[b, cell]):
                     n_collisions += 1
-                    queued = _collide_queued(a, b, rewards, collided, queue, queued)
+                    queued = _collide_queued(a, b, rewards, collided, queue, queued, penalty)
                 b = next_claimant[b]
         first = last
 
@@ -293,7 +317,7 @@ def step_indexed(world, index, cells, done, actions, new_cells, rewards, bumped,
     for i in range(n):
         arrived = not done[i] and goal_of[i, new_cells[i]]
         reached[i] = arrived
-        rewards[i] += GOAL_REWARD if arrived else 0.0
+        rewards[i] = settle(payoffs, rewards[i], collided[i], arrived)
     return n_collisions
 
 
@@ -310,6 +334,7 @@ def step_pair(world, cells, done, actions, new_cells, rewards, bumped, collided,
     between, as in :func:`step`: the compiler keeps the scalars in registers.
     """
     next_cell, goal_of, starts, bounce = world.next_cell, world.goal_of, world.starts, world.bounce
+    payoffs = world.payoffs
     i, j = pair
     cell_i, cell_j, done_i, done_j = cells[i], cells[j], done[i], done[j]
     target_i, target_j = next_cell[cell_i, actions[i]], next_cell[cell_j, actions[j]]  # a done agent's is ignored
@@ -321,18 +346,16 @@ def step_pair(world, cells, done, actions, new_cells, rewards, bumped, collided,
     goal_i, goal_j = goal_of[i, new_i], goal_of[j, new_j]
     same_target = new_i == new_j and not (goal_i and goal_j)
     hit = not done_i and not done_j and (same_target or (new_i == cell_j and new_j == cell_i))
-    reward_i = BUMP_PENALTY if bump_i else 0.0
-    reward_j = BUMP_PENALTY if bump_j else 0.0
+    reward_i = 0.0 if done_i else move_reward(payoffs, bump_i)
+    reward_j = 0.0 if done_j else move_reward(payoffs, bump_j)
     if hit:
-        reward_i += COLLISION_PENALTY
-        reward_j += COLLISION_PENALTY
+        reward_i += payoffs.collision
+        reward_j += payoffs.collision
         new_i, new_j = (cell_i, cell_j) if bounce == BOUNCE_PREVIOUS else (start_i, start_j)
     arrived_i = not done_i and not hit and goal_i
     arrived_j = not done_j and not hit and goal_j
-    if arrived_i:
-        reward_i += GOAL_REWARD
-    if arrived_j:
-        reward_j += GOAL_REWARD
+    reward_i = settle(payoffs, reward_i, hit, arrived_i)
+    reward_j = settle(payoffs, reward_j, hit, arrived_j)
     new_cells[i], new_cells[j] = new_i, new_j
     rewards[i], rewards[j] = reward_i, reward_j
     bumped[i], bumped[j] = bump_i, bump_j
@@ -353,7 +376,7 @@ def step_alone(world, cells, actions, new_cells, rewards, bumped, collided, reac
     bumped[i] = bump
     collided[i] = False
     reached[i] = arrived
-    rewards[i] = (BUMP_PENALTY if bump else 0.0) + (GOAL_REWARD if arrived else 0.0)
+    rewards[i] = settle(world.payoffs, move_reward(world.payoffs, bump), False, arrived)
     return 0
 
 
@@ -495,22 +518,22 @@ def shared_goals(goal_of):
 
 
 @njit(cache=True, inline="always")
-def shared_reward(rewards, reached, all_done_after):
+def shared_reward(payoffs, rewards, reached, all_done_after):
     """The MMDP learner's single reward for one step (Section 5.3).
 
-    The agents' penalties summed (their rewards without the individual goal rewards), plus +100
-    when this step puts the last agent in its goal: the chapter pays the MMDP learner +100 when
-    both agents are in.
+    The agents' rewards summed without their individual goal rewards (``payoffs.goal``), plus the
+    goal's reward once when this step puts the last agent in its goal: the chapter pays the MMDP
+    learner +100 when both agents are in.
     """
     total = 0.0
     any_reached = False
     for i in range(rewards.shape[0]):
         total += rewards[i]
         if reached[i]:
-            total -= GOAL_REWARD
+            total -= payoffs.goal
             any_reached = True
     if all_done_after and any_reached:
-        total += GOAL_REWARD
+        total += payoffs.goal
     return total
 
 

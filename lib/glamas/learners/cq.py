@@ -72,6 +72,7 @@ from numba import njit
 from glamas.errors import UserError
 from glamas import checks
 from glamas.gridworld import GridMap, rules
+from glamas.gridworld.rewards import CHAPTER
 from glamas.learners import episode as ep
 from glamas.learners.independent import table_shape
 from glamas.learners.spec import Learner
@@ -104,6 +105,10 @@ class Settings:
     cq_solo_episodes: int = 1000
     """Episodes each agent first learns alone (the single-agent phase), not counted in the
     experiment's episodes."""
+    cq_solo_exploit_prob: float | None = None
+    """Probability of the greedy action in the phase alone; None: the experiment's
+    ``exploit_prob``, as in every chapter-formulation run (the field's public implementation
+    explores more there: 0.2, an exploration of 0.8)."""
     cq_test: str = "one_sample"
     """'one_sample': Student's one-sample t-test against ER, two-sided (published);
     'two_sample': the two-sample test with pooled variance against the rewards alone, lower only."""
@@ -120,6 +125,8 @@ class Settings:
     def __post_init__(self):
         checks.field_types(self)
         checks.whole_numbers(self, {"cq_window": 2, "cq_solo_episodes": 1})
+        if self.cq_solo_exploit_prob is not None:
+            checks.in_unit_interval(self, "cq_solo_exploit_prob")
         if not (isinstance(self.cq_significance, float) and 0.0 < self.cq_significance < 1.0):
             raise UserError(f"cq_significance must be a number in (0, 1) such as 0.01, got {self.cq_significance!r}")
         for name, options in (("cq_test", TESTS), ("cq_detection", DETECTIONS), ("cq_observe", OBSERVED)):
@@ -138,6 +145,8 @@ class Detection(NamedTuple):
     """Two-sided critical values of Student's t per degrees of freedom (:func:`t_critical_values`)."""
     cq_solo_episodes: int
     """0: no phase alone, hence no ER and no test (:func:`freeze`)."""
+    cq_solo_exploit_prob: float
+    """The phase alone's probability of the greedy action (the experiment's where the setting is None)."""
     cq_test: int
     """A code of TESTS."""
     cq_detection: int
@@ -150,8 +159,10 @@ class Detection(NamedTuple):
 def detection(setup, gridmap: GridMap) -> tuple:
     """The kernel's own input: the Detection bundle of its settings (``setup.own``)."""
     s = setup.own
+    solo_exploit = float(setup.q.exploit_prob if s.cq_solo_exploit_prob is None else s.cq_solo_exploit_prob)
     return (Detection(s.cq_window, t_critical_values(2 * s.cq_window - 2, s.cq_significance), s.cq_solo_episodes,
-                      TESTS[s.cq_test], DETECTIONS[s.cq_detection], bool(s.cq_update_local), OBSERVED[s.cq_observe]),)
+                      solo_exploit, TESTS[s.cq_test], DETECTIONS[s.cq_detection], bool(s.cq_update_local),
+                      OBSERVED[s.cq_observe]),)
 
 
 def freeze(inputs: tuple) -> tuple:
@@ -308,13 +319,14 @@ def rejects(alone, window, t_critical, test):
 def fewest_flagged_collisions(settings: Settings) -> int:
     """The fewest collisions among a full window that the test of ``settings`` flags, for a
     state-action that never collided alone (``cq_window`` equal rewards alone) and whose other
-    rewards are those alone; ``cq_window`` + 1 when not even a window of collisions is flagged."""
+    rewards are those alone, under the chapter's rewards (a collision adds -10); ``cq_window`` + 1
+    when not even a window of collisions is flagged."""
     window = settings.cq_window
     t_critical = t_critical_values(2 * window - 2, settings.cq_significance)
     alone = np.array([window, 0.0, 0.0])
     for k in range(1, window + 1):
-        penalties = k * rules.COLLISION_PENALTY
-        recent = np.array([window, penalties, penalties * rules.COLLISION_PENALTY])
+        penalties = k * CHAPTER.collision
+        recent = np.array([window, penalties, penalties * CHAPTER.collision])
         if rejects(alone, recent, t_critical, TESTS[settings.cq_test]):
             return k
     return window + 1
@@ -349,11 +361,12 @@ def reward_windows(shape, size):
 # --- the learner ------------------------------------------------------------------------------
 
 @njit(**ep.LOOP)
-def learn_alone(world, learning, n_episodes, max_steps, q, windows, state, buffers):
+def learn_alone(world, learning, exploit, n_episodes, max_steps, q, windows, state, buffers):
     """The phase alone: each agent in turn learns ``n_episodes`` episodes alone (the others count
-    as already in the goal, so they neither act nor collide) and fills its reward ``windows``
-    (samples, added, summary), whose means are ER."""
-    alpha, gamma, exploit = learning.q_learning_rate, learning.discount, learning.exploit_prob
+    as already in the goal, so they neither act nor collide), taking the greedy action with
+    probability ``exploit``, and fills its reward ``windows`` (samples, added, summary), whose
+    means are ER."""
+    alpha, gamma = learning.q_learning_rate, learning.discount
     starts = world.starts
     n_agents = starts.shape[0]
     samples, added, summary = windows
@@ -478,7 +491,8 @@ def run(world, learning, detection, schedule, q, q_aug, marked, log, state):
     per_action = (n_agents, n_cells, rules.N_ACTIONS)
     first = reward_windows(per_action, detection.cq_window)
     buffers = ep.buffers(n_agents)
-    learn_alone(world, learning, detection.cq_solo_episodes, schedule.max_steps, q, first, state, buffers)
+    learn_alone(world, learning, detection.cq_solo_exploit_prob, detection.cq_solo_episodes, schedule.max_steps, q,
+                first, state, buffers)
     alone = first[2].copy()  # the summaries alone: ER_k(s_k, a_k) = their means
     first[1][:] = 0
     first[2][:] = 0.0

@@ -53,7 +53,7 @@ def episodes(world, learning, schedule, q, log, state, buffers):
             finished = True
             for i in range(n_agents):
                 finished = finished and (done[i] or reached[i])
-            shared = rules.shared_reward(rewards, reached, finished)
+            shared = rules.shared_reward(world.payoffs, rewards, reached, finished)
             q_update(table, s, joint, shared, joint_index(new_cells, n_cells), finished, alpha, gamma)
             t += 1
             ep.end_step(t, cells, done, new_cells, rewards, reached, collisions, acc)

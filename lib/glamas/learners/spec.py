@@ -24,6 +24,7 @@ import numpy as np
 
 from glamas import parallel
 from glamas.gridworld import GridMap, dp, rules
+from glamas.gridworld.rewards import CHAPTER, Rewards
 from glamas.learners import episode as ep
 from glamas.qlearning import QLearning, QSettings
 from glamas.errors import UserError
@@ -138,10 +139,10 @@ class Learner:
 
 
 def kernel_inputs(learner: Learner, setup: Setup, gridmap: GridMap, schedule: ep.Schedule,
-                  bounce: str = "previous") -> tuple:
-    """The kernel's inputs: world (``gridmap`` under the collision rule ``bounce``), learning, the
-    learner's own bundles, schedule."""
-    world = rules.world(gridmap, bounce)
+                  bounce: str = "previous", rewards: Rewards = CHAPTER) -> tuple:
+    """The kernel's inputs: world (``gridmap`` under the collision rule ``bounce`` and the reward
+    formulation ``rewards``), learning, the learner's own bundles, schedule."""
+    world = rules.world(gridmap, bounce, rewards)
     return (world, setup.q.kernel_bundle()) + tuple(learner.inputs(setup, gridmap)) + (schedule,)
 
 
@@ -189,12 +190,12 @@ m + (k + 1) * EVALUATION_SEEDS): apart from every training seed."""
 
 
 def evaluations(learner: Learner, setup: Setup, gridmap: GridMap, evaluation: Evaluation, max_steps: int,
-                master_seed: int, bounce: str = "previous") -> tuple:
+                master_seed: int, bounce: str = "previous", rewards: Rewards = CHAPTER) -> tuple:
     """The :class:`glamas.parallel.Evaluation` s of ``evaluation``: the learner's kernel from each
     run's learned outputs, the Q-learning rate zero, its own bundles frozen (:attr:`Learner.freeze`),
     exploiting with each probability of ``evaluation.exploits``, its log one block of all the
     episodes. Nothing learned changes: the tables are evaluated as they are."""
-    world = rules.world(gridmap, bounce)
+    world = rules.world(gridmap, bounce, rewards)
     own = learner.freeze(tuple(learner.inputs(setup, gridmap)))
     schedule = ep.Schedule(evaluation.episodes, np.array([0, evaluation.episodes], dtype=np.int64), max_steps)
     log_at = len(learner.outputs(setup, gridmap)) + 1  # q, its own outputs, log
@@ -204,18 +205,19 @@ def evaluations(learner: Learner, setup: Setup, gridmap: GridMap, evaluation: Ev
 
 
 def batch(learner: Learner, setup: Setup, gridmap: GridMap, schedule: ep.Schedule, n_runs: int,
-          master_seed: int, *, bounce: str = "previous", keep_q: bool = True,
+          master_seed: int, *, bounce: str = "previous", rewards: Rewards = CHAPTER, keep_q: bool = True,
           evaluation: Evaluation | None = None) -> tuple[parallel.Batch, dict]:
-    """``n_runs`` runs of ``learner`` on ``gridmap`` (collision rule ``bounce``), ready to run
+    """``n_runs`` runs of ``learner`` on ``gridmap`` (collision rule ``bounce``, reward formulation
+    ``rewards``), ready to run
     (:func:`glamas.parallel.run_many`), and the outputs they fill, by name (``q``, the learner's
     own, ``log``; runs on the first axis; with an ``evaluation``, ``evaluated``: the evaluations'
     logs, :func:`evaluated`). Without ``keep_q`` the runs' Q tables are not kept
     (:func:`allocate`): an experiment that reads only the learning curves and the evaluations saves
     their memory and their transport."""
     outputs = allocate(learner, setup, gridmap, schedule, n_runs, keep_q)
-    inputs = kernel_inputs(learner, setup, gridmap, schedule, bounce)
+    inputs = kernel_inputs(learner, setup, gridmap, schedule, bounce, rewards)
     then = () if evaluation is None else evaluations(learner, setup, gridmap, evaluation, schedule.max_steps,
-                                                     master_seed, bounce)
+                                                     master_seed, bounce, rewards)
     logs = [np.zeros((n_runs, 1, ep.n_columns(gridmap.n_agents))) for _ in then]
     work = parallel.Batch(learner.kernel_for(gridmap.n_agents), inputs, tuple(outputs.values()) + tuple(logs),
                           master_seed, then)
@@ -231,9 +233,9 @@ def evaluated(outputs: dict) -> np.ndarray:
 
 
 def train(learner: Learner, setup: Setup, gridmap: GridMap, schedule: ep.Schedule, n_runs: int, master_seed: int,
-          *, bounce: str = "previous", workers=None, progress=None) -> dict:
+          *, bounce: str = "previous", rewards: Rewards = CHAPTER, workers=None, progress=None) -> dict:
     """``n_runs`` runs of ``learner`` on ``gridmap``: its outputs by name (``q``, its own, ``log``),
     each with the runs on the first axis."""
-    work, outputs = batch(learner, setup, gridmap, schedule, n_runs, master_seed, bounce=bounce)
+    work, outputs = batch(learner, setup, gridmap, schedule, n_runs, master_seed, bounce=bounce, rewards=rewards)
     parallel.run_many([work], workers=workers, progress=progress)
     return outputs

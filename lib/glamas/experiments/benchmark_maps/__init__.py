@@ -5,10 +5,11 @@ use) and registers it."""
 
 from pathlib import Path
 
-from glamas.experiments.benchmark_maps.analysis import (claim_rows, excess_grid, measure, optimum_table, solved_table,
+from glamas.experiments.benchmark_maps.analysis import (claim_rows, excess_grid, field_claim_rows, formulations_table,
+                                                        margin_table, measure, optimum_table, push_margin, solved_table,
                                                         table)
-from glamas.experiments.benchmark_maps.experiment import (FIELD_MAPS, BenchmarkConfig, BenchmarkResult, run, scaled,
-                                                          seed_key)
+from glamas.experiments.benchmark_maps.experiment import (FIELD_MAPS, FORMULATIONS, BenchmarkConfig, BenchmarkResult,
+                                                          configured, field_scaled, run, scaled, seed_key)
 from glamas.experiments.faces import plots_on_first_use
 from glamas.experiments.registry import Experiment, register
 from glamas.paths import RESULTS
@@ -17,16 +18,28 @@ PLOTS = ("plot_table", "plot_curves", "plot_optimum")
 """The drawing functions of :mod:`.plots` this face hands on."""
 __getattr__ = plots_on_first_use(__name__, PLOTS)
 
-__all__ = ["EXPERIMENT", "FIELD_MAPS", "BenchmarkConfig", "BenchmarkResult", "claim_rows", "excess_grid", "load",
-           "measure", "optimum_table", "run", "scaled", "seed_key", "solved_table", "table", *PLOTS]
+__all__ = ["EXPERIMENT", "FIELD_EXPERIMENT", "FIELD_MAPS", "FORMULATIONS", "BenchmarkConfig", "BenchmarkResult",
+           "claim_rows", "configured", "excess_grid", "field_claim_rows", "field_scaled", "formulations_table", "load",
+           "load_field", "margin_table", "measure", "optimum_table", "push_margin", "run", "scaled", "seed_key",
+           "solved_table", "table", *PLOTS]
 
 EXPERIMENT = register(Experiment("benchmark_maps", BenchmarkConfig, run, scaled, BenchmarkConfig.runs,
                                  BenchmarkConfig.episodes, BenchmarkResult, claim_rows=claim_rows,
                                  figures=("benchmark_maps_curves", "benchmark_maps_optimum", "benchmark_maps_table"),
                                  chapter=False))
 """The benchmark on the field's maps (its result file is shared by the benchmark_maps_* figure scripts)."""
+FIELD_EXPERIMENT = register(Experiment("benchmark_maps_field", BenchmarkConfig, run, field_scaled, BenchmarkConfig.runs,
+                                       BenchmarkConfig.episodes, BenchmarkResult, claim_rows=field_claim_rows,
+                                       figures=("benchmark_maps_field_table",), chapter=False))
+"""The same benchmark under the field's reward formulation and learning settings (``configured("field")``)."""
 
 
 def load(config: BenchmarkConfig = BenchmarkConfig(), seed: int = 0, results_dir: Path = RESULTS) -> BenchmarkResult:
     """The committed (or ``results_dir``'s) result of ``config`` and ``seed``, its configuration checked."""
     return EXPERIMENT.load(results_dir, config, seed)
+
+
+def load_field(config: BenchmarkConfig | None = None, seed: int = 0, results_dir: Path = RESULTS) -> BenchmarkResult:
+    """The committed (or ``results_dir``'s) result under the field's formulation (default:
+    ``configured("field")``), its configuration checked."""
+    return FIELD_EXPERIMENT.load(results_dir, configured("field") if config is None else config, seed)

@@ -11,6 +11,7 @@ from glamas import claims as chapter
 from glamas.curves import final
 from glamas.experiments.benchmark_maps.experiment import BenchmarkResult
 from glamas.experiments.gridworld.analysis import COMPLETION
+from glamas.gridworld.rewards import Rewards
 from glamas.learners import registry
 
 TUNNEL_3 = "tunnel_to_goal_3"
@@ -51,9 +52,9 @@ def claim_measures(result: BenchmarkResult, m: dict) -> dict:
     names, maps = result.names(), result.map_names()
     for name in ("cq", "two_observe"):
         if name in names:
-            values = [m[f"greedy_solution_collisions_{name}_{map_name}"] for map_name in maps
-                      if f"greedy_solution_collisions_{name}_{map_name}" in m]
-            out[f"greedy_solution_collisions_{name}_max"] = max(values, default=math.nan)
+            for metric in ("greedy_solution_collisions", "collisions"):  # the greedy policy's; the curves'
+                values = [m[f"{metric}_{name}_{map_name}"] for map_name in maps if f"{metric}_{name}_{map_name}" in m]
+                out[f"{metric}_{name}_max"] = max(values, default=math.nan)
     if "independent" in names and TUNNEL_3 in maps and len(maps) > 1:
         elsewhere = [m[f"collisions_independent_{map_name}"] for map_name in maps if map_name != TUNNEL_3]
         out["collisions_independent_elsewhere_min"] = min(elsewhere)
@@ -63,6 +64,47 @@ def claim_measures(result: BenchmarkResult, m: dict) -> dict:
     if joint and all(key in m for key in joint):
         out["collisions_joint_learners_tunnel_3_min"] = min(m[key] for key in joint)
     return out
+
+
+def solo_value(rewards: Rewards, discount: float, distance: int) -> float:
+    """The discounted return of an agent alone ``distance`` steps from its goal on its shortest
+    path: a move's reward every step, the goal's on the last."""
+    moves = sum(discount ** t for t in range(distance)) * rewards.move
+    return moves + discount ** (distance - 1) * rewards.goal
+
+
+def push_margin(rewards: Rewards, discount: float, distance: int) -> float:
+    """What pushing into an agent that blocks the next cell is worth over backing off one cell,
+    ``distance`` steps from the goal, as a learner that values its next cell by the solo values
+    (CQ-learning's augmented values) scores it: the collision's reward (added to or in place of
+    the move's) and staying, against a move and one step farther. Negative: backing off wins."""
+    push = rewards.collision + (0.0 if rewards.collision_replaces_move else rewards.move)
+    staying = push + discount * solo_value(rewards, discount, distance)
+    backing_off = rewards.move + discount * solo_value(rewards, discount, distance + 1)
+    return staying - backing_off
+
+
+def margin_table(formulations: dict, distances=range(1, 9)) -> str:
+    """:func:`push_margin` at each distance under each of ``formulations`` (name -> (rewards, discount))."""
+    lines = [f"{'distance to the goal':24s}" + "".join(f"{d:>8d}" for d in distances)]
+    for name, (rewards, discount) in formulations.items():
+        lines.append(f"{name:24s}" + "".join(f"{push_margin(rewards, discount, d):8.2f}" for d in distances))
+    return "\n".join(lines)
+
+
+def formulations_table(results: dict, learner: str, metrics=("greedy_completion", "greedy_solution_collisions",
+                                                             "collisions")) -> str:
+    """One learner's measurements (:func:`measure`) per map under each formulation: ``results``
+    maps a formulation's name to the benchmark's result under it."""
+    measured = {name: measure(result) for name, result in results.items()}
+    maps = next(iter(results.values())).map_names()
+    width = max(10, *map(len, maps)) + 2
+    lines = [f"{registry.label(learner):36s}" + "".join(f"{name:>{width}s}" for name in maps)]
+    for metric in metrics:
+        for name, m in measured.items():
+            cells = [f"{m.get(f'{metric}_{learner}_{map_name}', math.nan):{width}.3f}" for map_name in maps]
+            lines.append(f"{metric + ' (' + name + ')':36s}" + "".join(cells))
+    return "\n".join(lines)
 
 
 SOLVED_COLLISIONS = 0.05
@@ -87,6 +129,13 @@ def solved_table(result: BenchmarkResult) -> str:
 def claim_rows(result: BenchmarkResult, config=None) -> list[dict]:
     """The benchmark's claims (data/chapter/benchmark_maps.json) with verdicts computed from ``result``."""
     return chapter.verdicts(chapter.load("benchmark_maps"), measure(result))
+
+
+def field_claim_rows(result: BenchmarkResult, config=None) -> list[dict]:
+    """The field's claims judged under the field's formulation (``benchmark_maps_field`` in
+    data/chapter/benchmark_maps.json): the same measurements of a result of the field's rewards
+    and learning settings."""
+    return chapter.verdicts(chapter.load("benchmark_maps_field"), measure(result))
 
 
 def table(result: BenchmarkResult, metric: str = "greedy_solution_collisions") -> str:

@@ -12,7 +12,7 @@ the chapter's Alg. 2, where its tables fit, and an exhaustive search of joint ep
 """
 
 import zlib
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -21,8 +21,10 @@ from glamas.errors import UserError
 from glamas.experiments.gridworld.experiment import own_settings
 from glamas.experiments.scaling.experiment import METHODS, METRICS, sweep
 from glamas.gridworld import BOUNCE_MODES, GridMap, dp, load_map
+from glamas.gridworld import rewards as formulations
+from glamas.gridworld.rewards import Rewards
 from glamas.learners import episode as ep
-from glamas.learners import registry, spec
+from glamas.learners import cq, registry, spec
 from glamas.qlearning import QSettings
 
 FIELD_MAPS = ("tunnel_to_goal", "tunnel_to_goal_3", "tunnel_to_goal_4", "isr", "cit", "cmu")
@@ -47,6 +49,9 @@ class BenchmarkConfig:
     """Each learner's own settings by its name, completed with the defaults of every trained learner."""
     bounce: str = "previous"
     """Where a collided agent goes (glamas.gridworld.rules)."""
+    rewards: Rewards = Rewards()
+    """What a step pays (glamas.gridworld.rewards): the chapter's by default; :data:`FORMULATIONS`
+    names the field's with the learning settings it comes with."""
     max_steps: int = 1000
     """Step cap per episode: an agent trapped early on would otherwise take a run's time."""
     episodes: int = 2000
@@ -112,6 +117,29 @@ class BenchmarkConfig:
         logs = len(self.learners) * len(self.maps) * self.runs * (self.n_bins + len(spec.EVALUATIONS)) * len(METRICS)
         optimum = max(dp.tabulated_bytes(self.gridmap(m)) if dp.tabulable(self.gridmap(m)) else 0 for m in self.maps)
         return largest * (memory.WORKING_COPIES + 1) + logs * memory.BYTES_PER_VALUE + optimum
+
+
+OPTIMUM_DISCOUNT = QSettings().discount
+"""The discount of the optimum (the chapter's joint MMDP, Fig. 9's): the chapter's, whatever the
+learners' formulation. Under the field's (discount 1, 0 at the goal) the MMDP of the chapter's
+rewards would value every collision-free plan alike."""
+
+FIELD_Q = QSettings(q_learning_rate=0.1, q_initial=0.0, exploit_prob=0.9, discount=1.0)
+"""The field's Q-learning: learning rate 0.1, discount 1, exploration 0.1 (the public
+implementation's evaluation script)."""
+FIELD_CQ = cq.Settings(cq_solo_episodes=10_000, cq_solo_exploit_prob=0.2)
+"""The field's phase alone: 10,000 episodes at exploration 0.8 (its pre-learning files)."""
+FORMULATIONS = {"chapter": {},
+                "field": {"rewards": formulations.FIELD, "q": FIELD_Q, "settings": {"cq": FIELD_CQ}}}
+"""The settings each reward formulation comes with: the chapter's are the defaults; the field's
+rewards come with the field's learning settings (docs/reproduction-notes.md)."""
+
+
+def configured(formulation: str, **changes) -> BenchmarkConfig:
+    """The benchmark under ``formulation`` (:data:`FORMULATIONS`), with ``changes`` to its fields."""
+    if formulation not in FORMULATIONS:
+        raise UserError(f"formulation must be one of {sorted(FORMULATIONS)}, got {formulation!r}")
+    return replace(BenchmarkConfig(), **{**FORMULATIONS[formulation], **changes})
 
 
 def seed_key(seed: int, map_name: str) -> int:
@@ -200,10 +228,10 @@ class BenchmarkResult:
 
 def run(config: BenchmarkConfig = BenchmarkConfig(), seed: int = 0, workers=None, progress=None) -> BenchmarkResult:
     """Every learner on every map (:func:`glamas.experiments.scaling.experiment.sweep`), and each
-    map's exact optimum (:func:`glamas.gridworld.dp.exact_optimum`, the Q-learners' discount)."""
+    map's exact optimum (:func:`glamas.gridworld.dp.exact_optimum` at :data:`OPTIMUM_DISCOUNT`)."""
     gridmaps = [config.gridmap(name) for name in config.maps]
     arrays = sweep(config, gridmaps, [seed_key(seed, name) for name in config.maps], workers, progress)
-    episodes = [dp.exact_optimum(gridmap, config.q.discount, config.bounce) for gridmap in gridmaps]
+    episodes = [dp.exact_optimum(gridmap, OPTIMUM_DISCOUNT, config.bounce) for gridmap in gridmaps]
     steps = np.full((len(gridmaps), MAX_AGENTS), -1, dtype=np.int64)
     returns = np.full((len(gridmaps), MAX_AGENTS), np.nan)
     cells = np.full((len(gridmaps), max(e.cells.shape[0] for e in episodes), MAX_AGENTS), -1, dtype=np.int64)
@@ -218,3 +246,8 @@ def run(config: BenchmarkConfig = BenchmarkConfig(), seed: int = 0, workers=None
 def scaled(runs: int, episodes: int) -> BenchmarkConfig:
     """The benchmark at ``runs`` and ``episodes``."""
     return BenchmarkConfig(runs=runs, episodes=episodes)
+
+
+def field_scaled(runs: int, episodes: int) -> BenchmarkConfig:
+    """The benchmark under the field's formulation at ``runs`` and ``episodes``."""
+    return configured("field", runs=runs, episodes=episodes)

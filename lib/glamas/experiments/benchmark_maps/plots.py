@@ -8,6 +8,7 @@ from glamas.experiments.benchmark_maps.analysis import excess_grid, measure
 from glamas.experiments.benchmark_maps.experiment import BenchmarkResult
 from glamas.experiments.gridworld.analysis import COMPLETION
 from glamas.gridworld import draw
+from glamas.gridworld.rewards import CHAPTER, PRESETS
 from glamas.learners import registry
 from glamas.plotting import greedy_legend_entry, learner_style, mark_greedy, plot_mean_band
 
@@ -34,9 +35,15 @@ def plot_table(ax, result: BenchmarkResult):
             ax.text(j, k, text, ha="center", va="center", fontsize="x-small", color=colour)
     ax.set_xticks(range(len(maps)), maps, rotation=20, fontsize="small")
     ax.set_yticks(range(len(names)), [registry.label(name) for name in names], fontsize="small")
-    ax.set_title(f"greedy policy after {result.config.episodes} episodes: episode length over the optimum's, "
+    under = "" if result.config.rewards == CHAPTER else f" under the {_formulation(result.config.rewards)} rewards"
+    ax.set_title(f"greedy policy after {result.config.episodes} episodes{under}: episode length over the optimum's, "
                  f"collisions per episode\n('no solution': fewer than {COMPLETION:.0%} of its episodes end with "
                  "every agent in its goal)", fontsize="small")
+
+
+def _formulation(rewards) -> str:
+    """The name of a preset formulation ("field's"), or "own" for another."""
+    return next((f"{name}'s" for name, preset in PRESETS.items() if preset == rewards), "own")
 
 
 def plot_curves(axes, result: BenchmarkResult, metric: str = "collisions"):

@@ -27,6 +27,7 @@ from glamas import checks, memory, parallel
 from glamas.errors import UserError
 from glamas.experiments.gridworld.experiment import own_settings
 from glamas.gridworld import BOUNCE_MODES, GridMap, load_map
+from glamas.gridworld.rewards import Rewards
 from glamas.learners import episode as ep
 from glamas.learners import registry, spec
 from glamas.qlearning import QSettings
@@ -64,6 +65,9 @@ class ScalingConfig:
     (as :attr:`glamas.experiments.gridworld.GridworldConfig.settings`)."""
     bounce: str = "previous"
     """Where a collided agent goes (glamas.gridworld.rules)."""
+    rewards: Rewards = Rewards()
+    """What a step pays (glamas.gridworld.rewards: the chapter's by default, ``rewards.FIELD`` the
+    field's step costs)."""
     max_steps: int = 1000
     """Step cap per episode: with three or more agents an agent often gets trapped early on (see
     the notebook), and 1000 steps keep such episodes from taking the run's time."""
@@ -273,7 +277,7 @@ def sweep(config, gridmaps: list, keys: list, workers=None, progress=None) -> di
     SEED_STRIDES), all on one pool of workers (:func:`glamas.parallel.run_many`). Each run's Q
     tables stay in the worker that fills them (the study keeps learning curves, evaluations and
     table sizes), so memory holds the tables of the runs in progress only. ``config`` holds
-    learners, their settings (``setup``), q, bounce, runs, the schedule (``schedule()``, ``n_bins``),
+    learners, their settings (``setup``), q, bounce, rewards, runs, the schedule (``schedule()``, ``n_bins``),
     ``evaluation_episodes`` and the memory budget. Returns the arrays of a result, with a case axis
     after the learners' (:class:`ScalingResult`'s fields from ``ran`` on)."""
     m, a = len(config.learners), len(gridmaps)
@@ -299,7 +303,7 @@ def sweep(config, gridmaps: list, keys: list, workers=None, progress=None) -> di
             if needed[k, j] <= budget:
                 batch, outputs = spec.batch(learner, setup, gridmap, schedule, config.runs,
                                             registry.master_seed(key, name, SEED_STRIDES), bounce=config.bounce,
-                                            keep_q=False, evaluation=evaluation)
+                                            rewards=config.rewards, keep_q=False, evaluation=evaluation)
                 trainings[k, j] = learner, setup, gridmap, batch, outputs
     # One run per job: runs differ widely in length (some spend most episodes at the step cap),
     # and small jobs keep every worker busy until the last runs are done.
@@ -356,7 +360,7 @@ def trap(name: str, n: int, runs: int, episodes: int, seed: int = 0, config: Sca
     schedule = ep.Schedule(episodes, ep.uniform_edges(episodes, episodes // 10), config.max_steps)
     master_seed = seed_of(seed, name, n) if master_seed is None else master_seed
     out = spec.train(learner, config.setup(name), gridmap, schedule, runs, master_seed, bounce=config.bounce,
-                     workers=workers)
+                     rewards=config.rewards, workers=workers)
     capped = ep.metric(out["log"], "capped")
     trapped = out["log"][:, -1, :n] >= TRAPPED * config.max_steps  # (runs, agents)
     aisle = aisle_cells(gridmap)

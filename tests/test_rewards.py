@@ -1,0 +1,102 @@
+"""The reward formulation (glamas.gridworld.rewards): an episode's rewards by hand under each
+preset, the values reaching the learners' kernels, and the field's settings in the benchmark."""
+
+import dataclasses
+
+import numpy as np
+import pytest
+
+from glamas.errors import UserError
+from glamas.experiments import benchmark_maps
+from glamas.gridworld import GridworldEnv, load_map
+from glamas.gridworld.rewards import CHAPTER, FIELD, PRESETS, Rewards, preset
+from glamas.gridworld.rules import E, N, W
+from glamas.learners import episode as ep
+from glamas.learners import registry, spec
+
+CORRIDOR = """\
++-+-+-+-+
+|1 . 2 G|
++-+-+-+-+
+"""
+SCRIPT = [  # (action of agent 1, of agent 2), cells 0..3 from the left, G the goal of both
+    (E, N),  # 1 moves to cell 1; 2 bumps into the border
+    (E, N),  # 1 aims at cell 2, where 2 bumps again: a collision, both stay
+    (W, E),  # 1 moves back to cell 0; 2 enters the goal
+    (E, None),
+    (E, None),
+    (E, None),  # 1 enters the goal
+]
+BY_HAND = {
+    # chapter: a move pays 0, a bump -1, a collision -10 added, the goal +100
+    "chapter": [(0.0, -1.0), (-10.0, -11.0), (0.0, 100.0), (0.0,), (0.0,), (100.0,)],
+    # field: a move or a bump pays -1, a collision -10 in place of it, the goal 0 besides the move
+    "field": [(-1.0, -1.0), (-10.0, -10.0), (-1.0, -1.0), (-1.0,), (-1.0,), (-1.0,)],
+}
+
+
+@pytest.mark.parametrize("name", BY_HAND)
+def test_an_episode_pays_what_the_formulation_says(name):
+    env = GridworldEnv(load_map(CORRIDOR), rewards=preset(name))
+    env.reset()
+    paid = []
+    for moves in SCRIPT:
+        actions = {agent: a for agent, a in zip(env.possible_agents, moves) if agent in env.agents}
+        _, rewards, terminations, _, infos = env.step(actions)
+        paid.append(tuple(rewards[agent] for agent in actions))
+    assert paid == BY_HAND[name]
+    assert terminations == {"agent_1": True} and not env.agents
+
+
+def test_the_chapters_formulation_is_the_default_and_the_chapters_values():
+    assert Rewards() == CHAPTER == PRESETS["chapter"]
+    assert (CHAPTER.goal, CHAPTER.move, CHAPTER.bump, CHAPTER.collision) == (100.0, 0.0, -1.0, -10.0)
+    assert not CHAPTER.collision_replaces_move and FIELD.collision_replaces_move
+
+
+@pytest.mark.parametrize("changes, named", [({"goal": float("nan")}, "Rewards.goal"), ({"move": "-1"}, "Rewards.move"),
+                                            ({"collision_replaces_move": 1}, "Rewards.collision_replaces_move")])
+def test_a_bad_value_is_one_line_naming_the_field(changes, named):
+    with pytest.raises(UserError, match=named):
+        Rewards(**changes)
+    with pytest.raises(UserError, match="chapter"):
+        preset("fieldish")
+
+
+def _rewards_learned(rewards: Rewards) -> np.ndarray:
+    learner = registry.get("independent")
+    out = spec.train(learner, learner.setup(), load_map("isr"), ep.Schedule(20, ep.log_edges(20, 2), 200), 2, 0,
+                     rewards=rewards, workers=1)
+    return ep.metric(out["log"], "reward")
+
+
+CHANGED = {"goal": {"goal": 99.5}, "move": {"move": -0.5}, "bump": {"bump": -1.5}, "collision": {"collision": -10.5},
+           "collision_replaces_move": {"move": -1.0, "collision_replaces_move": True}}
+"""One value changed from the chapter's (where a collision replaces a move that costs, so that
+replacing differs from adding)."""
+
+
+@pytest.mark.parametrize("field", CHANGED)
+def test_every_value_reaches_the_kernel(field):
+    """A run with one value changed pays other rewards (the same seed, so the same first episode)."""
+    base = dataclasses.replace(CHAPTER, **{name: value for name, value in CHANGED[field].items() if name != field})
+    changed = dataclasses.replace(CHAPTER, **CHANGED[field])
+    assert not np.array_equal(_rewards_learned(changed), _rewards_learned(base))
+
+
+def test_the_field_formulation_comes_with_the_fields_learning_settings():
+    config = benchmark_maps.configured("field", runs=2)
+    assert config.rewards == FIELD and config.runs == 2
+    assert (config.q.q_learning_rate, config.q.discount, config.q.exploit_prob) == (0.1, 1.0, 0.9)
+    assert (config.settings["cq"].cq_solo_episodes, config.settings["cq"].cq_solo_exploit_prob) == (10_000, 0.2)
+    assert benchmark_maps.configured("chapter") == benchmark_maps.BenchmarkConfig()
+    with pytest.raises(UserError, match="formulation must be one of"):
+        benchmark_maps.configured("pogema")
+
+
+def test_the_push_margin_by_hand():
+    """Next to the goal, under the chapter's rewards: pushing scores -10 + 0.9 * 100 = 80, backing off
+    0.9 * 90 = 81; under the field's, -10 - 1 against -1 - 2, at every distance."""
+    assert benchmark_maps.push_margin(CHAPTER, 0.9, 1) == pytest.approx(-1.0)
+    assert benchmark_maps.push_margin(CHAPTER, 0.9, 2) == pytest.approx(0.09 * 90 - 10)
+    assert [benchmark_maps.push_margin(FIELD, 1.0, d) for d in (1, 5, 30)] == [-8.0, -8.0, -8.0]
