@@ -6,8 +6,8 @@ use) and registers it."""
 from pathlib import Path
 
 from glamas.experiments.benchmark_maps.analysis import (claim_rows, excess_grid, field_claim_rows, formulations_table,
-                                                        margin_table, measure, optimum_table, push_margin, solved_table,
-                                                        table)
+                                                        margin_table, measure, optimum_table, plans_table, push_margin,
+                                                        solved_table, table)
 from glamas.experiments.benchmark_maps.experiment import (FIELD_MAPS, FORMULATIONS, BenchmarkConfig, BenchmarkResult,
                                                           configured, field_scaled, run, scaled, seed_key)
 from glamas.experiments.faces import plots_on_first_use
@@ -20,8 +20,8 @@ __getattr__ = plots_on_first_use(__name__, PLOTS)
 
 __all__ = ["EXPERIMENT", "FIELD_EXPERIMENT", "FIELD_MAPS", "FORMULATIONS", "BenchmarkConfig", "BenchmarkResult",
            "claim_rows", "configured", "excess_grid", "field_claim_rows", "field_scaled", "formulations_table", "load",
-           "load_field", "margin_table", "measure", "optimum_table", "push_margin", "run", "scaled", "seed_key",
-           "solved_table", "table", *PLOTS]
+           "load_field", "margin_table", "measure", "optimum_table", "plans_table", "push_margin", "run", "scaled",
+           "seed_key", "solved_table", "table", *PLOTS]
 
 EXPERIMENT = register(Experiment("benchmark_maps", BenchmarkConfig, run, scaled, BenchmarkConfig.runs,
                                  BenchmarkConfig.episodes, BenchmarkResult, claim_rows=claim_rows,

@@ -43,6 +43,11 @@ def case_measures(result: BenchmarkResult, name: str, map_name: str) -> dict:
     m[f"greedy_solution_collisions_{key}"] = m[f"greedy_collisions_{key}"] if completes else math.inf
     m[f"greedy_excess_length_{key}"] = (m[f"greedy_length_{key}"] - result.optimum(map_name)["length"]
                                         if completes else math.nan)
+    # the agents' steps summed (the greedy evaluation keeps their mean) over the least sum of costs
+    least = result.plan(map_name)["sum_of_costs"]
+    agents = result.config.gridmap(map_name).n_agents
+    m[f"greedy_cost_ratio_{key}"] = (float(result.evaluation(name, map_name, "steps").mean()) * agents / least
+                                     if completes and least else math.nan)
     return m
 
 
@@ -162,6 +167,24 @@ def optimum_table(result: BenchmarkResult) -> str:
         returns = ", ".join(f"{r:g}" for r in result.optimum_returns[j, :n])
         lines.append(f"{map_name:18s} {n:6d} {int((~gridmap.blocked).sum()):6d} {steps:>18s} "
                      f"{int(result.optimum_steps[j].max()):6d} {returns:>22s}")
+    return "\n".join(lines)
+
+
+def plans_table(result: BenchmarkResult) -> str:
+    """Each map's optimal plans as path finding counts them (glamas.gridworld.plans): the least sum
+    of costs and the least makespan, each agent's steps, and the lower bounds (each agent's shortest
+    path alone); '-' where the joint tables do not fit."""
+    lines = [f"{'map':18s} {'least sum of costs: steps':>26s} {'sum':>5s} {'makespan':>9s}   "
+             f"{'least makespan: steps':>22s} {'sum':>5s} {'makespan':>9s}   {'bounds: sum':>11s} {'makespan':>9s}"]
+    for map_name in result.map_names():
+        cost, span = result.plan(map_name, "sum_of_costs"), result.plan(map_name, "makespan")
+        cells = []
+        for plan, width in ((cost, 26), (span, 22)):
+            known = plan["steps"] is not None
+            cells.append(f"{', '.join(map(str, plan['steps'])) if known else '-':>{width}s} "
+                         f"{plan['sum_of_costs'] if known else '-':>5} {plan['makespan'] if known else '-':>9}")
+        lines.append(f"{map_name:18s} {cells[0]}   {cells[1]}   {cost['bound_sum_of_costs']:11d} "
+                     f"{cost['bound_makespan']:9d}")
     return "\n".join(lines)
 
 

@@ -20,7 +20,7 @@ from glamas import checks, memory
 from glamas.errors import UserError
 from glamas.experiments.gridworld.experiment import own_settings
 from glamas.experiments.scaling.experiment import METHODS, METRICS, sweep
-from glamas.gridworld import BOUNCE_MODES, GridMap, dp, load_map
+from glamas.gridworld import BOUNCE_MODES, GridMap, dp, load_map, plans
 from glamas.gridworld import rewards as formulations
 from glamas.gridworld.rewards import Rewards
 from glamas.learners import episode as ep
@@ -31,6 +31,9 @@ FIELD_MAPS = ("tunnel_to_goal", "tunnel_to_goal_3", "tunnel_to_goal_4", "isr", "
 """The maps of the sparse-interaction literature, in data/maps."""
 MAX_AGENTS = 4
 """The most agents of a field map: the optimum's arrays hold this many agents (-1 beyond a map's own)."""
+PLANS = ("sum_of_costs", "makespan")
+"""The optimal plans as path finding counts them (glamas.gridworld.plans), in the order of
+``BenchmarkResult.plan_steps``: the least sum of costs, the least makespan."""
 
 
 @dataclass(frozen=True)
@@ -185,6 +188,10 @@ class BenchmarkResult:
     optimum_cells: np.ndarray
     """int (maps, steps + 1, MAX_AGENTS): the agents' cells in that episode, starts first (-1 after
     its end and beyond the map's agents)."""
+    plan_steps: np.ndarray
+    """int (maps, PLANS, MAX_AGENTS): each agent's steps in the collision-free plan of least sum of
+    costs and in the one of least makespan (glamas.gridworld.plans; -1 beyond the map's agents, and
+    on a map whose joint tables do not fit)."""
 
     def names(self) -> list[str]:
         return [str(name) for name in self.learners]
@@ -218,6 +225,18 @@ class BenchmarkResult:
         return {"length": float(steps.max()), "steps": float(steps[agents].mean()),
                 "reward": float(returns[agents].mean()), "collisions": 0.0}
 
+    def plan(self, map_name: str, kind: str = "sum_of_costs") -> dict:
+        """Map ``map_name``'s optimal plan of ``kind`` (:data:`PLANS`): each agent's steps, its sum
+        of costs and makespan, and the lower bounds of both (each agent's shortest path alone);
+        the plan's entries are None on a map whose joint tables do not fit."""
+        j, gridmap = self.map_names().index(map_name), self.config.gridmap(map_name)
+        steps = self.plan_steps[j, PLANS.index(kind), :gridmap.n_agents]
+        bound_cost, bound_makespan = plans.lower_bounds(gridmap)
+        known = bool((steps >= 0).all())
+        return {"steps": steps.tolist() if known else None, "sum_of_costs": int(steps.sum()) if known else None,
+                "makespan": int(steps.max()) if known else None, "bound_sum_of_costs": bound_cost,
+                "bound_makespan": bound_makespan}
+
     def optimum_episode(self, map_name: str) -> np.ndarray:
         """int (steps + 1, agents): the agents' cells in map ``map_name``'s optimal episode."""
         j = self.map_names().index(map_name)
@@ -240,7 +259,19 @@ def run(config: BenchmarkConfig = BenchmarkConfig(), seed: int = 0, workers=None
         steps[j, :n], returns[j, :n], cells[j, :episode.cells.shape[0], :n] = (episode.steps_to_goal, episode.returns,
                                                                                 episode.cells)
     return BenchmarkResult(config=config, learners=np.array(config.learners), maps=np.array(config.maps), **arrays,
-                           optimum_steps=steps, optimum_returns=returns, optimum_cells=cells)
+                           optimum_steps=steps, optimum_returns=returns, optimum_cells=cells,
+                           plan_steps=plan_steps(gridmaps, config.bounce))
+
+
+def plan_steps(gridmaps: list, bounce: str) -> np.ndarray:
+    """int (maps, PLANS, MAX_AGENTS): each agent's steps in each optimal plan (:data:`PLANS`) of
+    every map whose joint tables fit (-1 elsewhere and beyond a map's agents)."""
+    out = np.full((len(gridmaps), len(PLANS), MAX_AGENTS), -1, dtype=np.int64)
+    for j, gridmap in enumerate(gridmaps):
+        if dp.tabulable(gridmap):
+            for k, plan in enumerate((plans.least_sum_of_costs(gridmap, bounce), plans.least_makespan(gridmap, bounce))):
+                out[j, k, :gridmap.n_agents] = plan.steps
+    return out
 
 
 def scaled(runs: int, episodes: int) -> BenchmarkConfig:
