@@ -125,3 +125,19 @@ def test_the_link_checker_finds_what_is_broken(tmp_path, monkeypatch):
     assert re.search(OUTSIDE["a path of some machine"], "see /work/main/README.md")
     assert re.search(OUTSIDE["an issue or session"], "fixed in this Session")
     assert not re.search(OUTSIDE["an issue number"], "[x](#exit-codes)")
+
+
+def test_every_figure_of_every_experiment_has_its_gallery_row_with_its_notebook():
+    """The README's gallery: one row per figure script of every registered experiment, linking the
+    script, a notebook that exists and the committed PNG."""
+    from glamas.experiments import registry
+
+    rows = [line for line in README.read_text().splitlines() if line.startswith("|")]
+    missing = []
+    for name in registry.figure_scripts(chapter_only=False):
+        row = next((line for line in rows if f"(paper_figures/{name}.py)" in line), None)
+        notebooks = [] if row is None else re.findall(r"\((notebooks/[^)]+\.ipynb)\)", row)
+        if row is None or f"(paper_figures/output/{name}.png)" not in row or not notebooks \
+                or not all((REPO / notebook).exists() for notebook in notebooks):
+            missing.append(name)
+    assert missing == [], "figure scripts without a full gallery row (script, notebook, image)"
