@@ -212,15 +212,22 @@ def test_a_cluster_without_workers_is_reported_within_the_timeout():
 def test_a_worker_process_killed_mid_run_is_reported_at_once():
     psutil = pytest.importorskip("psutil")
 
+    def busy(worker) -> bool:
+        """Whether ``worker`` is running a job (its CPU time grows), not idle in a pool kept from an
+        earlier test, whose death the run would never see."""
+        before = sum(worker.cpu_times()[:2])
+        time.sleep(0.3)
+        return sum(worker.cpu_times()[:2]) > before + 0.1
+
     def kill_a_worker():
         deadline = time.monotonic() + 30
         while time.monotonic() < deadline:
             workers = [p for p in psutil.Process().children(recursive=True) if "popen_loky" in " ".join(p.cmdline())]
-            if workers:
-                time.sleep(0.5)  # let it start its job
+            for worker in workers:
                 try:
-                    workers[0].kill()
-                    return
+                    if busy(worker):
+                        worker.kill()
+                        return
                 except (psutil.NoSuchProcess, ProcessLookupError):
                     pass  # a worker of an earlier pool, gone meanwhile: look again
             time.sleep(0.05)
