@@ -6,6 +6,8 @@ is bipartite, so arriving one step late costs a wall bump (-1, arrival at 11) or
 costs a two-step detour (arrival at 12, no penalty). Which is better depends on gamma.
 """
 
+from pathlib import Path
+
 import numpy as np
 import pytest
 
@@ -153,16 +155,9 @@ def test_plot_episode_rejects_unknown_episode():
 
 # --- per-agent goals, the field's maps, and the search beyond the tables ---------------------------
 
-SWAP_WITH_A_POCKET = """\
-+-+-+-+-+
-|1 . . 2|
-+-+ +-+-+
-|#|.|#|#|
-+-+-+-+-+
-goal 1: row 0, col 3
-goal 2: row 0, col 0
-"""
-"""Two agents swapping ends of a corridor with one pocket: one must step aside."""
+SWAP_WITH_A_POCKET = Path(__file__).parent / "data" / "swap_with_a_pocket.txt"
+"""Two agents swapping ends of a corridor with one pocket: one must step aside (a map file shared
+with tests/test_plans.py)."""
 
 
 def exhaustive_value(gridmap, gamma, bounce="previous"):

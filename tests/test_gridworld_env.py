@@ -95,6 +95,8 @@ def test_step_before_reset_and_bad_arguments():
         GridworldEnv(tunnel_to_goal(), bounce="home")
     with pytest.raises(ValueError, match="max_steps must be a positive integer, got 0"):
         GridworldEnv(tunnel_to_goal(), max_steps=0)
+    with pytest.raises(ValueError, match="rewards must be a glamas.gridworld.rewards.Rewards, got 'field'"):
+        GridworldEnv(tunnel_to_goal(), rewards="field")
 
 
 def test_done_agent_action_rejected(env):

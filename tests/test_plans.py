@@ -2,22 +2,16 @@
 search through the environment, on the field's maps against what the MMDP's optimum gives, and one
 line for an instance without a plan."""
 
+from pathlib import Path
+
 import numpy as np
 import pytest
 
 from glamas.errors import UserError
 from glamas.gridworld import GridworldEnv, dp, load_map, plans
 
-SWAP_WITH_A_SIDE_CELL = """\
-+-+-+-+-+
-|1 . . 2|
-+-+ +-+-+
-|#|.|#|#|
-+-+-+-+-+
-goal 1: row 0, col 3
-goal 2: row 0, col 0
-"""
-"""Two agents swapping ends of a corridor: one must step into the side cell and wait."""
+SWAP_WITH_A_POCKET = Path(__file__).parent / "data" / "swap_with_a_pocket.txt"
+"""Two agents swapping ends of a corridor with one pocket: one must step into it and wait."""
 NO_WAY_PAST = """\
 +-+-+-+
 |1 . 2|
@@ -59,7 +53,7 @@ def _exhaustive(gridmap, horizon: int) -> tuple[int, int]:
 
 
 def test_the_plans_are_the_exhaustive_searchs():
-    gridmap = load_map(SWAP_WITH_A_SIDE_CELL)
+    gridmap = load_map(SWAP_WITH_A_POCKET)
     cost, span = plans.least_sum_of_costs(gridmap), plans.least_makespan(gridmap)
     assert (cost.sum_of_costs, span.makespan) == _exhaustive(gridmap, horizon=8)
     assert cost.cells[0].tolist() == gridmap.starts.tolist() and len(cost.cells) == cost.makespan + 1

@@ -177,6 +177,7 @@ def test_bad_configurations_are_rejected_with_a_message(changes, message):
     (lambda: cq.Settings(cq_window=1), "cq_window must be a whole number >= 2"),
     (lambda: cq.Settings(cq_solo_episodes=2.5), "cq_solo_episodes must be a whole number >= 1"),
     (lambda: cq.Settings(cq_significance=5), "cq_significance must be a number in (0, 1)"),
+    (lambda: cq.Settings(cq_solo_exploit_prob=1.5), "cq_solo_exploit_prob must be a number in (0, 1], got 1.5"),
 ])
 def test_bad_settings_are_rejected_with_a_message(make, message):
     with pytest.raises(ValueError, match=message.replace("(", r"\(").replace(")", r"\)")):

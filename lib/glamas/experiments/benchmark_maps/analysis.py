@@ -11,6 +11,7 @@ from glamas import claims as chapter
 from glamas.curves import final
 from glamas.experiments.benchmark_maps.experiment import BenchmarkResult
 from glamas.experiments.gridworld.analysis import COMPLETION
+from glamas.gridworld import plans
 from glamas.gridworld.rewards import Rewards
 from glamas.learners import registry
 
@@ -44,10 +45,9 @@ def case_measures(result: BenchmarkResult, name: str, map_name: str) -> dict:
     m[f"greedy_excess_length_{key}"] = (m[f"greedy_length_{key}"] - result.optimum(map_name)["length"]
                                         if completes else math.nan)
     # the agents' steps summed (the greedy evaluation keeps their mean) over the least sum of costs
-    least = result.plan(map_name)["sum_of_costs"]
-    agents = result.config.gridmap(map_name).n_agents
-    m[f"greedy_cost_ratio_{key}"] = (float(result.evaluation(name, map_name, "steps").mean()) * agents / least
-                                     if completes and least else math.nan)
+    plan = result.plan(map_name)
+    m[f"greedy_cost_ratio_{key}"] = (float(result.evaluation(name, map_name, "steps").mean()) * len(plan["steps"])
+                                     / plan["sum_of_costs"] if completes and plan["steps"] else math.nan)
     return m
 
 
@@ -183,8 +183,8 @@ def plans_table(result: BenchmarkResult) -> str:
             known = plan["steps"] is not None
             cells.append(f"{', '.join(map(str, plan['steps'])) if known else '-':>{width}s} "
                          f"{plan['sum_of_costs'] if known else '-':>5} {plan['makespan'] if known else '-':>9}")
-        lines.append(f"{map_name:18s} {cells[0]}   {cells[1]}   {cost['bound_sum_of_costs']:11d} "
-                     f"{cost['bound_makespan']:9d}")
+        bound_cost, bound_makespan = plans.lower_bounds(result.config.gridmap(map_name))
+        lines.append(f"{map_name:18s} {cells[0]}   {cells[1]}   {bound_cost:11d} {bound_makespan:9d}")
     return "\n".join(lines)
 
 

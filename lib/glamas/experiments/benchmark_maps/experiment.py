@@ -227,15 +227,14 @@ class BenchmarkResult:
 
     def plan(self, map_name: str, kind: str = "sum_of_costs") -> dict:
         """Map ``map_name``'s optimal plan of ``kind`` (:data:`PLANS`): each agent's steps, its sum
-        of costs and makespan, and the lower bounds of both (each agent's shortest path alone);
-        the plan's entries are None on a map whose joint tables do not fit."""
-        j, gridmap = self.map_names().index(map_name), self.config.gridmap(map_name)
-        steps = self.plan_steps[j, PLANS.index(kind), :gridmap.n_agents]
-        bound_cost, bound_makespan = plans.lower_bounds(gridmap)
+        of costs and makespan; None for each on a map whose joint tables do not fit (its lower
+        bounds: :func:`glamas.gridworld.plans.lower_bounds`)."""
+        j = self.map_names().index(map_name)
+        row = self.plan_steps[j, PLANS.index(kind)]
+        steps = row[:int((self.optimum_steps[j] >= 0).sum())]  # the map's agents
         known = bool((steps >= 0).all())
         return {"steps": steps.tolist() if known else None, "sum_of_costs": int(steps.sum()) if known else None,
-                "makespan": int(steps.max()) if known else None, "bound_sum_of_costs": bound_cost,
-                "bound_makespan": bound_makespan}
+                "makespan": int(steps.max()) if known else None}
 
     def optimum_episode(self, map_name: str) -> np.ndarray:
         """int (steps + 1, agents): the agents' cells in map ``map_name``'s optimal episode."""
@@ -269,8 +268,8 @@ def plan_steps(gridmaps: list, bounce: str) -> np.ndarray:
     out = np.full((len(gridmaps), len(PLANS), MAX_AGENTS), -1, dtype=np.int64)
     for j, gridmap in enumerate(gridmaps):
         if dp.tabulable(gridmap):
-            for k, plan in enumerate((plans.least_sum_of_costs(gridmap, bounce), plans.least_makespan(gridmap, bounce))):
-                out[j, k, :gridmap.n_agents] = plan.steps
+            for k, find in enumerate((plans.least_sum_of_costs, plans.least_makespan)):
+                out[j, k, :gridmap.n_agents] = find(gridmap, bounce).steps
     return out
 
 
