@@ -8,7 +8,7 @@ READY := $(VENV)/.installed
 EXTRAS := $(VENV)/.extras-installed
 NOTEBOOKS := $(sort $(wildcard notebooks/*.ipynb))
 
-.PHONY: figures test unit notebooks-check notebooks lab ledger benchmark benchmark-maps reproduce verify clean-env clean-cache
+.PHONY: figures test unit notebooks-check notebooks lab ledger benchmark benchmark-maps benchmark-budgets reproduce verify clean-env clean-cache
 
 $(READY): requirements.txt pyproject.toml
 	@$(PYTHON) -c 'import sys; sys.exit(sys.version_info < (3, 11) and "glamas needs Python >= 3.11: set PYTHON=python3.11")'
@@ -97,6 +97,15 @@ export MAPS_OUT
 benchmark-maps: $(READY)
 	$(PY) -m glamas.reproduce --experiment benchmark_maps --fresh "$$MAPS_OUT"
 	$(PY) -m glamas.reproduce --experiment benchmark_maps_field --out "$$MAPS_OUT/figures" --results "$$MAPS_OUT/results"
+
+## benchmark-budgets: the same benchmark at 2,000, 20,000 and 200,000 training episodes per run under
+## both formulations (the maps each learner's greedy policy solves after each budget), recomputed into
+## $(BUDGETS_OUT)/results with its figure in $(BUDGETS_OUT)/figures (emptied first; about 22 minutes on 2 cores)
+BUDGETS_OUT ?= out/benchmark-budgets
+export BUDGETS_OUT
+
+benchmark-budgets: $(READY)
+	$(PY) -m glamas.reproduce --experiment benchmark_maps_budgets --fresh "$$BUDGETS_OUT"
 
 clean-env:
 	rm -rf "$(VENV)"

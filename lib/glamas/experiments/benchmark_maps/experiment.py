@@ -192,6 +192,9 @@ class BenchmarkResult:
     """int (maps, PLANS, MAX_AGENTS): each agent's steps in the collision-free plan of least sum of
     costs and in the one of least makespan (glamas.gridworld.plans; -1 beyond the map's agents, and
     on a map whose joint tables do not fit)."""
+    plan_cells: np.ndarray
+    """int (maps, PLANS, steps + 1, MAX_AGENTS): the agents' cells in those plans, starts first (-1
+    after a plan's end, beyond the map's agents, and on a map whose joint tables do not fit)."""
 
     def names(self) -> list[str]:
         return [str(name) for name in self.learners]
@@ -236,6 +239,13 @@ class BenchmarkResult:
         return {"steps": steps.tolist() if known else None, "sum_of_costs": int(steps.sum()) if known else None,
                 "makespan": int(steps.max()) if known else None}
 
+    def plan_episode(self, map_name: str, kind: str = "sum_of_costs") -> np.ndarray:
+        """int (steps + 1, agents): the agents' cells in map ``map_name``'s optimal plan of ``kind``."""
+        j = self.map_names().index(map_name)
+        n = int((self.optimum_steps[j] >= 0).sum())
+        cells = self.plan_cells[j, PLANS.index(kind), :, :n]
+        return cells[(cells >= 0).all(axis=1)]
+
     def optimum_episode(self, map_name: str) -> np.ndarray:
         """int (steps + 1, agents): the agents' cells in map ``map_name``'s optimal episode."""
         j = self.map_names().index(map_name)
@@ -257,20 +267,25 @@ def run(config: BenchmarkConfig = BenchmarkConfig(), seed: int = 0, workers=None
         n = gridmap.n_agents
         steps[j, :n], returns[j, :n], cells[j, :episode.cells.shape[0], :n] = (episode.steps_to_goal, episode.returns,
                                                                                 episode.cells)
+    plan_steps, plan_cells = optimal_plans(gridmaps, config.bounce)
     return BenchmarkResult(config=config, learners=np.array(config.learners), maps=np.array(config.maps), **arrays,
                            optimum_steps=steps, optimum_returns=returns, optimum_cells=cells,
-                           plan_steps=plan_steps(gridmaps, config.bounce))
+                           plan_steps=plan_steps, plan_cells=plan_cells)
 
 
-def plan_steps(gridmaps: list, bounce: str) -> np.ndarray:
-    """int (maps, PLANS, MAX_AGENTS): each agent's steps in each optimal plan (:data:`PLANS`) of
-    every map whose joint tables fit (-1 elsewhere and beyond a map's agents)."""
-    out = np.full((len(gridmaps), len(PLANS), MAX_AGENTS), -1, dtype=np.int64)
-    for j, gridmap in enumerate(gridmaps):
-        if dp.tabulable(gridmap):
-            for k, find in enumerate((plans.least_sum_of_costs, plans.least_makespan)):
-                out[j, k, :gridmap.n_agents] = find(gridmap, bounce).steps
-    return out
+def optimal_plans(gridmaps: list, bounce: str) -> tuple[np.ndarray, np.ndarray]:
+    """Each optimal plan (:data:`PLANS`) of every map whose joint tables fit: int (maps, PLANS,
+    MAX_AGENTS), each agent's steps, and int (maps, PLANS, steps + 1, MAX_AGENTS), its cells (-1
+    elsewhere, after a plan's end and beyond a map's agents)."""
+    found = {(j, k): find(gridmap, bounce) for j, gridmap in enumerate(gridmaps) if dp.tabulable(gridmap)
+             for k, find in enumerate((plans.least_sum_of_costs, plans.least_makespan))}
+    longest = max((plan.cells.shape[0] for plan in found.values()), default=1)
+    steps = np.full((len(gridmaps), len(PLANS), MAX_AGENTS), -1, dtype=np.int64)
+    cells = np.full((len(gridmaps), len(PLANS), longest, MAX_AGENTS), -1, dtype=np.int64)
+    for (j, k), plan in found.items():
+        n = plan.steps.size
+        steps[j, k, :n], cells[j, k, :plan.cells.shape[0], :n] = plan.steps, plan.cells
+    return steps, cells
 
 
 def scaled(runs: int, episodes: int) -> BenchmarkConfig:

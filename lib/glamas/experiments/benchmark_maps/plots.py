@@ -1,17 +1,20 @@
 """The benchmark's figures, each on given matplotlib Axes: the map-by-learner table of the greedy
-policies against the optimum, the learning curves on every map, and the maps with their optimal
-episodes."""
+policies against the optimum, the learning curves on every map, the maps with their optimal
+episodes and plans, and the budget axis."""
 
 import numpy as np
 
 from glamas.experiments.benchmark_maps.analysis import excess_grid, measure
+from glamas.experiments.benchmark_maps.budgets import BudgetsResult, solved_counts
 from glamas.experiments.benchmark_maps.experiment import BenchmarkResult
 from glamas.experiments.gridworld.analysis import COMPLETION
-from glamas.gridworld import draw
+from glamas.gridworld import draw, plans
 from glamas.gridworld.rewards import CHAPTER, PRESETS
 from glamas.learners import registry
 from glamas.plotting import greedy_legend_entry, learner_style, mark_greedy, plot_mean_band
 
+BUDGET_SHIFT = 0.06
+"""How far apart (in maps) the budget figure draws learners that solve as many maps."""
 GREEDY_AT = 2.0
 """Where the greedy values stand: this many times the last episode, right of the curves' end."""
 
@@ -79,3 +82,40 @@ def plot_optimum(ax, result: BenchmarkResult, map_name: str):
     draw.draw_paths(ax, gridmap, result.optimum_episode(map_name), numbered=gridmap.n_agents <= 3)
     steps = ", ".join(str(int(s)) for s in result.optimum_steps[result.map_names().index(map_name)] if s >= 0)
     ax.set_title(f"{map_name}: optimal steps {steps}", fontsize="small")
+
+
+def plot_plan(ax, result: BenchmarkResult, map_name: str):
+    """Map ``map_name`` with the agents' paths in its plan of least sum of costs, numbered by step,
+    and the plan of least makespan in the title (the lower bounds alone where the joint tables do
+    not fit)."""
+    gridmap = result.config.gridmap(map_name)
+    cost, span = result.plan(map_name, "sum_of_costs"), result.plan(map_name, "makespan")
+    draw.draw_map(ax, gridmap)
+    if cost["steps"] is None:
+        bound_cost, bound_makespan = plans.lower_bounds(gridmap)
+        ax.set_title(f"{map_name}: too large for an exact plan\n(lower bounds: sum of costs {bound_cost}, "
+                     f"makespan {bound_makespan})", fontsize="small")
+        return
+    draw.draw_paths(ax, gridmap, result.plan_episode(map_name), numbered=gridmap.n_agents <= 3)
+    other = ("the same plan" if span["steps"] == cost["steps"] else
+             f"steps {', '.join(map(str, span['steps']))}, sum of costs {span['sum_of_costs']}")
+    ax.set_title(f"{map_name}: least sum of costs {cost['sum_of_costs']} (steps {', '.join(map(str, cost['steps']))})"
+                 f"\nleast makespan {span['makespan']}: {other}", fontsize="small")
+
+
+def plot_budgets(axes, result: BudgetsResult):
+    """One panel per formulation of a budget axis (:mod:`.budgets`): the maps each learner's greedy
+    policy solves (a collision-free solution) after each budget of training episodes, each
+    learner's line shifted by a multiple of BUDGET_SHIFT."""
+    names = list(map(str, result.learners))
+    for ax, formulation in zip(np.ravel(axes), map(str, result.formulations)):
+        for k, (name, counts) in enumerate(zip(names, solved_counts(result, formulation))):
+            shift = (k - (len(names) - 1) / 2) * BUDGET_SHIFT  # so that equal counts stay visible
+            ax.plot(result.budgets, counts + shift, marker="o", label=registry.label(name), **learner_style(name))
+        ax.set_xscale("log")
+        ax.set_ylim(-0.3, result.maps.size + 0.3)
+        ax.set_xlabel("training episodes per run", fontsize="small")
+        ax.set_ylabel(f"maps solved (of {result.maps.size})", fontsize="small")
+        ax.set_title(f"the {formulation}'s formulation: greedy policy collision-free and completing "
+                     f"{COMPLETION:.0%}", fontsize="small")
+    np.ravel(axes)[0].legend(fontsize="x-small")
