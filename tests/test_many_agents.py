@@ -289,6 +289,19 @@ def test_same_seed_same_study_for_one_and_two_workers(small_result):
     assert np.array_equal(small_result.log, again.log, equal_nan=True)
 
 
+def test_plan_table_sets_every_learner_beside_a_plan_no_better_than_its_bounds(small_result):
+    lines = sc.plan_table(small_result).splitlines()
+    n = len(small_result.agents)
+    rows = {" ".join(line.split()[:-n]): line.split()[-n:] for line in lines[1:5]}
+    bound_cost, cost, bound_span, span = (list(map(int, rows[name])) for name in (
+        "lower bound: sum of costs", "plan: sum of costs", "lower bound: makespan", "plan: makespan"))
+    assert all(b <= c for b, c in zip(bound_cost, cost)) and all(b <= s for b, s in zip(bound_span, span))
+    learners = lines[6:]
+    assert len(learners) == len(small_result.names())
+    mmdp = next(line for line in learners if line.startswith(sc.label("mmdp")))
+    assert mmdp.split()[-1] == "-"  # skipped at N = 3: no ratio to a plan
+
+
 def test_n_agent_kernels_run_on_the_warehouse():
     g = load_map(MAPS / "warehouse_4.txt")
     for learner in (independent.LEARNER, joint_state.LEARNER, mmdp.LEARNER):

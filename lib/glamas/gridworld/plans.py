@@ -33,7 +33,8 @@ secondary count stays far below it."""
 
 @dataclass(frozen=True)
 class Plan:
-    """An optimal collision-free joint plan from the starts."""
+    """A collision-free joint plan from the starts: optimal as this module finds it, a reference
+    plan as :mod:`glamas.gridworld.prioritized` does."""
 
     steps: np.ndarray
     """int (agents,): each agent's steps until it is in its goal."""

@@ -12,6 +12,7 @@ from glamas.curves import BAND_DRAWS, convergence_episode, convergence_episodes,
 from glamas.errors import UserError
 from glamas.experiments.gridworld.analysis import COMPLETION
 from glamas.experiments.scaling.experiment import RELATED_METHODS, ScalingResult, label
+from glamas.gridworld import prioritized
 from glamas.learners import spec
 
 
@@ -164,6 +165,32 @@ def pivot_table(result: ScalingResult, metric: str) -> str:
         cells = [PIVOT_METRICS[metric].format(m[f"{metric}_{method}_{n}"]) if ok else "-"
                  for n, ok in zip(result.agents, result.ran[k])]
         lines.append(f"{label(method):{w}s}" + "".join(f"{cell:>9s}" for cell in cells))
+    return "\n".join(lines)
+
+
+def plan_table(result: ScalingResult) -> str:
+    """The study's warehouses against a plan of each: per N, the lower bounds (each agent's
+    shortest path alone, summed and their largest) and the prioritized plan's sum of costs and
+    makespan (:func:`glamas.gridworld.prioritized.plan`, seed 0); per learner and N, its greedy
+    policy's completion and its agents' steps summed over the plan's sum of costs (an agent that
+    does not arrive counts the episode's steps, so a policy that does not complete is bounded
+    from below only), '-' where the learner did not run."""
+    plans = {int(n): prioritized.plan(result.config.gridmap(int(n)), result.config.bounce) for n in result.agents}
+    bounds = {n: prioritized.lower_bounds(result.config.gridmap(n)) for n in plans}
+    greedy = "greedy: completion, steps / plan"
+    w = max(_label_width(result), len(greedy))
+    lines = [f"{'':{w}s}" + "".join(f"{f'N = {n}':>14s}" for n in plans)]
+    for name, values in (("lower bound: sum of costs", [bounds[n][0] for n in plans]),
+                         ("plan: sum of costs", [plan.sum_of_costs for plan in plans.values()]),
+                         ("lower bound: makespan", [bounds[n][1] for n in plans]),
+                         ("plan: makespan", [plan.makespan for plan in plans.values()])):
+        lines.append(f"{name:{w}s}" + "".join(f"{value:14d}" for value in values))
+    lines.append(greedy)
+    for k, method in enumerate(result.names()):
+        cells = [f"{result.evaluation(method, n, 'completion').mean():.0%}, "
+                 f"{result.evaluation(method, n, 'steps').mean() * n / plan.sum_of_costs:.2f}"
+                 if ok else "-" for (n, plan), ok in zip(plans.items(), result.ran[k])]
+        lines.append(f"{label(method):{w}s}" + "".join(f"{cell:>14s}" for cell in cells))
     return "\n".join(lines)
 
 
