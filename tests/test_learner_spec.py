@@ -139,6 +139,14 @@ def test_a_learner_of_no_family_without_a_slot_or_with_anothers_seeds_is_refused
     assert "walker" not in registry.LEARNERS and "walker_384911" not in registry.LEARNERS
 
 
+def test_a_second_learner_of_a_registered_name_is_refused_and_the_first_kept(registered):
+    with pytest.raises(ValueError, match=r"a learner named 'independent' is registered already \(by "
+                                         r"glamas\.learners\.independent\); choose another name"):
+        registry.register(replace(RANDOM_WALK, name="independent", family="chapter", seed_slot=0))
+    assert registry.get("independent").kernel.__module__ == "glamas.learners.independent"
+    assert registry.register(RANDOM_WALK) is RANDOM_WALK  # the same module again: replaced
+
+
 def test_library_seeds_are_the_committed_formulas(registered):
     """Each library learner's declared slot gives the seeds of the committed results: the chapter's
     four learners key * 4 + 0..3, the related-work learners 2**32 + key * 2 + 0..1, the scaling

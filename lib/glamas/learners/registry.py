@@ -30,8 +30,18 @@ experiment's stride)."""
 FAMILIES = ("chapter", "related", "other")
 
 
+def _module(learner: Learner) -> str:
+    """The module that defines ``learner``'s kernel."""
+    return getattr(learner.kernel, "__module__", "?")
+
+
 def register(learner: Learner) -> Learner:
-    """Make ``learner`` known by its name (a name registered again is replaced)."""
+    """Make ``learner`` known by its name. A learner of the same name from another module (its
+    kernel's) is refused; the same module registering it again (a reload) replaces it."""
+    known = LEARNERS.get(learner.name)
+    if known is not None and _module(known) != _module(learner):
+        raise UserError(f"a learner named {learner.name!r} is registered already (by {_module(known)}); "
+                        "choose another name")
     if learner.family not in FAMILIES:
         raise UserError(f"a learner's family must be one of {FAMILIES}, got {learner.family!r}")
     if learner.family != "other" and not (isinstance(learner.seed_slot, int) and learner.seed_slot >= 0):
