@@ -8,7 +8,7 @@ READY := $(VENV)/.installed
 EXTRAS := $(VENV)/.extras-installed
 NOTEBOOKS := $(sort $(wildcard notebooks/*.ipynb))
 
-.PHONY: figures test unit notebooks-check notebooks lab ledger benchmark benchmark-maps benchmark-budgets reproduce verify clean-env clean-cache
+.PHONY: figures test unit notebooks-check notebooks lab ledger benchmark benchmark-maps benchmark-budgets pogema-crosscheck reproduce verify clean-env clean-cache
 
 $(READY): requirements.txt pyproject.toml
 	@$(PYTHON) -c 'import sys; sys.exit(sys.version_info < (3, 11) and "glamas needs Python >= 3.11: set PYTHON=python3.11")'
@@ -107,8 +107,26 @@ export BUDGETS_OUT
 benchmark-budgets: $(READY)
 	$(PY) -m glamas.reproduce --experiment benchmark_maps_budgets --fresh "$$BUDGETS_OUT"
 
+## pogema-crosscheck: the many-agent warehouses (N = 8, 32, 128, 1024) and their prioritized plans
+## written as POGEMA tasks (benchmarks/pogema_tasks.py), then replayed and timed in POGEMA's own
+## environment (benchmarks/pogema_replay.py, in $(POGEMA_VENV), made on first use from
+## benchmarks/requirements-pogema.txt): CSR, ISR, sum of costs and makespan against the plan's, and
+## POGEMA's ns per agent-step against glamas's (docs/speed.md; about 2 minutes). Not run by make test.
+POGEMA_VENV := .venv-pogema
+POGEMA_OUT ?= out/pogema
+
+$(POGEMA_VENV)/.installed: benchmarks/requirements-pogema.txt
+	$(PYTHON) -m venv $(POGEMA_VENV)
+	$(POGEMA_VENV)/bin/python -m pip install --quiet -r benchmarks/requirements-pogema.txt
+	touch $@
+
+pogema-crosscheck: $(READY) $(POGEMA_VENV)/.installed
+	mkdir -p "$(POGEMA_OUT)"
+	$(PY) -m benchmarks.pogema_tasks "$(POGEMA_OUT)/tasks.json"
+	$(POGEMA_VENV)/bin/python benchmarks/pogema_replay.py "$(POGEMA_OUT)/tasks.json"
+
 clean-env:
-	rm -rf "$(VENV)"
+	rm -rf "$(VENV)" "$(POGEMA_VENV)"
 
 ## clean-cache: drop numba's compiled-kernel cache (glamas also drops it itself when its sources change)
 clean-cache:
