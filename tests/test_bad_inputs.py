@@ -13,6 +13,7 @@ import json
 import math
 import os
 import re
+import shutil
 import socket
 import struct
 import subprocess
@@ -72,7 +73,9 @@ def _other_result(directory, name: str) -> bytes:
 # --- outputs: nothing committed is replaced, nothing is written half ---------------------------
 
 def test_reduced_run_with_default_paths_leaves_the_committed_outputs_alone():
-    created = [cli.SCRATCH_OUT / "fig6.png", cli.SCRATCH_OUT / "fig6.pdf", cli.SCRATCH_RESULTS / "state_encoding.npz"]
+    key = "runs=2,iterations=200"
+    created = [cli.SCRATCH_OUT / key / "fig6.png", cli.SCRATCH_OUT / key / "fig6.pdf",
+               cli.SCRATCH_RESULTS / key / "state_encoding.npz"]
     existed = {path: path.exists() for path in created}
     committed = _hashes()
     try:
@@ -85,6 +88,33 @@ def test_reduced_run_with_default_paths_leaves_the_committed_outputs_alone():
         for path in created:
             if not existed[path]:
                 path.unlink(missing_ok=True)
+
+
+def test_runs_of_two_maps_at_one_small_scale_keep_a_result_each():
+    """A reduced run's default directories are those of its settings, so a second map at the same
+    scale neither collides with the first nor replaces it."""
+    keys = [f"runs=1,iterations=120,map={name}" for name in ("isr", "cit")]
+    made = [directory / key for key in keys for directory in (cli.SCRATCH_OUT, cli.SCRATCH_RESULTS)]
+    existed = {path: path.exists() for path in made}
+    try:
+        for name in ("isr", "cit"):
+            done = _script("fig11a", "--runs", 1, "--iterations", 120, "--map", name, *FAST)
+            assert done.returncode == 0, done.stderr
+        first = (cli.SCRATCH_RESULTS / keys[0] / "gridworld.npz").read_bytes()
+        assert (cli.SCRATCH_RESULTS / keys[1] / "gridworld.npz").read_bytes() != first
+        assert all((cli.SCRATCH_OUT / key / "fig11a.png").is_file() for key in keys)
+    finally:
+        for path in made:
+            if not existed[path]:
+                shutil.rmtree(path, ignore_errors=True)
+
+
+def test_a_reduced_run_into_the_committed_results_is_refused_without_advising_force():
+    committed = _hashes()
+    done = _script("fig5", "--runs", 2, "--iterations", 200, "--results", "data/results", *FAST)
+    _assert_user_error(done, "holds results of a different configuration and was not overwritten; give the run "
+                             "another --results directory")
+    assert "--force" not in done.stderr and _hashes() == committed
 
 
 def test_unwritable_out_is_refused_before_computing(tmp_path):

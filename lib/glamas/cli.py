@@ -1,14 +1,17 @@
 """The command line shared by the figure scripts in ``paper_figures/`` (:mod:`glamas.figures`).
 
-Output policy: a run at the paper-scale defaults (the --runs, --iterations and --seed the script
-was made with) writes to ``paper_figures/output`` and ``data/results``; any other run writes to
-``out/figures`` and ``out/results`` (git-ignored) unless --out or --results say where, so a
-reduced run never replaces the committed outputs. Every user error stops the script before it
+Output policy: a run at the paper-scale defaults (the --runs, --iterations, --seed and --map the
+script was made with) writes to ``paper_figures/output`` and ``data/results``; any other run writes
+to a directory of its settings under ``out/figures`` and ``out/results`` (git-ignored; for example
+``out/results/runs=2,map=isr``) unless --out or --results say where, so a reduced run never
+replaces the committed outputs and runs of other settings never share a result file. Every user error stops the script before it
 computes with one line ``error: ...`` on stderr and exit status 2 (:mod:`glamas.errors`).
 """
 
 import argparse
 import contextlib
+import hashlib
+import re
 import sys
 from pathlib import Path
 
@@ -19,9 +22,11 @@ from glamas.paths import FIGURES, REPO, RESULTS
 
 DEFAULT_OUT = FIGURES
 SCRATCH_OUT = REPO / "out" / "figures"
-"""Where the figures of a run that is not at the paper-scale defaults go by default."""
+"""Where the figures of a run that is not at the paper-scale defaults go by default (in the
+directory of its settings, :func:`scratch_key`)."""
 SCRATCH_RESULTS = REPO / "out" / "results"
-"""Where the result files of a run that is not at the paper-scale defaults go by default."""
+"""Where the result files of a run that is not at the paper-scale defaults go by default (in the
+directory of its settings, :func:`scratch_key`)."""
 PAPER_SCALE_OPTIONS = ("runs", "iterations", "seed", "map")
 """The options that change a result: at their defaults, a run reproduces the committed outputs."""
 MAX_SEED = 2 ** 63 - 1
@@ -87,12 +92,13 @@ def figure_parser(description: str, *, runs: int | None = None, iterations: int 
                 "cluster; results are bit-identical")
     option("--scheduler", metavar="ADDRESS", default=None,
            help="address of a Dask scheduler (e.g. tcp://HOST:8786); implies --backend dask")
-    scratch = f" at the paper-scale --runs/--iterations/--seed/--map, else {SCRATCH_OUT.relative_to(REPO)}"
+    scratch = f" at the paper-scale --runs/--iterations/--seed/--map, else {SCRATCH_OUT.relative_to(REPO)}/SETTINGS"
     parser.add_argument("--out", type=Path, default=None, help=f"directory for the PNG and PDF (default "
                         f"{DEFAULT_OUT.relative_to(REPO)}{scratch if experiment else ''})")
     option("--results", type=Path, default=None,
            help=f"directory for the result file (default {RESULTS.relative_to(REPO)} at the paper-scale "
-                f"--runs/--iterations/--seed/--map, else {SCRATCH_RESULTS.relative_to(REPO)})")
+                f"--runs/--iterations/--seed/--map, else {SCRATCH_RESULTS.relative_to(REPO)}/SETTINGS, "
+                "SETTINGS naming the options off their defaults, e.g. runs=2,map=isr)")
     option("--force", action="store_true", help="replace a result file that another configuration made")
     option("--rerun", action="store_true",
            help="run the experiment even if --results holds a result of this configuration (or an unreadable file)")
@@ -146,16 +152,31 @@ def _check_workers(parser, workers: int | None) -> None:
 
 def _choose_directories(parser, args) -> None:
     """Fill in the --out and --results not given, by the output policy (module docstring)."""
-    paper_scale = all(getattr(args, option) == parser.get_default(option)
-                      for option in PAPER_SCALE_OPTIONS if option in args)
-    defaults = {"out": DEFAULT_OUT, "results": RESULTS} if paper_scale else \
-        {"out": SCRATCH_OUT, "results": SCRATCH_RESULTS}
+    key = scratch_key(parser, args)
+    defaults = {"out": DEFAULT_OUT, "results": RESULTS} if not key else \
+        {"out": SCRATCH_OUT / key, "results": SCRATCH_RESULTS / key}
     unset = [option for option in defaults if getattr(args, option) is None]
     for option in unset:
         setattr(args, option, defaults[option])
-    if unset and not paper_scale:
+    if unset and key:
         print(f"note: not the paper-scale --runs/--iterations/--seed/--map: writing to "
-              f"{SCRATCH_OUT.parent.relative_to(REPO)}/ (--out and --results choose)", file=sys.stderr)
+              f"{SCRATCH_OUT.parent.relative_to(REPO)}/ (figures/{key}, results/{key}; --out and --results choose)",
+              file=sys.stderr)
+
+
+def scratch_key(parser: argparse.ArgumentParser, args: argparse.Namespace) -> str:
+    """The directory name of a run's settings off the paper scale: each of PAPER_SCALE_OPTIONS that
+    differs from its default as ``name=value``, joined by commas ('' at the paper scale). A --map
+    that is not a plain name (a path, a pattern) goes by its file name and a digest of what was given."""
+    parts = []
+    for option in PAPER_SCALE_OPTIONS:
+        value = getattr(args, option, None)
+        if option in args and value != parser.get_default(option):
+            text = str(value)
+            if not re.fullmatch(r"[\w.-]+", text):
+                text = f"{Path(text).stem}-{hashlib.sha256(text.encode()).hexdigest()[:8]}"
+            parts.append(f"{option}={text}")
+    return ",".join(parts)
 
 
 def check_before_run(args: argparse.Namespace, name: str, config, copies: int = 1) -> None:

@@ -33,11 +33,15 @@ def advice(path, option: str = "--rerun") -> str | None:
 
 def result_advice(name: str, option: str = "--rerun") -> str:
     """How to make the committed result file ``name`` again: the figure script that computes it,
-    run with ``option`` (--rerun; --force for a file of another configuration), or git checkout."""
+    run with ``option`` (--rerun), or git checkout. Where the file is of another configuration
+    (``option`` --force) the advice never replaces it: the run goes to another --results."""
     restore = f"restore the committed one with `git checkout -- {shown(RESULTS / name)}`"
     script = computing_script(name)
     if script is None:
         return restore
+    if option == "--force":
+        return (f"give the run another --results directory (for example `python {shown(SCRIPTS / script)}.py "
+                f"--results out/results` at the paper scale), or {restore}")
     return f"recompute it with `python {shown(SCRIPTS / script)}.py {option}`, or {restore}"
 
 
