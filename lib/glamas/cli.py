@@ -27,7 +27,7 @@ directory of its settings, :func:`scratch_key`)."""
 SCRATCH_RESULTS = REPO / "out" / "results"
 """Where the result files of a run that is not at the paper-scale defaults go by default (in the
 directory of its settings, :func:`scratch_key`)."""
-PAPER_SCALE_OPTIONS = ("runs", "iterations", "seed", "map")
+PAPER_SCALE_OPTIONS = ("runs", "iterations", "seed", "map", "learners", "set")
 """The options that change a result: at their defaults, a run reproduces the committed outputs."""
 MAX_SEED = 2 ** 63 - 1
 WORKERS_PER_CORE = 4
@@ -61,18 +61,21 @@ _seed = _whole_number_in(0, MAX_SEED, "must be 0 or more")
 
 
 def figure_parser(description: str, *, runs: int | None = None, iterations: int | None = None, seed: int = 0,
-                  maps: bool = False):
-    """An argument parser with --runs, --iterations, --seed, --workers, --backend, --scheduler,
-    --out, --results, --force, --rerun and --no-compute, at the paper-scale defaults ``runs``,
-    ``iterations`` and ``seed``; with ``maps``, also --map (the experiment runs on a map it names).
+                  maps: bool = False, settings: list | None = None):
+    """An argument parser with --runs, --iterations, --seed, --learners, --set, --workers, --backend,
+    --scheduler, --out, --results, --force, --rerun and --no-compute, at the paper-scale defaults
+    ``runs``, ``iterations`` and ``seed``; with ``maps``, also --map (the experiment runs on a map it
+    names). ``settings`` (:func:`glamas.overrides.settable`) is the list --help gives for --set.
 
     ``runs`` None: a figure that runs no experiment (a map, a table of settings). It takes the same
     options, so that every figure script takes one command line (``make reproduce``, ``make
     verify``), but says in its help that only --out is used.
     """
     experiment = runs is not None
+    epilog = ("settings --set reaches, at their paper-scale values: " + "; ".join(settings)) if settings else None
     parser = argparse.ArgumentParser(description=description if experiment else
-                                     f"{description} It runs no experiment: only --out changes what it writes.")
+                                     f"{description} It runs no experiment: only --out changes what it writes.",
+                                     epilog=epilog)
 
     def option(name, help, **kwargs):
         parser.add_argument(name, help=help if experiment else NO_EXPERIMENT, **kwargs)
@@ -84,6 +87,11 @@ def figure_parser(description: str, *, runs: int | None = None, iterations: int 
     if maps:
         option("--map", default=None, help="the map to run on: a map's name in data/maps (for example isr, "
                "tunnel_to_goal_3) or a map file's path (default: the experiment's own, the paper-scale one)")
+    option("--learners", metavar="NAMES", default=None,
+           help="the learners to train, comma-separated registered names (default: the experiment's own)")
+    option("--set", metavar="PATH=VALUE", action="append", default=None,
+           help="any setting of the experiment's configuration, a dataclass in it or a learner's own "
+                "(e.g. q.q_learning_rate=0.1, two_observe.gla_learning_rate=0.02); repeatable; the list is below")
     option("--workers", type=_positive_int, default=None,
            help="worker processes (threads with --backend threads) for the runs (default: one per core); "
                 "results do not depend on it")
@@ -166,16 +174,19 @@ def _choose_directories(parser, args) -> None:
 
 def scratch_key(parser: argparse.ArgumentParser, args: argparse.Namespace) -> str:
     """The directory name of a run's settings off the paper scale: each of PAPER_SCALE_OPTIONS that
-    differs from its default as ``name=value``, joined by commas ('' at the paper scale). A --map
-    that is not a plain name (a path, a pattern) goes by its file name and a digest of what was given."""
+    differs from its default as ``name=value``, joined by commas ('' at the paper scale; the --set
+    assignments joined by '+'). A value with other characters than letters, digits and ``._=,+-``
+    (a map's path, a pattern) has them replaced by '_' and a digest of what was given appended, so
+    that two settings never share a name."""
     parts = []
     for option in PAPER_SCALE_OPTIONS:
         value = getattr(args, option, None)
         if option in args and value != parser.get_default(option):
-            text = str(value)
-            if not re.fullmatch(r"[\w.-]+", text):
-                text = f"{Path(text).stem}-{hashlib.sha256(text.encode()).hexdigest()[:8]}"
-            parts.append(f"{option}={text}")
+            text = "+".join(value) if isinstance(value, list) else str(value)
+            plain = re.sub(r"[^\w.=,+-]", "_", text)
+            if plain != text:
+                plain = f"{plain}-{hashlib.sha256(text.encode()).hexdigest()[:8]}"
+            parts.append(f"{option}={plain}")
     return ",".join(parts)
 
 

@@ -20,7 +20,8 @@ import contextlib
 import matplotlib
 import matplotlib.pyplot as plt
 
-from glamas import cli, errors, plotting, results
+from glamas import cli, errors, overrides, plotting, results
+from glamas.errors import UserError
 from glamas.experiments.registry import Experiment
 
 
@@ -40,15 +41,26 @@ def figure(experiment: Experiment, name: str, description: str, argv=None, size:
 
 def parse(description: str, experiment: Experiment, argv=None, min_runs: int = 1):
     """The shared options at ``experiment``'s paper-scale defaults, parsed (:func:`glamas.cli.parse`),
-    and the experiment's configuration at --runs and --iterations (and --map): ``(args, config)``.
+    and the experiment's configuration at --runs and --iterations (and --map, --learners and --set,
+    :mod:`glamas.overrides`): ``(args, config)``.
     ``description`` is the script's docstring; its first paragraph is the --help text."""
     parser = cli.figure_parser(_summary(description), runs=experiment.runs, iterations=experiment.iterations,
-                               maps=experiment.map_field is not None)
+                               maps=experiment.map_field is not None,
+                               settings=overrides.settable(experiment.paper_scale()))
     args = cli.parse(parser, argv)
     if args.runs < min_runs:
         parser.error(f"--runs must be at least {min_runs}: the figure shows {min_runs} runs")
     config = experiment.configure(args.runs, args.iterations)
-    return args, config if getattr(args, "map", None) is None else experiment.on_map(config, args.map)
+    if getattr(args, "map", None) is not None:
+        config = experiment.on_map(config, args.map)
+    try:
+        if args.learners is not None:
+            config = overrides.with_learners(config, args.learners)
+        for assignment in args.set or ():
+            config = overrides.with_setting(config, assignment)
+    except UserError as error:
+        parser.error(str(error))
+    return args, config
 
 
 def load_or_run(args, experiment: Experiment, config):
