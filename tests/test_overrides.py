@@ -77,3 +77,18 @@ def test_help_lists_the_settings():
     done = subprocess.run([sys.executable, str(REPO / "paper_figures" / "fig11a.py"), "--help"],
                           capture_output=True, text=True, timeout=60)
     assert "two_observe.gla_learning_rate=0.01" in " ".join(done.stdout.split())
+
+
+def test_the_experiments_of_episodes_take_episodes_and_iterations_as_one_option():
+    from glamas import cli
+    from glamas.experiments import registry, single_gla
+    counting = {e.name: e.counts for e in registry.experiments()}
+    assert counting["gridworld"] == counting["scaling"] == counting["benchmark_maps"] == "episodes"
+    assert counting["single_gla"] == "iterations"
+    parser = cli.figure_parser("x", runs=2, iterations=10, counts="episodes")
+    assert parser.parse_args(["--episodes", "30"]).iterations == parser.parse_args(["--iterations", "30"]).iterations
+    parser = cli.figure_parser("x", runs=2, iterations=10)
+    with pytest.raises(SystemExit):
+        parser.parse_args(["--episodes", "30"])
+    with pytest.raises(UserError, match="counts must be 'iterations' or 'episodes'"):
+        registry.Experiment("x", single_gla.SingleGLAConfig, None, None, 1, 1, None, counts="steps")

@@ -4,8 +4,9 @@ Output policy: a run at the paper-scale defaults (the --runs, --iterations, --se
 script was made with) writes to ``paper_figures/output`` and ``data/results``; any other run writes
 to a directory of its settings under ``out/figures`` and ``out/results`` (git-ignored; for example
 ``out/results/runs=2,map=isr``) unless --out or --results say where, so a reduced run never
-replaces the committed outputs and runs of other settings never share a result file. Every user error stops the script before it
-computes with one line ``error: ...`` on stderr and exit status 2 (:mod:`glamas.errors`).
+replaces the committed outputs and runs of other settings never share a result file. Every user
+error stops the script before it computes with one line ``error: ...`` on stderr and exit status
+2 (:mod:`glamas.errors`).
 """
 
 import argparse
@@ -61,11 +62,12 @@ _seed = _whole_number_in(0, MAX_SEED, "must be 0 or more")
 
 
 def figure_parser(description: str, *, runs: int | None = None, iterations: int | None = None, seed: int = 0,
-                  maps: bool = False, settings: list | None = None):
+                  maps: bool = False, settings: list | None = None, counts: str = "iterations"):
     """An argument parser with --runs, --iterations, --seed, --learners, --set, --workers, --backend,
     --scheduler, --out, --results, --force, --rerun and --no-compute, at the paper-scale defaults
     ``runs``, ``iterations`` and ``seed``; with ``maps``, also --map (the experiment runs on a map it
     names). ``settings`` (:func:`glamas.overrides.settable`) is the list --help gives for --set.
+    ``counts`` 'episodes' names --iterations --episodes (both names are one option, ``args.iterations``).
 
     ``runs`` None: a figure that runs no experiment (a map, a table of settings). It takes the same
     options, so that every figure script takes one command line (``make reproduce``, ``make
@@ -81,8 +83,13 @@ def figure_parser(description: str, *, runs: int | None = None, iterations: int 
         parser.add_argument(name, help=help if experiment else NO_EXPERIMENT, **kwargs)
 
     option("--runs", type=_positive_int, default=runs, help=f"independent runs to average (default {runs})")
-    option("--iterations", type=_positive_int, default=iterations,
-           help=f"learning iterations per run (default {iterations})")
+    if counts == "episodes":
+        parser.add_argument("--episodes", "--iterations", dest="iterations", metavar="N", type=_positive_int,
+                            default=iterations, help=f"episodes per run (default {iterations}; --iterations is "
+                                                     "this option's other name)")
+    else:
+        option("--iterations", type=_positive_int, default=iterations,
+               help=f"learning iterations per run (default {iterations})")
     option("--seed", type=_seed, default=seed, help=f"master seed (default {seed})")
     if maps:
         option("--map", default=None, help="the map to run on: a map's name in data/maps (for example isr, "

@@ -46,7 +46,7 @@ def parse(description: str, experiment: Experiment, argv=None, min_runs: int = 1
     ``description`` is the script's docstring; its first paragraph is the --help text."""
     parser = cli.figure_parser(_summary(description), runs=experiment.runs, iterations=experiment.iterations,
                                maps=experiment.map_field is not None,
-                               settings=overrides.settable(experiment.paper_scale()))
+                               settings=overrides.settable(experiment.paper_scale()), counts=experiment.counts)
     args = cli.parse(parser, argv)
     if args.runs < min_runs:
         parser.error(f"--runs must be at least {min_runs}: the figure shows {min_runs} runs")

@@ -53,16 +53,22 @@ class Experiment:
     stored: bool = True
     """Whether its result is stored in a file; False for one computed in a second when needed."""
     copies: int = 1
+    """How many results of the configuration one run makes (for the memory check before it)."""
     map_field: str | None = None
     """The dotted path of its configuration's map (``"map"``, ``"gridworld.map"``), which a command
     line's --map sets (:meth:`on_map`); None for an experiment that runs on no map."""
-    """How many results of the configuration one run makes (for the memory check before it)."""
+    counts: str = "iterations"
+    """What :attr:`iterations` counts, 'iterations' or 'episodes': its scripts' option is named so
+    (``--episodes``, with ``--iterations`` as the same option's other name)."""
     to_arrays: Callable | None = None
     """``to_arrays(result) -> dict`` for a result that is not one dataclass of arrays."""
     from_arrays: Callable | None = None
     """``from_arrays(config, arrays) -> result``, the inverse of :attr:`to_arrays`."""
 
     def __post_init__(self):
+        if self.counts not in ("iterations", "episodes"):
+            raise UserError(f"experiment {self.name!r}: counts must be 'iterations' or 'episodes', "
+                            f"got {self.counts!r}")
         if not callable(getattr(self.config, "memory_bytes", None)):
             raise TypeError(f"experiment {self.name!r}: its config {self.config.__name__} needs a memory_bytes() "
                             "method, the estimate the memory check makes before a run")

@@ -31,15 +31,16 @@ EXPERIMENT = register(Experiment("benchmark_maps", BenchmarkConfig, run, scaled,
                                  BenchmarkConfig.episodes, BenchmarkResult, claim_rows=claim_rows,
                                  figures=("benchmark_maps_curves", "benchmark_maps_optimum", "benchmark_maps_plans",
                                           "benchmark_maps_table"),
-                                 chapter=False))
+                                 chapter=False, counts="episodes"))
 """The benchmark on the field's maps (its result file is shared by the benchmark_maps_* figure scripts)."""
 FIELD_EXPERIMENT = register(Experiment("benchmark_maps_field", BenchmarkConfig, run, field_scaled, BenchmarkConfig.runs,
                                        BenchmarkConfig.episodes, BenchmarkResult, claim_rows=field_claim_rows,
-                                       figures=("benchmark_maps_field_table",), chapter=False))
+                                       figures=("benchmark_maps_field_table",), chapter=False, counts="episodes"))
 """The same benchmark under the field's reward formulation and learning settings (``configured("field")``)."""
 BUDGETS_EXPERIMENT = register(Experiment("benchmark_maps_budgets", budgets.BudgetsConfig, budgets.run, budgets.scaled,
                                          budgets.BudgetsConfig.runs, budgets.BudgetsConfig.budgets[-1],
-                                         budgets.BudgetsResult, figures=("benchmark_maps_budgets",), chapter=False))
+                                         budgets.BudgetsResult, figures=("benchmark_maps_budgets",), chapter=False,
+                                         counts="episodes"))
 """The benchmark's budget axis (:mod:`.budgets`): the greedy policies after 2,000 to 200,000 episodes."""
 
 

@@ -21,7 +21,7 @@ __all__ = ["EXPERIMENT", "READINGS", "ReadingsConfig", "ReadingsResult", "coordi
 
 EXPERIMENT = register(Experiment("fig10_readings", ReadingsConfig, run, scaled, GridworldConfig.runs,
                                  GridworldConfig.episodes, ReadingsResult, figures=("fig10_readings",),
-                                 chapter=False, map_field="gridworld.map"))
+                                 chapter=False, map_field="gridworld.map", counts="episodes"))
 """The readings of Fig. 10 (no claims of its own: :func:`summary` judges each reading by Sec. 5.3's)."""
 
 

@@ -30,7 +30,8 @@ __all__ = ["CHAPTER_LEARNERS", "EXPERIMENT", "GridworldConfig", "GridworldResult
 EXPERIMENT = register(Experiment("gridworld", GridworldConfig, run, scaled, GridworldConfig.runs,
                                  GridworldConfig.episodes, GridworldResult,
                                  claim_rows=lambda result, config: claim_rows(result),
-                                 figures=("fig9", "fig10", "fig11a", "fig11b", "fig12a", "fig12b"), map_field="map"))
+                                 figures=("fig9", "fig10", "fig11a", "fig11b", "fig12a", "fig12b"), map_field="map",
+                                 counts="episodes"))
 """The chapter's experiment of Section 5.3 (Fig. 9 and 10 draw its map and its GLAs' feedback)."""
 
 

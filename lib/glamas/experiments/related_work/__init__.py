@@ -25,7 +25,8 @@ __all__ = ["CHAPTER_LEARNERS", "EXPERIMENT", "RELATED_LEARNERS", "RelatedWorkCon
 EXPERIMENT = register(Experiment("related_work", RelatedWorkConfig, run, scaled, GridworldConfig.runs,
                                  GridworldConfig.episodes, RelatedWorkResult, claim_rows=claim_rows,
                                  figures=("related_collisions", "related_coordinations", "related_reward",
-                                          "related_sizes", "related_steps"), chapter=False, map_field="map"))
+                                          "related_sizes", "related_steps"), chapter=False, map_field="map",
+                                          counts="episodes"))
 """The related-work comparison (its result file is shared by the related_* figure scripts)."""
 
 

@@ -25,7 +25,8 @@ __all__ = ["CHAPTER_METHODS", "EXPERIMENT", "MANY_AGENTS", "METHODS", "RELATED_M
 
 EXPERIMENT = register(Experiment("scaling", ScalingConfig, run, scaled, ScalingConfig.runs, ScalingConfig.episodes,
                                  ScalingResult, claim_rows=lambda result, config: claim_rows(result),
-                                 figures=("scaling_performance", "scaling_sizes"), chapter=False, map_field="map"))
+                                 figures=("scaling_performance", "scaling_sizes"), chapter=False, map_field="map",
+                                 counts="episodes"))
 """The scaling study (its result file is shared by the scaling_* figure scripts)."""
 
 
@@ -36,7 +37,7 @@ def load(config: ScalingConfig = ScalingConfig(), seed: int = 0, results_dir: Pa
 
 MANY_AGENTS = register(Experiment("many_agents", ManyAgentsConfig, run, many_agents_scaled, ManyAgentsConfig.runs,
                                   ManyAgentsConfig.episodes, ScalingResult, figures=("many_agents",), chapter=False,
-                                  map_field="map"))
+                                  map_field="map", counts="episodes"))
 """The study of many agents, 2 to 128 on generated warehouses (drawn by paper_figures/many_agents.py)."""
 
 
