@@ -33,6 +33,30 @@ def in_unit_interval(config, name: str) -> None:
         raise UserError(f"{name} must be a number in (0, 1], got {value!r}")
 
 
+def distinct_names(config, name: str, known, what: str) -> None:
+    """Raise unless field ``name`` of ``config`` is a non-empty tuple or list of distinct names
+    among ``known`` (``what`` says what they are, e.g. 'registered learners'); store it as a tuple."""
+    value = getattr(config, name)
+    names = tuple(value) if isinstance(value, (tuple, list)) else ()
+    if not names or len(set(names)) != len(names) or not set(names) <= set(known):
+        raise UserError(f"{name} must be distinct names of {what} ({', '.join(known)}), got {value!r}")
+    object.__setattr__(config, name, names)
+
+
+def one_of(config, name: str, allowed) -> None:
+    """Raise unless field ``name`` of ``config`` is one of ``allowed``."""
+    value = getattr(config, name)
+    if value not in allowed:
+        raise UserError(f"{name} must be one of {sorted(allowed)}, got {value!r}")
+
+
+def positive(config, name: str) -> None:
+    """Raise unless field ``name`` of ``config`` is a number > 0 (a budget, a scale)."""
+    value = getattr(config, name)
+    if isinstance(value, bool) or not isinstance(value, (int, float)) or not value > 0:
+        raise UserError(f"{name} must be a number > 0, got {value!r}")
+
+
 def field_types(config) -> None:
     """Raise UserError naming the field unless every field of a config dataclass has its
     annotated type: int and float a real number (float: finite; whether an int field is whole and

@@ -73,10 +73,10 @@ from glamas.errors import UserError
 from glamas import checks
 from glamas.gridworld import GridMap, rules
 from glamas.gridworld.rewards import CHAPTER
+from glamas.gridworld.rules import NOBODY
 from glamas.learners import episode as ep
 from glamas.learners.independent import table_shape
 from glamas.learners.spec import Learner
-from glamas.learners.two_observe import NOBODY
 from glamas.qlearning import epsilon_greedy, q_update, row_max
 
 COUNT, SUM, SUM_SQUARES = 0, 1, 2

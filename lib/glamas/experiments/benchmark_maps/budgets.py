@@ -50,9 +50,7 @@ class BudgetsConfig:
     def __post_init__(self):
         checks.field_types(self)
         checks.whole_numbers(self, {"runs": 1, "evaluation_episodes": 1})
-        if not self.formulations or not set(self.formulations) <= set(FORMULATIONS) \
-                or len(set(self.formulations)) != len(self.formulations):
-            raise UserError(f"formulations must be distinct names of {sorted(FORMULATIONS)}, got {self.formulations!r}")
+        checks.distinct_names(self, "formulations", FORMULATIONS, "reward formulations")
         budgets = tuple(self.budgets)
         if not budgets or not all(isinstance(b, int) and not isinstance(b, bool) and b >= 1 for b in budgets) \
                 or list(budgets) != sorted(set(budgets)):

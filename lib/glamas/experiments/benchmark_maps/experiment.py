@@ -18,9 +18,9 @@ import numpy as np
 
 from glamas import checks, memory
 from glamas.errors import UserError
-from glamas.experiments.gridworld.experiment import own_settings
+from glamas.experiments.gridworld.experiment import check_learners
 from glamas.experiments.scaling.experiment import METHODS, METRICS, sweep
-from glamas.gridworld import BOUNCE_MODES, GridMap, dp, load_map, plans
+from glamas.gridworld import GridMap, dp, load_map, plans
 from glamas.gridworld import rewards as formulations
 from glamas.gridworld.rewards import Rewards
 from glamas.learners import episode as ep
@@ -76,16 +76,8 @@ class BenchmarkConfig:
         if not maps or len(set(maps)) != len(maps) or not all(isinstance(name, str) for name in maps):
             raise UserError(f"maps must be distinct map names or paths, got {self.maps!r}")
         object.__setattr__(self, "maps", maps)
-        learners = tuple(self.learners) if isinstance(self.learners, (tuple, list)) else ()
-        if not learners or len(set(learners)) != len(learners) or not set(learners) <= set(registry.LEARNERS):
-            raise UserError(f"learners must be distinct names of registered learners ({', '.join(registry.LEARNERS)}), "
-                            f"got {self.learners!r}")
-        object.__setattr__(self, "learners", learners)
-        object.__setattr__(self, "settings", own_settings(learners, self.q, self.settings))
-        if self.bounce not in BOUNCE_MODES:
-            raise UserError(f"bounce must be one of {sorted(BOUNCE_MODES)}, got {self.bounce!r}")
-        if not (isinstance(self.memory_budget_gib, (int, float)) and self.memory_budget_gib > 0):
-            raise UserError(f"memory_budget_gib must be a number > 0, got {self.memory_budget_gib!r}")
+        check_learners(self, self.q)
+        checks.positive(self, "memory_budget_gib")
         for name in maps:
             if self.gridmap(name).n_agents > MAX_AGENTS:
                 raise UserError(f"map {name!r} has more than {MAX_AGENTS} agents: the benchmark's maps have 2 to "

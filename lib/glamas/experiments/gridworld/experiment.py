@@ -54,16 +54,9 @@ class GridworldConfig:
     def __post_init__(self):
         checks.field_types(self)
         checks.whole_numbers(self, {"max_steps": 1, "episodes": 1, "runs": 1, "bins": 1, "evaluation_episodes": 1})
-        if self.bounce not in BOUNCE_MODES:
-            raise UserError(f"bounce must be one of {sorted(BOUNCE_MODES)}, got {self.bounce!r}")
-        learners = tuple(self.learners) if isinstance(self.learners, (tuple, list)) else ()
-        if not learners or len(set(learners)) != len(learners) or not set(learners) <= set(registry.LEARNERS):
-            raise UserError(f"learners must be distinct names of registered learners ({', '.join(registry.LEARNERS)}), "
-                            f"got {self.learners!r}")
-        object.__setattr__(self, "learners", learners)
-        object.__setattr__(self, "settings", own_settings(learners, self.q, self.settings))
+        check_learners(self, self.q)
         gridmap = self.gridmap()
-        for name in learners:  # what only the map decides (2observe's box) is checked before any run
+        for name in self.learners:  # what only the map decides (2observe's box) is checked before any run
             registry.get(name).inputs(self.setup(name), gridmap)
 
     def setup(self, name: str) -> spec.Setup:
@@ -93,6 +86,15 @@ class GridworldConfig:
         """Bytes of every learner's runs: their tables and logs (:func:`learner_bytes`)."""
         gridmap = self.gridmap()
         return self.runs * sum(learner_bytes(name, self.setup(name), gridmap, self.bins) for name in self.learners)
+
+
+def check_learners(config, q: QSettings) -> None:
+    """What every config that trains learners checks: its ``learners`` distinct names of registered
+    learners (stored as a tuple), its ``settings`` completed with their defaults (:func:`own_settings`,
+    under the Q-learning settings ``q``), its ``bounce`` a collision rule."""
+    checks.distinct_names(config, "learners", registry.LEARNERS, "registered learners")
+    object.__setattr__(config, "settings", own_settings(config.learners, q, config.settings))
+    checks.one_of(config, "bounce", BOUNCE_MODES)
 
 
 def own_settings(learners: tuple, q: QSettings, given) -> dict:

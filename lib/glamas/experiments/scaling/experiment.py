@@ -25,8 +25,8 @@ import numpy as np
 
 from glamas import checks, memory, parallel
 from glamas.errors import UserError
-from glamas.experiments.gridworld.experiment import own_settings
-from glamas.gridworld import BOUNCE_MODES, GridMap, load_map
+from glamas.experiments.gridworld.experiment import check_learners
+from glamas.gridworld import GridMap, load_map
 from glamas.gridworld.rewards import Rewards
 from glamas.learners import episode as ep
 from glamas.learners import registry, spec
@@ -94,16 +94,8 @@ class ScalingConfig:
                 or not all(isinstance(n, int) and not isinstance(n, bool) and n >= 2 for n in agents)):
             raise UserError(f"agents must be distinct whole numbers >= 2, got {self.agents!r}")
         object.__setattr__(self, "agents", tuple(sorted(agents)))
-        learners = tuple(self.learners) if isinstance(self.learners, (tuple, list)) else ()
-        if not learners or len(set(learners)) != len(learners) or not set(learners) <= set(registry.LEARNERS):
-            raise UserError(f"learners must be distinct names of registered learners ({', '.join(registry.LEARNERS)}), "
-                            f"got {self.learners!r}")
-        object.__setattr__(self, "learners", learners)
-        object.__setattr__(self, "settings", own_settings(learners, self.q, self.settings))
-        if self.bounce not in BOUNCE_MODES:
-            raise UserError(f"bounce must be one of {sorted(BOUNCE_MODES)}, got {self.bounce!r}")
-        if not (isinstance(self.memory_budget_gib, (int, float)) and self.memory_budget_gib > 0):
-            raise UserError(f"memory_budget_gib must be a number > 0, got {self.memory_budget_gib!r}")
+        check_learners(self, self.q)
+        checks.positive(self, "memory_budget_gib")
         if "{n}" not in self.map:
             raise UserError(f"map must contain '{{n}}' for the number of agents, got {self.map!r}")
         for n in self.agents:
