@@ -10,7 +10,9 @@ the types are theirs: first every learner's kernels (one run of one episode on F
 a warehouse of three agents; learners that share a kernel in one task, so that no two processes
 compile it at once), the largest first; then every stored experiment's small run
 (:mod:`glamas.small_runs`), which compiles what is left (Section 4's learning loops, the exact
-optimum, the generated maps' paths).
+optimum, the generated maps' paths). Those small runs are the portability check of
+``tests/test_portable_results.py``: with ``--check`` their digests are compared with the committed
+ones here, and ``make test`` leaves that test out of its pytest session instead of running them twice.
 """
 
 import argparse
@@ -55,36 +57,40 @@ def compile_learners(names: tuple) -> str:
 
 
 def compile_experiment(name: str) -> str:
-    """Experiment ``name``'s small run (:func:`glamas.small_runs.small_digest`)."""
+    """Experiment ``name``'s small run: its digest (:func:`glamas.small_runs.small_digest`)."""
     from glamas import small_runs
 
-    small_runs.small_digest(name, workers=1)
-    return name
+    return small_runs.small_digest(name, workers=1)
 
 
-def precompile(workers: int | None = None) -> float:
+def precompile(workers: int | None = None) -> tuple[float, dict]:
     """Compile every kernel (module docstring) on ``workers`` processes (default: one per core);
-    returns the seconds it took."""
+    returns the seconds it took and the small runs' digests by experiment."""
     from glamas import small_runs
     from glamas.parallel import cores
 
     start = time.perf_counter()
     context = multiprocessing.get_context("spawn")  # fresh interpreters, as the test workers are
     with ProcessPoolExecutor(workers or cores(), mp_context=context) as pool:
-        for tasks in ([(compile_learners, names) for names in learner_groups()],
-                      [(compile_experiment, name) for name in small_runs.SIZES]):
-            for future in [pool.submit(task, argument) for task, argument in tasks]:
-                future.result()
-    return time.perf_counter() - start
+        for future in [pool.submit(compile_learners, names) for names in learner_groups()]:
+            future.result()
+        digests = {name: pool.submit(compile_experiment, name) for name in small_runs.SIZES}
+        digests = {name: future.result() for name, future in digests.items()}
+    return time.perf_counter() - start, digests
 
 
 def main(argv=None) -> int:
+    from glamas import small_runs
+
     parser = argparse.ArgumentParser(prog="python -m glamas.precompile",
                                      description=" ".join(__doc__.split("\n\n")[0].split()))
     parser.add_argument("--workers", type=int, default=None, help="processes (default: one per core)")
+    parser.add_argument("--check", action="store_true",
+                        help=f"compare the small runs' digests with {small_runs.DIGESTS.name} (exit status 1 if any differs)")
     args = parser.parse_args(argv)
-    print(f"precompile: every kernel in numba's cache ({precompile(args.workers):.0f} s)")
-    return 0
+    seconds, digests = precompile(args.workers)
+    print(f"precompile: every kernel in numba's cache ({seconds:.0f} s)")
+    return small_runs.report(digests) if args.check else 0
 
 
 if __name__ == "__main__":

@@ -5,8 +5,9 @@ the results were computed.
 The kernels use IEEE arithmetic without fastmath and call the C library for exp and log, and the
 analyses compute what decides a verdict portably (:mod:`glamas.portable`): every committed result
 should come out bit for bit on any processor. ``make verify`` proves it for the paper-scale runs
-in ten minutes; ``tests/test_portable_results.py`` recomputes these small runs in seconds, so that
-``make test`` finds a processor, a C library or a change of code that gives other bits.
+in ten minutes; these small runs take seconds, so that ``make test`` finds a processor, a C library
+or a change of code that gives other bits: its compile step checks them (``python -m
+glamas.precompile --check``), and ``tests/test_portable_results.py`` does where pytest runs alone.
 
 ``python -m glamas.small_runs --write`` recomputes them and rewrites the file (after a change that
 alters what an experiment computes, with its committed results); ``--check`` compares.
@@ -75,9 +76,17 @@ def main(argv=None) -> int:
         DIGESTS.write_text(json.dumps({"seed": SEED, "sizes": sizes, "digests": found}, indent=1) + "\n")
         print(f"wrote {len(found)} digests to {DIGESTS}")
         return 0
+    return report(found)
+
+
+def report(found: dict) -> int:
+    """Print which of the digests ``found`` (by experiment) differ from the committed ones; the
+    exit status: 1 if any does, else 0."""
     differing = [name for name, value in found.items() if committed().get(name) != value]
     for name in differing:
-        print(f"{name}: its small run gives other bits than {DIGESTS.name} records")
+        print(f"{name}: its small run gives other bits than {DIGESTS.name} records: if the code changed what "
+              "the experiment computes, recompute its committed results and run `python -m glamas.small_runs "
+              "--write`; otherwise this machine computes differently from the one that made the results")
     print(f"{len(differing)} of {len(found)} small runs differ" if differing else f"all {len(found)} small runs agree")
     return 1 if differing else 0
 
