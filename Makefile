@@ -8,7 +8,7 @@ READY := $(VENV)/.installed
 EXTRAS := $(VENV)/.extras-installed
 NOTEBOOKS := $(sort $(wildcard notebooks/*.ipynb))
 
-.PHONY: figures test unit notebooks-check notebooks lab ledger benchmark benchmark-maps benchmark-budgets pogema-crosscheck reproduce verify clean-env clean-cache
+.PHONY: figures test unit notebooks-check notebooks lab ledger benchmark benchmark-maps benchmark-budgets warehouses pogema-crosscheck reproduce verify clean-env clean-cache
 
 $(READY): requirements.txt pyproject.toml
 	@$(PYTHON) -c 'import sys; sys.exit(sys.version_info < (3, 11) and "glamas needs Python >= 3.11: set PYTHON=python3.11")'
@@ -108,6 +108,15 @@ export BUDGETS_OUT
 
 benchmark-budgets: $(READY)
 	$(PY) -m glamas.reproduce --experiment benchmark_maps_budgets --fresh "$$BUDGETS_OUT"
+
+## warehouses: many agents against a plan: every learner that fits on 16 generated warehouses of 8, 32
+## and 128 agents, under both formulations, beside a prioritized plan of each instance, recomputed into
+## $(WAREHOUSES_OUT)/results with its figure in $(WAREHOUSES_OUT)/figures (emptied first; about 25 minutes on 2 cores)
+WAREHOUSES_OUT ?= out/warehouses
+export WAREHOUSES_OUT
+
+warehouses: $(READY)
+	$(PY) -m glamas.reproduce --experiment warehouses --fresh "$$WAREHOUSES_OUT"
 
 ## pogema-crosscheck: the many-agent warehouses (N = 8, 32, 128, 1024) and their prioritized plans
 ## written as POGEMA tasks (benchmarks/pogema_tasks.py), then replayed and timed in POGEMA's own

@@ -26,7 +26,7 @@ def warehouse(n_agents: int, seed: int, density: float = 0.1, shelf_length: int 
     """A warehouse of shelves and aisles for ``n_agents`` agents at about ``density`` agents per
     free cell (at most 0.5: starts and goals are 2N distinct cells), each agent with its own start
     and goal drawn from ``numpy.random.default_rng(seed)``; named ``warehouse_N_seed_S``."""
-    _check(n_agents, seed, density, shelf_length)
+    check_arguments(n_agents, seed, density, shelf_length)
     bays_across, shelf_rows = layout(n_agents, density, shelf_length)
     blocked = shelves(bays_across, shelf_rows, shelf_length)
     free = np.flatnonzero(~blocked.ravel())
@@ -35,7 +35,8 @@ def warehouse(n_agents: int, seed: int, density: float = 0.1, shelf_length: int 
     return replace(load_map(text), name=f"warehouse_{n_agents}_seed_{seed}")
 
 
-def _check(n_agents, seed, density, shelf_length):
+def check_arguments(n_agents, seed, density: float = 0.1, shelf_length: int = 3) -> None:
+    """Raise UserError naming the first argument of :func:`warehouse` out of range."""
     for name, value, low in (("n_agents", n_agents, 1), ("seed", seed, 0), ("shelf_length", shelf_length, 1)):
         if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, np.integer)) or value < low:
             raise UserError(f"{name} must be a whole number >= {low}, got {value!r}")

@@ -167,6 +167,14 @@ class Evaluation(NamedTuple):
     """Episodes per evaluation."""
     exploits: tuple
     """One evaluation per probability of the greedy action."""
+    per_episode: bool = False
+    """Whether an evaluation's log keeps each episode in a row of its own (else one row of their means)."""
+
+    def edges(self) -> np.ndarray:
+        """The evaluation log's block edges."""
+        if self.per_episode:
+            return ep.uniform_edges(self.episodes, 1)
+        return np.array([0, self.episodes], dtype=np.int64)
 
 
 EVALUATIONS = ("greedy", "exploring", "perturbed")
@@ -197,7 +205,7 @@ def evaluations(learner: Learner, setup: Setup, gridmap: GridMap, evaluation: Ev
     episodes. Nothing learned changes: the tables are evaluated as they are."""
     world = rules.world(gridmap, bounce, rewards)
     own = learner.freeze(tuple(learner.inputs(setup, gridmap)))
-    schedule = ep.Schedule(evaluation.episodes, np.array([0, evaluation.episodes], dtype=np.int64), max_steps)
+    schedule = ep.Schedule(evaluation.episodes, evaluation.edges(), max_steps)
     log_at = len(learner.outputs(setup, gridmap)) + 1  # q, its own outputs, log
     return tuple(parallel.Evaluation((world, QLearning(0.0, setup.q.discount, float(exploit))) + own + (schedule,),
                                      log_at, master_seed + (k + 1) * EVALUATION_SEEDS)
@@ -218,7 +226,8 @@ def batch(learner: Learner, setup: Setup, gridmap: GridMap, schedule: ep.Schedul
     inputs = kernel_inputs(learner, setup, gridmap, schedule, bounce, rewards)
     then = () if evaluation is None else evaluations(learner, setup, gridmap, evaluation, schedule.max_steps,
                                                      master_seed, bounce, rewards)
-    logs = [np.zeros((n_runs, 1, ep.n_columns(gridmap.n_agents))) for _ in then]
+    rows = 0 if evaluation is None else evaluation.edges().size - 1
+    logs = [np.zeros((n_runs, rows, ep.n_columns(gridmap.n_agents))) for _ in then]
     work = parallel.Batch(learner.kernel_for(gridmap.n_agents), inputs, tuple(outputs.values()) + tuple(logs),
                           master_seed, then)
     if then:
@@ -228,7 +237,8 @@ def batch(learner: Learner, setup: Setup, gridmap: GridMap, schedule: ep.Schedul
 
 def evaluated(outputs: dict) -> np.ndarray:
     """(runs, evaluations, columns): each run's evaluations (:func:`batch`), one log row each
-    (glamas.learners.episode's layout, means over the evaluation's episodes)."""
+    (glamas.learners.episode's layout, means over the evaluation's episodes; the first episode's
+    for an evaluation kept :attr:`Evaluation.per_episode`)."""
     return np.stack([log[:, 0] for log in outputs["evaluated"]], axis=1)
 
 

@@ -1,0 +1,181 @@
+"""The benchmark of instances measured: per formulation, N and learner, what its greedy policies
+reach on the instances against each instance's plan, with 95 % intervals over the instances, when
+its learning curves get there, and why agents stay out.
+
+Every number is first a value per instance (the mean over its greedy episodes, or its learning
+curve's last block), then the mean over instances with a bootstrap interval (instances resampled,
+:func:`glamas.curves.mean_and_band`): the instances are the replicates.
+"""
+
+import math
+
+import numpy as np
+
+from glamas.curves import mean_and_band
+from glamas.experiments.warehouses.experiment import HIGH_ISR, WarehousesResult
+from glamas.learners import registry
+
+PLAN_COLUMNS = ("sum_of_costs", "makespan", "bound_sum_of_costs", "bound_makespan")
+"""The columns of ``WarehousesResult.plans``."""
+MEASURES = ("csr", "isr", "soc_ratio", "makespan_ratio", "collisions", "curve_csr", "curve_isr",
+            "coordinations")
+"""What :func:`per_instance` gives: the greedy episodes' CSR and ISR, their sum of costs and makespan
+over the plan's (episodes in which every agent is in only), their collisions per episode, the
+learning curve's CSR and ISR in its last block, and coordinations per agent-step of the greedy episodes."""
+
+
+def per_instance(result: WarehousesResult, formulation: str, n: int, learner: str) -> dict:
+    """Each of :data:`MEASURES` per instance (instances,); NaN where it is undefined (a ratio
+    without a completed greedy episode) or the learner did not run."""
+    g = {name: result.greedy_metric(formulation, n, learner, name) for name in
+         ("completed", "in_goal", "sum_of_costs", "makespan", "collisions", "coordinations")}
+    plan = result.plan(n).astype(float)
+    done = g["completed"] == 1.0
+    with np.errstate(invalid="ignore"):
+        soc = np.where(done, g["sum_of_costs"] / plan[:, [0]], np.nan)
+        makespan = np.where(done, g["makespan"] / plan[:, [1]], np.nan)
+    return {"csr": g["completed"].mean(axis=1), "isr": g["in_goal"].mean(axis=1),
+            "soc_ratio": _mean_of_finite(soc), "makespan_ratio": _mean_of_finite(makespan),
+            "collisions": g["collisions"].mean(axis=1),
+            "curve_csr": result.curve_metric(formulation, n, learner, "completed")[:, -1],
+            "curve_isr": result.curve_metric(formulation, n, learner, "in_goal")[:, -1],
+            "coordinations": g["coordinations"].sum(axis=1) / g["sum_of_costs"].sum(axis=1)}
+
+
+def _mean_of_finite(values: np.ndarray) -> np.ndarray:
+    """Per row, the mean of its finite values (NaN for a row without one)."""
+    finite = np.isfinite(values)
+    counts = finite.sum(axis=1)
+    sums = np.where(finite, values, 0.0).sum(axis=1)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        return np.where(counts > 0, sums / np.maximum(counts, 1), np.nan)
+
+
+def interval(values: np.ndarray) -> tuple[float, float, float, int]:
+    """(mean, 95 % low, high, instances) over the finite values of ``values`` (instances resampled);
+    NaN with 0 instances where none is finite."""
+    finite = values[np.isfinite(values)]
+    if finite.size == 0:
+        return math.nan, math.nan, math.nan, 0
+    mean, low, high = mean_and_band(finite[:, None])
+    return float(mean[0]), float(low[0]), float(high[0]), int(finite.size)
+
+
+def summary(result: WarehousesResult, formulation: str, n: int, learner: str) -> dict | None:
+    """Each of :data:`MEASURES` as :func:`interval` over the instances; None where the learner did
+    not run."""
+    if not result.ran[result.index(formulation, n, learner)]:
+        return None
+    return {name: interval(values) for name, values in per_instance(result, formulation, n, learner).items()}
+
+
+def _cell(value: tuple, percent: bool) -> str:
+    mean, low, high, count = value
+    if count == 0:
+        return "-"
+    if percent:
+        return f"{mean:.0%} [{low:.0%}, {high:.0%}]"
+    return f"{_number(mean)} [{_number(low)}, {_number(high)}]"
+
+
+def _number(value: float) -> str:
+    """Two decimals, none from 100 on (collisions per episode run to thousands)."""
+    return f"{value:.0f}" if abs(value) >= 100 else f"{value:.2f}"
+
+
+COLUMNS = (("csr", "CSR", True), ("isr", "ISR", True), ("soc_ratio", "SoC / plan", False),
+           ("makespan_ratio", "makespan / plan", False), ("collisions", "collisions", False),
+           ("curve_isr", "ISR learning", True))
+"""The columns of :func:`table`: measure, heading, shown as a percentage."""
+
+
+def table(result: WarehousesResult, formulation: str) -> str:
+    """Per N and learner (rows): the greedy policies' CSR, ISR, sum of costs and makespan over the
+    plan's (completed episodes only, '-' where none completed), collisions per episode, and the
+    learning curve's ISR at its end; each the mean over instances with its 95 % interval; a learner
+    whose tables exceed the memory budget is marked skipped."""
+    width = max(len(registry.get(name).n_agent_label or registry.label(name)) for name in result.names()) + 9
+    lines = [f"{formulation + ' formulation':{width}s}" + "".join(f"{heading:>21s}" for _, heading, _ in COLUMNS)]
+    for n in result.agents.tolist():
+        for learner in result.names():
+            label = f"N = {n:<4d} {registry.label(learner)}"
+            found = summary(result, formulation, n, learner)
+            cells = ["skipped"] + [""] * (len(COLUMNS) - 1) if found is None else \
+                [_cell(found[key], percent) for key, _, percent in COLUMNS]
+            lines.append(f"{label:{width}s}" + "".join(f"{cell:>21s}" for cell in cells).rstrip())
+    return "\n".join(lines)
+
+
+def plans_table(result: WarehousesResult) -> str:
+    """Per N: the plans over the lower bounds (sum of costs and makespan, the mean over instances
+    and the worst), and their mean sizes."""
+    lines = [f"{'N':>5s} {'instances':>9s} {'plan SoC':>9s} {'SoC / bound: mean':>17s} {'worst':>6s} "
+             f"{'plan makespan':>13s} {'makespan / bound: mean':>22s} {'worst':>6s}"]
+    for n in result.agents.tolist():
+        plan = result.plan(n).astype(float)
+        soc, makespan = plan[:, 0] / plan[:, 2], plan[:, 1] / plan[:, 3]
+        lines.append(f"{n:5d} {plan.shape[0]:9d} {plan[:, 0].mean():9.0f} {soc.mean():17.3f} {soc.max():6.3f} "
+                     f"{plan[:, 1].mean():13.1f} {makespan.mean():22.3f} {makespan.max():6.3f}")
+    return "\n".join(lines)
+
+
+def reached_table(result: WarehousesResult, formulation: str) -> str:
+    """The budget axis: per learner and N, on how many instances the learning curve's ISR held
+    HIGH_ISR over a window within the budget, and the median episodes it took there ('> budget'
+    where no instance got there, '-' where the learner did not run)."""
+    budget = result.config.episodes
+    width = max(map(len, map(registry.label, result.names()))) + 2
+    header = f"episodes to ISR >= {HIGH_ISR:.0%} ({formulation})"
+    lines = [f"{header:{max(width, len(header))}s}" + "".join(f"{f'N = {n}':>16s}" for n in result.agents.tolist())]
+    for learner in result.names():
+        cells = []
+        for n in result.agents.tolist():
+            index = result.index(formulation, n, learner)
+            if not result.ran[index]:
+                cells.append("-")
+                continue
+            reached = result.reached[index]
+            got = reached[reached >= 0]
+            cells.append(f"{got.size}/{reached.size}: {int(np.median(got))}" if got.size else f"> {budget}")
+        lines.append(f"{registry.label(learner):{max(width, len(header))}s}" + "".join(f"{cell:>16s}" for cell in cells))
+    return "\n".join(lines)
+
+
+def causes_table(result: WarehousesResult, formulation: str) -> str:
+    """Why agents stay out: per learner and N, the share of the agents that the last greedy episode
+    leaves short of their goal, and among those the share that never reached their goal in any
+    training episode (their tables hold no value from it); means over instances."""
+    width = max(map(len, map(registry.label, result.names()))) + 2
+    lines = [f"{'agents out (greedy) / of them never in while learning (' + formulation + ')':{width}s}"]
+    lines[0] += "".join(f"{f'N = {n}':>16s}" for n in result.agents.tolist())
+    lines[0] = lines[0].lstrip()
+    for learner in result.names():
+        cells = []
+        for n in result.agents.tolist():
+            index = result.index(formulation, n, learner)
+            if not result.ran[index]:
+                cells.append("-")
+                continue
+            short, never = result.short[index], result.never_in[index]
+            never_text = f"{np.nanmean(never):.0%}" if np.isfinite(never).any() else "-"
+            cells.append(f"{short.mean():.0%} / {never_text}")
+        lines.append(f"{registry.label(learner):{width}s}" + "".join(f"{cell:>16s}" for cell in cells))
+    return "\n".join(lines)
+
+
+def coordination_table(result: WarehousesResult, learners: tuple = ("two_observe", "two_observe_rule",
+                                                                      "independent")) -> str:
+    """2observe's coordination in a crowd: per formulation, N and learner of ``learners``,
+    coordinations per agent-step of the greedy episodes beside their ISR (the independent learners,
+    which never coordinate, as the reference)."""
+    lines = [f"{'formulation':12s} {'N':>5s} " + "".join(f"{registry.label(name) + ': coord., ISR':>36s}"
+                                                          for name in learners if name in result.names())]
+    for formulation in result.formulations.tolist():
+        for n in result.agents.tolist():
+            cells = []
+            for learner in (name for name in learners if name in result.names()):
+                found = summary(result, formulation, n, learner)
+                cells.append("-" if found is None else
+                             f"{found['coordinations'][0]:.3f}, {found['isr'][0]:.0%}")
+            lines.append(f"{formulation:12s} {n:5d} " + "".join(f"{cell:>36s}" for cell in cells))
+    return "\n".join(lines)
