@@ -168,3 +168,32 @@ def test_every_compiled_function_takes_at_most_ten_parameters():
             if compiled and len(node.args.args) > 10:
                 long.append(f"{path.name}:{node.name} ({len(node.args.args)})")
     assert not long
+
+
+def test_a_module_placed_in_the_learners_package_is_found_by_being_there(tmp_path, monkeypatch):
+    import sys
+
+    import glamas.learners
+    (tmp_path / "dropped_in.py").write_text(
+        "from dataclasses import replace\n"
+        "from glamas.learners import independent\n"
+        "from glamas.learners.registry import register\n"
+        "LEARNER = register(replace(independent.LEARNER, name='dropped_in', family='other', seed_slot=None))\n")
+    monkeypatch.setattr(glamas.learners, "__path__", [*glamas.learners.__path__, str(tmp_path)])
+    try:
+        registry.discover()
+        assert registry.get("dropped_in").label == "independent Q-learners"
+        assert list(registry.LEARNERS)[-1] == "dropped_in"  # the library's own first, in their fixed order
+    finally:
+        registry.unregister("dropped_in")
+        sys.modules.pop("glamas.learners.dropped_in", None)
+
+
+def test_every_learner_the_library_declares_is_registered():
+    import importlib
+    import pkgutil
+
+    import glamas.learners
+    declared = {value.name for info in pkgutil.iter_modules(glamas.learners.__path__, "glamas.learners.")
+                for value in vars(importlib.import_module(info.name)).values() if isinstance(value, Learner)}
+    assert declared and declared <= set(registry.LEARNERS)

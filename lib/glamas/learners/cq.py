@@ -76,6 +76,7 @@ from glamas.gridworld.rewards import CHAPTER
 from glamas.gridworld.rules import NOBODY
 from glamas.learners import episode as ep
 from glamas.learners.independent import table_shape
+from glamas.learners.registry import register
 from glamas.learners.spec import Learner
 from glamas.qlearning import epsilon_greedy, q_update, row_max
 
@@ -550,3 +551,5 @@ LEARNER = Learner(name="cq", label="CQ-learning", n_agent_label="CQ-learning (ev
                   kernel=run, table_shape=table_shape, inputs=detection, freeze=freeze, outputs=outputs,
                   joint_room=joint_room, reward_samples=reward_samples, extra_bytes=window_bytes,
                   joint_learned=joint_learned, defaults=Settings(), family="related", seed_slot=1)
+
+register(LEARNER)

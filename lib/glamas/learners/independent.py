@@ -5,6 +5,7 @@ from numba import njit
 
 from glamas.gridworld import rules
 from glamas.learners import episode as ep
+from glamas.learners.registry import register
 from glamas.learners.spec import Learner
 from glamas.qlearning import epsilon_greedy, q_update
 
@@ -82,3 +83,5 @@ def episodes(world, learning, schedule, q, log, state, buffers, index):
 
 LEARNER = Learner(name="independent", label="independent Q-learners", kernel=run, table_shape=table_shape,
                   family="chapter", seed_slot=0)
+
+register(LEARNER)

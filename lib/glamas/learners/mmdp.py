@@ -6,6 +6,7 @@ from numba import njit
 from glamas.gridworld import rules
 from glamas.gridworld.joint import joint_index, split_index
 from glamas.learners import episode as ep
+from glamas.learners.registry import register
 from glamas.learners.spec import Learner
 from glamas.qlearning import epsilon_greedy, q_update
 
@@ -62,3 +63,5 @@ def episodes(world, learning, schedule, q, log, state, buffers):
 
 LEARNER = Learner(name="mmdp", label="MMDP learner", kernel=run, table_shape=table_shape, joint_tables=True,
                   family="chapter", seed_slot=2)
+
+register(LEARNER)

@@ -1,18 +1,22 @@
 """Every learner by name. An experiment finds its learners here and knows nothing else of them:
-adding a learner is one module that declares a :class:`glamas.learners.spec.Learner` and one
-:func:`register` call (below for the library's own, in a test or a notebook for others). A
-registered learner can then be trained by name in the gridworld experiments and the scaling study,
-with settings of its own (its spec's ``defaults``) that configs hold by its name.
+adding a learner is one module that declares a :class:`glamas.learners.spec.Learner` and calls
+:func:`register` on it. The modules of :mod:`glamas.learners` are found here (:func:`discover`,
+which the package runs when it is first imported, before any of its modules is used), so a module
+placed there is known by being there, as an experiment of :mod:`glamas.experiments` is; a learner defined elsewhere (a user's module, a test,
+a notebook) is known once its :func:`register` has run. A registered learner can then be trained by
+name in every experiment that trains learners, with settings of its own (its spec's ``defaults``)
+that configs hold by its name.
 
 Seeds: each learner's runs draw from a master seed of its own (:func:`master_seed`), made from the
 experiment's seed key, its family and the seed slot its spec declares, so that the order in which
 learners are registered or listed never decides anyone's streams.
 """
 
+import importlib
+import pkgutil
 import zlib
 
 from glamas.errors import UserError
-from glamas.learners import cq, independent, joint_state, mmdp, sparse_maq, two_observe
 from glamas.learners.spec import Learner
 
 LEARNERS: dict[str, Learner] = {}
@@ -53,7 +57,25 @@ def register(learner: Learner) -> Learner:
         raise UserError(f"learner {learner.name!r} would draw the seeds of {taken[_name_slot(learner.name)]!r}; "
                          "choose another name")
     LEARNERS[learner.name] = learner
+    ordered = sorted(LEARNERS.values(), key=_order)
+    LEARNERS.clear()
+    LEARNERS.update((other.name, other) for other in ordered)
     return learner
+
+
+def _order(learner: Learner) -> tuple:
+    """Where a learner stands in LEARNERS, whatever the order the modules were imported in: by
+    family, then seed slot, then name."""
+    slot = learner.seed_slot if learner.seed_slot is not None else NAME_SLOTS
+    return FAMILIES.index(learner.family), slot, learner.name
+
+
+def discover() -> None:
+    """Import every module of :mod:`glamas.learners`: each registers the learners it declares."""
+    package = importlib.import_module("glamas.learners")
+    for module in pkgutil.iter_modules(package.__path__, f"{package.__name__}."):
+        if module.name != __name__:
+            importlib.import_module(module.name)
 
 
 def unregister(name: str) -> None:
@@ -97,7 +119,3 @@ def master_seed(key: int, name: str, strides: dict = SEED_STRIDES) -> int:
 def _name_slot(name: str) -> int:
     return zlib.crc32(name.encode()) % NAME_SLOTS
 
-
-for _learner in (independent.LEARNER, joint_state.LEARNER, mmdp.LEARNER, two_observe.LEARNER, two_observe.RULE,
-                 sparse_maq.LEARNER, sparse_maq.PAIRS, cq.LEARNER):
-    register(_learner)

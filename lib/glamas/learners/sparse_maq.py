@@ -65,6 +65,7 @@ from glamas.gridworld import GridMap, rules
 from glamas.learners import coordination_graph as cg
 from glamas.learners import episode as ep
 from glamas.learners.independent import lone_step, table_shape
+from glamas.learners.registry import register
 from glamas.learners.spec import Learner
 from glamas.qlearning import epsilon_greedy, row_max
 
@@ -377,3 +378,6 @@ PAIRS = replace(LEARNER, name="sparse_maq_pairs", label="sparse tabular MAQ, pai
 """The pairwise variant (the N-agent learner before the coordination graph); slot 2 is beyond the
 related family's stride of 2, so it draws from its name's slot and leaves every other learner's
 seeds alone."""
+
+register(LEARNER)
+register(PAIRS)

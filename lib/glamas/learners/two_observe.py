@@ -60,6 +60,7 @@ from glamas import checks, gla, rng
 from glamas.gridworld import GridMap, rules
 from glamas.learners import episode as ep
 from glamas.learners.independent import lone_step, table_shape
+from glamas.learners.registry import register
 from glamas.learners.spec import Learner
 from glamas.qlearning import epsilon_greedy, q_update
 from glamas.errors import UserError
@@ -766,3 +767,6 @@ RULE = replace(LEARNER, name="two_observe_rule", label="2observe, fixed rule", n
                defaults=GLASettings(rule_distance=3), seed_slot=4)
 """A diagnostic outside the chapter: 2observe with its GLAs replaced by the fixed rule "coordinate
 when delta < 3" (delta at most 2, where every collision of two agents comes from)."""
+
+register(LEARNER)
+register(RULE)
