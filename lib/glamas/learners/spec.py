@@ -97,6 +97,9 @@ class Learner:
     outputs: Callable = _no_outputs
     """(setup, gridmap) -> {name: one run's array} of what else it learns, passed between ``q``
     and ``log`` in this order, zeros (or its initial values)."""
+    counters: tuple = ()
+    """The names of those of its outputs that count what happens (2observe's ``need_counts``) rather
+    than hold what it learned: playing with learning off may add to them (:mod:`glamas.learners.contract`)."""
     gla_parameters: Callable = _none
     """(setup, gridmap) -> GLA parameters per run."""
     joint_room: Callable = _none

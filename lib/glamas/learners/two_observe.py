@@ -761,7 +761,8 @@ def episodes(world, learning, automata, schedule, q, u, need_counts, log, state,
 
 LEARNER = Learner(name="two_observe", label="2observe", n_agent_label="2observe (N agents)",
                   kernel=run, two_agent_kernel=run_two, table_shape=table_shape, inputs=automata,
-                  defaults=GLASettings(), freeze=freeze, outputs=outputs, gla_parameters=gla_parameters, family="chapter",
+                  defaults=GLASettings(), freeze=freeze, outputs=outputs, counters=("need_counts",),
+                  gla_parameters=gla_parameters, family="chapter",
                   seed_slot=3)
 RULE = replace(LEARNER, name="two_observe_rule", label="2observe, fixed rule", n_agent_label="",
                defaults=GLASettings(rule_distance=3), seed_slot=4)

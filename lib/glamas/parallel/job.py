@@ -110,18 +110,29 @@ def _as_sent(x):
     return x
 
 
+def kernel_label(kernel) -> str:
+    """'module:name' of a run kernel."""
+    function = getattr(kernel, "py_func", kernel)
+    return f"{function.__module__}:{function.__qualname__}"
+
+
+def importable(kernel) -> bool:
+    """Whether another process can import ``kernel`` by its name: a module-level function of a
+    module other than ``__main__``."""
+    name = kernel_label(kernel)
+    try:
+        return not name.startswith("__main__:") and resolve_kernel(name) is kernel
+    except (ImportError, AttributeError):
+        return False
+
+
 def kernel_name(kernel) -> str:
     """'module:name' of a module-level run kernel, which a worker process can import."""
-    function = getattr(kernel, "py_func", kernel)
-    name = f"{function.__module__}:{function.__qualname__}"
-    try:
-        importable = function.__module__ != "__main__" and resolve_kernel(name) is kernel
-    except (ImportError, AttributeError):
-        importable = False
-    if not importable:
+    name = kernel_label(kernel)
+    if not importable(kernel):
         raise UserError(f"the run kernel {name} is not a module-level function of an importable "
-                         "module, so worker processes cannot load it; define it at the top level of a "
-                         "module, or use the threads backend")
+                         "module, so the Dask workers cannot load it; define it at the top level of a "
+                         "module, or use the local backends")
     return name
 
 

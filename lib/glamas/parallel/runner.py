@@ -1,6 +1,8 @@
 """The one runner of every experiment's runs: batches of runs cut into jobs, the jobs handed to
 the backend that ``workers`` names, their outputs checked and written back."""
 
+import sys
+
 import numpy as np
 from tqdm import tqdm  # not tqdm.auto: it warns in notebooks without ipywidgets
 
@@ -8,7 +10,7 @@ from glamas.errors import UserError
 from glamas.parallel import dask, local, memo
 from glamas.parallel.backends import Dask, Processes, Threads, as_backend, cores
 from glamas.parallel.batch import Batch, check_batch, check_finite, jobs_of
-from glamas.parallel.job import batch_chunk, fill_chunk, kernel_name, to_send
+from glamas.parallel.job import batch_chunk, fill_chunk, importable, kernel_label, to_send
 
 
 def run_batches(kernel, inputs: tuple, outputs: tuple, seed: int, *, workers=None,
@@ -62,10 +64,18 @@ def run_many(batches: list, *, workers=None, progress: str | None = None, chunk:
 
 def _hand_out(workers, batches: list, to_run: list, jobs: list):
     """``jobs`` started on ``workers``: an iterator of ``(batch number, start, filled outputs)``
-    as they finish."""
+    as they finish. Local processes become as many threads of this process when a kernel is not
+    importable by another process (defined in a notebook or a script's ``__main__``): the runs
+    are the same, and one line on stderr says so."""
+    if isinstance(workers, Processes):
+        foreign = [name for name in dict.fromkeys(kernel_label(batches[k].kernel) for k in to_run
+                                                  if not importable(batches[k].kernel))]
+        if foreign:
+            print(f"note: {', '.join(foreign)} cannot be imported by worker processes (define it at the top level "
+                  "of a module to run it in processes): running on threads of this process, with the same results",
+                  file=sys.stderr)
+            workers = Threads(workers.workers or cores())
     if isinstance(workers, Processes) and (workers.workers or cores()) == 1:  # one process: this one
-        for k in to_run:
-            kernel_name(batches[k].kernel)  # importable, as for more workers
         return (batch_chunk(k, fill_chunk, batches[k].kernel, batches[k].inputs, batches[k].seed, start, stop, first,
                             False, batches[k].evaluations) for k, start, stop, first in jobs)
     if isinstance(workers, Threads):
