@@ -59,6 +59,8 @@ Memory: each reward window keeps its last ``cq_window`` rewards in a ring with t
 sum of squares: one per agent and state-action for test 1 (filled first alone, whose summary then
 stays as the record of ER), and, for test 2, one per agent, state-action and other's cell, allocated
 for the whole run (:func:`reward_samples`, :func:`window_bytes`).
+
+Plain-Python reference: ``cq`` in ``benchmarks/python_gridworld.py``.
 """
 
 import functools

@@ -1,5 +1,17 @@
 """Independent Q-learners (Section 5.3): each agent runs Alg. 3 on its own cell only, with its own
-reward, ignoring the other agent (a 25 x 4 table each on TunnelToGoal)."""
+reward, ignoring the other agents (a 25 x 4 table each on TunnelToGoal).
+
+Alg. 3 as each agent i runs it here, every step of an episode while it is not in its goal:
+
+1. in its cell s_i, select an action a_i epsilon-greedily from Q_i(s_i, .) (exploitation
+   ``exploit_prob``, ties broken at random);
+2. the agents move together (:func:`glamas.gridworld.rules.step`): i receives its own reward r_i
+   and its next cell s'_i;
+3. eq. 11: Q_i(s_i, a_i) <- (1 - alpha) Q_i(s_i, a_i) + alpha [r_i + gamma max_a' Q_i(s'_i, a')],
+   with no future value once s'_i is its goal.
+
+Plain-Python reference of the same steps, on the same random numbers: ``independent`` in
+``benchmarks/python_gridworld.py``."""
 
 from numba import njit
 

@@ -1,5 +1,11 @@
 """Joint-state learners (Section 5.3): each agent runs Alg. 3 over the joint cells of both agents
-(625 states on TunnelToGoal) with its own reward, still choosing only its own action (4)."""
+(625 states on TunnelToGoal) with its own reward, still choosing only its own action (4).
+
+Every step, with s = (s_1, s_2) the joint cell: each agent i not in its goal selects a_i
+epsilon-greedily from Q_i(s, .); the agents move together; each updates by eq. 11 on the joint
+cells, Q_i(s, a_i) <- (1 - alpha) Q_i(s, a_i) + alpha [r_i + gamma max_a' Q_i(s', a')].
+
+Plain-Python reference: ``joint_state`` in ``benchmarks/python_gridworld.py``."""
 
 from numba import njit
 

@@ -1,5 +1,14 @@
 """The MMDP learner (Sections 3.1 and 5.3): one central Q-learner over the joint cells and the joint
-actions (625 x 16 on TunnelToGoal) that learns from the single shared reward."""
+actions (625 x 16 on TunnelToGoal) that learns from the single shared reward.
+
+Every step, with s the joint cell: select the joint action a = (a_1, a_2) epsilon-greedily from
+Q(s, .) over the 16 joint actions; the agents move together; the shared reward R is the agents'
+penalties summed, plus +100 when the last agent enters its goal (Sec. 5.3: "when both agents reach
+the goal", :func:`glamas.gridworld.rules.shared_reward`); eq. 11 on the joint table,
+Q(s, a) <- (1 - alpha) Q(s, a) + alpha [R + gamma max_a' Q(s', a')], with no future value once every
+agent is in.
+
+Plain-Python reference: ``mmdp`` and ``shared_reward`` in ``benchmarks/python_gridworld.py``."""
 
 from numba import njit
 

@@ -50,6 +50,9 @@ greedy matching of the agents into pairs, closest pairs first (ties: lowest numb
 coordinates with at most one other, its nearest; this was the N-agent learner before the graph.
 With two agents the graph and the matching are the same single pair, and both learners are the
 two-agent learner.
+
+Plain-Python reference: ``sparse_maq`` in ``benchmarks/python_gridworld.py`` (variable elimination
+in its ``Elimination``).
 """
 
 import math

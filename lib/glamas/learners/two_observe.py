@@ -3,6 +3,22 @@ coordinate; the agents act on independent Q-learners over their own cells, and o
 chose to coordinate they check whether their preferred actions collide and, if so, one of them
 (picked at random) yields with a random other action (Section 5.2).
 
+Alg. 4 as :func:`pair_step` plays it, every step while both agents act (delta their Manhattan
+distance):
+
+1. first level: each agent's GLA chooses coordinate or act alone from the context [delta, 1]
+   (eq. 15, Boltzmann over x.u_a / T);
+2. second level: each agent's Q-learner prefers an action epsilon-greedily on its own cell; if both
+   chose to coordinate and the two preferred actions would collide, one agent, picked at random,
+   keeps its action and the other takes one of its other three at random;
+3. the agents move together and receive r_q, their rewards of the move;
+4. each updates its own Q table by eq. 11 (as the independent learners);
+5. each GLA receives r_c, its feedback (below), and updates by eq. 13 (the REINFORCE step and the
+   bounding term toward h(u), eq. 14).
+
+Plain-Python reference: ``two_observe`` (and ``two_observe_group`` for N agents) in
+``benchmarks/python_gridworld.py``, with the GLA of ``benchmarks/python_gla.py``.
+
 The GLAs' feedback r_c (Fig. 10) is lost. It is rebuilt as ``table[choice, need]`` plus the
 chapter's ``0 - delta/10`` when both coordinated without need (Section 5.3), where "need" is one of
 three readings (``NEEDS``):
