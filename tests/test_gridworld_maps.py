@@ -5,7 +5,8 @@ import importlib.util
 import numpy as np
 import pytest
 
-from glamas.gridworld import MapError, load_map, map_text, tunnel_to_goal
+from glamas.gridworld import MapError, load_map, map_text, maps, tunnel_to_goal
+from glamas.gridworld.maps import canonical_difference
 from glamas.gridworld.maps import map_hash, map_path
 from glamas.gridworld.rules import E, N, S, W
 from glamas.paths import MAPS, REPO
@@ -91,7 +92,7 @@ def edit(text, line, col, char):
     (edit(GOOD, 3, 4, "|"), r"wall at line 3, column 4: expected '-' or ' '"),
     (edit(GOOD, 3, 3, " "), r"wall joint at line 3, column 3: expected '\+'"),
     (edit(GOOD, 1, 2, " "), r"broken border at line 1, column 2: expected '-'"),
-    (edit(GOOD, 4, 7, " "), r"broken border at line 4, column 7: expected '\|'"),
+    (edit(GOOD, 4, 7, "x"), r"broken border at line 4, column 7: expected '\|'"),
     (edit(GOOD, 5, 1, "-"), r"broken border at line 5, column 1: expected '\+'"),
     (GOOD.replace("|2 # .|", "|2 # . |"), r"ragged rows: line 4 has 8 characters, line 1 has 7"),
     ("+-+\n|1|\n", r"2R\+1 lines .* got 2 lines"),
@@ -251,10 +252,25 @@ def test_per_agent_goal_faults_name_the_place(text, message):
 
 
 @pytest.mark.parametrize("path", sorted(MAPS.glob("*.txt")), ids=lambda p: p.stem)
-def test_every_map_file_is_written_back_as_it_is(path):
-    m = load_map(path)
-    assert map_text(m) == path.read_text()
-    assert load_map(map_text(m)).same_layout(m)
+def test_every_map_file_is_in_its_canonical_form(path):
+    difference = canonical_difference(path)
+    assert difference is None, (f"{path.name} loads, but is not in the canonical form of data/maps: {difference}; "
+                                f"`python -m glamas.gridworld.maps {path} --write` puts it in that form")
+    assert load_map(map_text(load_map(path))).same_layout(load_map(path))
+
+
+def test_a_map_in_another_reasonable_form_is_the_same_map(tmp_path, capsys):
+    canonical = (MAPS / "isr.txt").read_text()
+    loose = "\r\n".join("    " + line + "  " for line in canonical.splitlines()) + "\r\n\r\n"
+    assert load_map(loose).same_layout(load_map("isr"))
+    path = tmp_path / "loose.txt"
+    path.write_bytes(loose.encode())
+    assert "line 1 is '    +-+-" in canonical_difference(path)
+    assert maps.main([str(path)]) == 0 and capsys.readouterr().out == canonical
+    assert maps.main([str(path), "--write"]) == 0 and path.read_text() == canonical
+    assert canonical_difference(path) is None
+    maps.main([str(path), "--write"])
+    assert "in its canonical form already" in capsys.readouterr().out
 
 
 def random_map_text(rng, n_rows, n_cols, n_agents):

@@ -29,13 +29,18 @@ from its start. Another agent's goal is an ordinary cell for agent k. Every faul
 Cells are numbered row by row, ``cell = row * n_cols + col``; row 0 is the top line. Walls are
 symmetric by construction: one character separates two cells. :func:`map_text` writes a map in
 this format (walls drawn around blocked cells, symbols where they fit, the trailer for the rest);
-what it writes loads back to the same map.
+what it writes loads back to the same map. The reader takes any line ending, spaces after the
+last character of a line and an indentation common to every line; ``python -m
+glamas.gridworld.maps FILE`` prints a map in the form :func:`map_text` writes (its canonical form,
+which the maps of ``data/maps`` are in), ``--write`` puts it in the file.
 Every :class:`GridMap`, read from a file or built in Python, is checked by one function,
 :func:`check_layout`, when it is made.
 """
 
+import argparse
 import hashlib
 import re
+import textwrap
 from collections import deque
 from dataclasses import dataclass
 from functools import cached_property
@@ -223,8 +228,12 @@ class _Placement:
 
 
 def _parse(text: str, name: str) -> GridMap:
-    lines = text.splitlines()
-    while lines and not lines[-1].strip():
+    # Any line ending, spaces after a line's last character and a common indentation (a map
+    # pasted into a Python string or a notebook) are not part of the map: every maze line ends
+    # with '|' or '+', so nothing the format says is lost.
+    lines = [line.rstrip() for line in text.expandtabs().splitlines()]
+    lines = textwrap.dedent("\n".join(lines)).split("\n")
+    while lines and not lines[-1]:
         lines.pop()
     maze, trailer = _split_trailer(lines)
     _check_shape(maze)
@@ -533,3 +542,42 @@ def _trailer_line(kind: str, agent: int, gridmap: GridMap, cell: int) -> str:
 def _wall(gridmap: GridMap, a: int, b: int) -> bool:
     """A wall between neighbouring cells a and b: no move crosses between them."""
     return b not in gridmap.open_neighbours(a) and a not in gridmap.open_neighbours(b)
+
+
+def canonical_difference(path) -> str | None:
+    """None when map file ``path`` is in its canonical form (:func:`map_text`), else the first line
+    that differs, both ways, for a message."""
+    text = _decode(_read_bytes(Path(path)))
+    canonical = map_text(load_map(path))
+    if text == canonical:
+        return None
+    ours, theirs = text.splitlines(), canonical.splitlines()
+    line = next((i for i, (a, b) in enumerate(zip(ours, theirs)) if a != b), min(len(ours), len(theirs)))
+    found = ours[line] if line < len(ours) else "(the end of the file)"
+    written = theirs[line] if line < len(theirs) else "(the end of the file)"
+    return f"line {line + 1} is {found!r} where the canonical form has {written!r}"
+
+
+def main(argv=None) -> int:
+    parser = argparse.ArgumentParser(prog="python -m glamas.gridworld.maps",
+                                     description="Print a map file in its canonical form (the form map_text writes "
+                                                 "and the maps of data/maps are in), or write it into the file.")
+    parser.add_argument("map", help="a map file's path or the name of a map in data/maps")
+    parser.add_argument("--write", action="store_true", help="replace the file's text by its canonical form")
+    args = parser.parse_args(argv)
+    path = map_path(args.map)
+    text = map_text(load_map(path))
+    if not args.write:
+        print(text, end="")
+    elif canonical_difference(path) is None:
+        print(f"{path} is in its canonical form already")
+    else:
+        path.write_text(text)
+        print(f"wrote {path} in its canonical form")
+    return 0
+
+
+if __name__ == "__main__":
+    from glamas import errors
+
+    errors.run(main)
