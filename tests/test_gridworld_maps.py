@@ -5,7 +5,7 @@ import importlib.util
 import numpy as np
 import pytest
 
-from glamas.gridworld import MapError, load_map, map_text, maps, tunnel_to_goal
+from glamas.gridworld import MapError, canonical, load_map, map_text, tunnel_to_goal
 from glamas.gridworld.maps import canonical_difference
 from glamas.gridworld.maps import map_hash, map_path
 from glamas.gridworld.rules import E, N, S, W
@@ -255,21 +255,21 @@ def test_per_agent_goal_faults_name_the_place(text, message):
 def test_every_map_file_is_in_its_canonical_form(path):
     difference = canonical_difference(path)
     assert difference is None, (f"{path.name} loads, but is not in the canonical form of data/maps: {difference}; "
-                                f"`python -m glamas.gridworld.maps {path} --write` puts it in that form")
+                                f"`python -m glamas.gridworld.canonical {path} --write` puts it in that form")
     assert load_map(map_text(load_map(path))).same_layout(load_map(path))
 
 
 def test_a_map_in_another_reasonable_form_is_the_same_map(tmp_path, capsys):
-    canonical = (MAPS / "isr.txt").read_text()
-    loose = "\r\n".join("    " + line + "  " for line in canonical.splitlines()) + "\r\n\r\n"
+    written = (MAPS / "isr.txt").read_text()
+    loose = "\r\n".join("    " + line + "  " for line in written.splitlines()) + "\r\n\r\n"
     assert load_map(loose).same_layout(load_map("isr"))
     path = tmp_path / "loose.txt"
     path.write_bytes(loose.encode())
     assert "line 1 is '    +-+-" in canonical_difference(path)
-    assert maps.main([str(path)]) == 0 and capsys.readouterr().out == canonical
-    assert maps.main([str(path), "--write"]) == 0 and path.read_text() == canonical
+    assert canonical.main([str(path)]) == 0 and capsys.readouterr().out == written
+    assert canonical.main([str(path), "--write"]) == 0 and path.read_text() == written
     assert canonical_difference(path) is None
-    maps.main([str(path), "--write"])
+    canonical.main([str(path), "--write"])
     assert "in its canonical form already" in capsys.readouterr().out
 
 

@@ -31,13 +31,12 @@ symmetric by construction: one character separates two cells. :func:`map_text` w
 this format (walls drawn around blocked cells, symbols where they fit, the trailer for the rest);
 what it writes loads back to the same map. The reader takes any line ending, spaces after the
 last character of a line and an indentation common to every line; ``python -m
-glamas.gridworld.maps FILE`` prints a map in the form :func:`map_text` writes (its canonical form,
-which the maps of ``data/maps`` are in), ``--write`` puts it in the file.
+glamas.gridworld.canonical FILE`` prints a map in the form :func:`map_text` writes (its canonical
+form, which the maps of ``data/maps`` are in), ``--write`` puts it in the file.
 Every :class:`GridMap`, read from a file or built in Python, is checked by one function,
 :func:`check_layout`, when it is made.
 """
 
-import argparse
 import hashlib
 import re
 import textwrap
@@ -557,27 +556,3 @@ def canonical_difference(path) -> str | None:
     written = theirs[line] if line < len(theirs) else "(the end of the file)"
     return f"line {line + 1} is {found!r} where the canonical form has {written!r}"
 
-
-def main(argv=None) -> int:
-    parser = argparse.ArgumentParser(prog="python -m glamas.gridworld.maps",
-                                     description="Print a map file in its canonical form (the form map_text writes "
-                                                 "and the maps of data/maps are in), or write it into the file.")
-    parser.add_argument("map", help="a map file's path or the name of a map in data/maps")
-    parser.add_argument("--write", action="store_true", help="replace the file's text by its canonical form")
-    args = parser.parse_args(argv)
-    path = map_path(args.map)
-    text = map_text(load_map(path))
-    if not args.write:
-        print(text, end="")
-    elif canonical_difference(path) is None:
-        print(f"{path} is in its canonical form already")
-    else:
-        path.write_text(text)
-        print(f"wrote {path} in its canonical form")
-    return 0
-
-
-if __name__ == "__main__":
-    from glamas import errors
-
-    errors.run(main)
