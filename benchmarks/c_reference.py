@@ -68,7 +68,8 @@ class Reference:
         start = time.thread_time()
         if workload.learner == "two_observe":
             self._lib.run_two_observe(*common, *self._automata(own, g), *schedule, q,
-                                      _pointer(arrays["u"][0], np.float64), _pointer(arrays["need_counts"][0], np.float64),
+                                      _pointer(arrays["u"][0], np.float64), _pointer(arrays["u_initial"][0], np.float64),
+                                      _pointer(arrays["need_counts"][0], np.float64),
                                       log, _pointer(state, np.uint64))
         else:
             getattr(self._lib, "run_" + workload.learner)(*common, *schedule, q, log, _pointer(state, np.uint64))

@@ -274,12 +274,12 @@ static void gla_update(double *u, const double *x, int64_t action, double beta, 
     }
 }
 
-/* 2observe (Alg. 4), need "in range": u (2 agents x 2 actions x 2 inputs), need_counts (deltas x 2).
+/* 2observe (Alg. 4), need "in range": u (2 agents x 2 actions x 2 inputs), the u_initial it drew, need_counts (deltas x 2).
  * Like the kernel, it tabulates could_collide for every pair of cells once per run. */
 void run_two_observe(const World *w, double alpha, double gamma, double exploit, double rate, double temperature,
                      double K, double L, double init_range, const double *table, double penalty,
                      int64_t n_episodes, const int64_t *edges, int64_t max_steps, double *q, double *u,
-                     double *need_counts, double *log, uint64_t *s) {
+                     double *u_initial, double *need_counts, double *log, uint64_t *s) {
     GLAParams p = {rate, temperature, K, L};
     Episode e;
     int64_t row = 0, choices[2], preferred[2], delta = 0;
@@ -288,7 +288,7 @@ void run_two_observe(const World *w, double alpha, double gamma, double exploit,
     uint8_t *in_range = malloc((size_t)(w->n_cells * w->n_cells));
     for (int64_t a = 0; a < w->n_cells; a++)
         for (int64_t b = 0; b < w->n_cells; b++) in_range[a * w->n_cells + b] = (uint8_t)could_collide(w, a, b);
-    for (int k = 0; k < 8; k++) u[k] = init_range * (2.0 * uniform(s) - 1.0);
+    for (int k = 0; k < 8; k++) u_initial[k] = u[k] = init_range * (2.0 * uniform(s) - 1.0);
     for (int64_t episode = 0; episode < n_episodes; episode++) {
         int64_t t = 0;
         start_episode(w, &e);

@@ -44,4 +44,5 @@ def test_the_committed_study_shares_the_committed_gridworld_2observe():
     stored = results.load(RESULTS / "gridworld.npz", gw.GridworldConfig(), seed=0)
     k = list(stored["learners"]).index("two_observe")
     assert np.array_equal(study.log[0], stored["log"][k])
-    assert np.array_equal(study.gla_parameters[0], stored["gla_parameters"])
+    assert np.array_equal(study.gla_parameters[0], stored["two_observe.u"])
+    assert np.array_equal(study.gla_initial[0], stored["two_observe.u_initial"])

@@ -94,7 +94,7 @@ def test_a_map_by_name_or_path_with_any_number_of_agents(tmp_path):
     config = gw.GridworldConfig(map="tunnel_to_goal_3", learners=("independent", "two_observe"), runs=1, episodes=20,
                                 bins=5, max_steps=500)
     result = gw.run(config, workers=1)
-    assert result.log.shape[-1] == 2 * 3 + 4 and result.gla_parameters.shape[1] == 3
+    assert result.log.shape[-1] == 2 * 3 + 4 and result.output("two_observe", "u").shape[1] == 3
     assert gw.optimum(config)["steps"] == pytest.approx(11.0)  # 10, 11 and 12 steps
     assert gw.optimum(gw.GridworldConfig(map="tunnel_to_goal_4")) is None  # too large to tabulate
 
@@ -137,9 +137,9 @@ def test_state_action_spaces_are_measured_from_the_tables(small):
 
 def test_coordination_probability_is_eq15_of_the_final_parameters(small):
     config, result = small
-    u = np.zeros_like(result.gla_parameters)
+    u = np.zeros_like(result.output("two_observe", "u"))
     u[:, :, 1] = [-0.5, 0.75]  # coordinate: x.u = -0.5 delta + 0.75; act alone: 0
-    made_up = dataclasses.replace(result, gla_parameters=u)
+    made_up = dataclasses.replace(result, own={"two_observe": {**result.own["two_observe"], "u": u}})
     p = gw.coordination_probability(made_up, config, [0, 1, 2, 4])
     expected = 1 / (1 + np.exp(-(-0.5 * np.array([0, 1, 2, 4]) + 0.75) / config.own("two_observe").gla_temperature))
     assert np.allclose(p, expected)

@@ -47,7 +47,7 @@ def test_every_learner_runs_and_its_log_is_consistent(small_result):
         if name != "two_observe":
             assert (small_result.curves(name, "coordinations") == 0).all()
     assert small_result.table_shapes.tolist() == [[2, 25, 4], [2, 625, 4], [1, 625, 16], [2, 25, 4]]
-    assert np.abs(small_result.gla_parameters).max() > 0  # initialised randomly
+    assert np.abs(small_result.output("two_observe", "u")).max() > 0  # initialised randomly
 
 
 def test_learners_learn_the_way_to_the_goal(small_result):
@@ -60,7 +60,7 @@ def test_learners_learn_the_way_to_the_goal(small_result):
 def test_same_seed_same_results_for_one_and_two_workers(small_result):
     two = gw.run(SMALL, seed=5, workers=2)
     assert np.array_equal(small_result.log, two.log)
-    assert np.array_equal(small_result.gla_parameters, two.gla_parameters)
+    assert np.array_equal(small_result.output("two_observe", "u"), two.output("two_observe", "u"))
     assert not np.array_equal(small_result.log, gw.run(SMALL, seed=6, workers=1).log)
 
 
@@ -134,7 +134,7 @@ def test_gla_feedback_table_and_needless_coordination_penalty():
 
 
 def test_two_observe_counts_its_observed_steps_by_distance(small_result):
-    counts = small_result.need_counts
+    counts = small_result.output("two_observe", "need_counts")
     assert counts.shape == (2, 9, 2)  # deltas 0 .. 8 on the 5 x 5 map
     assert counts[:, 0].sum() == 0  # two acting agents never share a cell
     assert counts[:, 1:3, 1].sum() > 0  # in range at distances 1 and 2 (the default reading)
@@ -150,18 +150,18 @@ def test_fixed_rule_first_level_replaces_the_glas():
     never, always = ruled(0), ruled(99)
     assert (never.curves("two_observe", "coordinations") == 0).all()
     # coordinating at every distance: every observed step is a coordination
-    observed = always.need_counts.sum(axis=(1, 2)) / 2  # each agent counts the step it observed
+    observed = always.output("two_observe", "need_counts").sum(axis=(1, 2)) / 2  # each agent counts the step it observed
     assert np.allclose(always.curves("two_observe", "coordinations") @ always.widths(), observed)
-    # the GLAs do not learn under a fixed rule: the parameters keep their random initial values,
-    # which the result's gla_initial draws again from the runs' streams
-    assert np.array_equal(never.gla_parameters, always.gla_parameters)
-    assert np.array_equal(never.gla_initial, never.gla_parameters)
+    # the GLAs do not learn under a fixed rule: the parameters keep the random initial values the
+    # kernel drew first from each run's stream
+    assert np.array_equal(never.output("two_observe", "u"), always.output("two_observe", "u"))
+    assert np.array_equal(never.output("two_observe", "u_initial"), never.output("two_observe", "u"))
 
 
 def test_the_initial_glas_are_drawn_in_the_init_range(small_result):
-    u = small_result.gla_initial
+    u = small_result.output("two_observe", "u_initial")
     assert 0 < np.abs(u).max() <= SMALL.own("two_observe").gla_init_range
-    assert not np.array_equal(u, small_result.gla_parameters)  # learning moved them
+    assert not np.array_equal(u, small_result.output("two_observe", "u"))  # learning moved them
 
 
 # --- Fig. 10's readings of "need to coordinate" ------------------------------------------------

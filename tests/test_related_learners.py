@@ -123,11 +123,11 @@ def test_small_run_logs_both_learners_and_cq_marks_only_close_joint_states(small
         assert (small.reward(name) <= 100).all()
         assert small.steps(name).mean(axis=0)[-1] < 40, name  # they learn the way to the goal
         assert (small.curves(name, "coordinations") > 0).any(), name
-    assert small.cq_marked.any()  # the tunnel entrance makes conflicts
+    assert small.output("cq", "marked").any()  # the tunnel entrance makes conflicts
     assert (rw.marked_distances(small, SMALL) <= 2).all()  # collisions only come from close agents
     index = sparse_maq.coordination_index(tunnel_to_goal(), 2)
     assert small.joint_entries[2].tolist() == [(index.max() + 1) * 16 / 2] * 2
-    assert small.joint_entries[3].tolist() == (small.cq_marked.sum(axis=(2, 3)).mean(axis=1) * 4).tolist()
+    assert small.joint_entries[3].tolist() == (small.output("cq", "marked").sum(axis=(2, 3)).mean(axis=1) * 4).tolist()
     assert small.local_entries.tolist() == [100.0, 0.0, 100.0, 100.0]
     # CQ-learning's windows: test 1's per state-action, test 2's per state-action and other's cell
     assert small.reward_samples.tolist() == [0, 0, 0, 25 * 4 * (1 + 25) * SMALL.own("cq").cq_window]
@@ -137,7 +137,7 @@ def test_chapter_learners_keep_their_seeds_and_results_do_not_depend_on_workers(
     chapter = gw.run(gw.GridworldConfig(learners=("independent", "mmdp"), episodes=400, runs=2, bins=20), seed=3, workers=1)
     assert np.array_equal(small.log[:2], chapter.log)
     two = rw.run(SMALL, seed=3, workers=2)
-    assert np.array_equal(small.log, two.log) and np.array_equal(small.cq_marked, two.cq_marked)
+    assert np.array_equal(small.log, two.log) and np.array_equal(small.output("cq", "marked"), two.output("cq", "marked"))
     seeds = [registry.master_seed(3, name) for name in rw.RELATED_LEARNERS]
     assert seeds[0] != seeds[1] and min(seeds) >= 2 ** 32
 

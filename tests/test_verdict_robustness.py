@@ -132,13 +132,15 @@ def test_a_convergence_verdict_is_the_one_every_tolerance_and_block_width_gives(
 # ---- the new metrics can fail through the measure function ----
 
 def test_glas_that_coordinate_everywhere_fail_the_out_of_range_claim(gridworld):
-    u = np.zeros_like(gridworld.gla_parameters)
+    first_level = gridworld.own["two_observe"]
+    u = np.zeros_like(first_level["u"])
     u[..., 1, 1] = 8.0  # the bias of "coordinate": P(coordinate) near 1 at every distance
-    measured = gw.measure(dataclasses.replace(gridworld, gla_parameters=u, gla_initial=u))
+    everywhere = dataclasses.replace(gridworld, own={"two_observe": {**first_level, "u": u, "u_initial": u}})
+    measured = gw.measure(everywhere)
     assert measured["coordinates_in_range_share_two_observe"] == 1.0
     assert measured["alone_out_of_range_share_two_observe"] == 0.0
     assert measured["stuck_at_start_share_two_observe"] == measured["stuck_at_end_share_two_observe"] == 1.0
-    rows = {row["claim"].id: row["verdict"] for row in gw.claim_rows(dataclasses.replace(gridworld, gla_parameters=u))}
+    rows = {row["claim"].id: row["verdict"] for row in gw.claim_rows(everywhere)}
     assert rows["two_observe_alone_out_of_range"] == claims.NOT_REPRODUCED
 
 

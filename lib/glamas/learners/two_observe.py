@@ -243,9 +243,10 @@ def freeze(inputs: tuple) -> tuple:
 
 def outputs(setup, gridmap: GridMap) -> dict:
     """One run's GLA parameters ``u`` (agents, 2 actions, 2 inputs; drawn by the kernel from the
-    run's stream) and ``need_counts`` (distances 0 .. rows + cols - 2, without / with need)."""
-    return {"u": np.zeros((gridmap.n_agents, 2, N_GLA_INPUTS)),
-            "need_counts": np.zeros((largest_distance(gridmap) + 1, 2))}
+    run's stream, then learned), the parameters it drew at the start ``u_initial``, and
+    ``need_counts`` (distances 0 .. rows + cols - 2, without / with need)."""
+    shape = (gridmap.n_agents, 2, N_GLA_INPUTS)
+    return {"u": np.zeros(shape), "u_initial": np.zeros(shape), "need_counts": np.zeros((largest_distance(gridmap) + 1, 2))}
 
 
 def gla_parameters(setup, gridmap: GridMap) -> int:
@@ -254,25 +255,17 @@ def gla_parameters(setup, gridmap: GridMap) -> int:
 
 
 @njit(cache=True, inline="always")
-def init_glas(u, init_range, state):
-    """Every GLA parameter uniform in [-init_range, init_range] ("initialised randomly", Section 5.3);
-    a negative ``init_range`` keeps ``u`` as it is given (a frozen evaluation of learned GLAs, :func:`freeze`)."""
+def init_glas(u, u_initial, init_range, state):
+    """Every GLA parameter uniform in [-init_range, init_range] ("initialised randomly", Section 5.3),
+    the run's first draws, kept in ``u_initial`` too; a negative ``init_range`` keeps ``u`` and
+    ``u_initial`` as they are given (a frozen evaluation of learned GLAs, :func:`freeze`)."""
     if init_range < 0.0:
         return
     for i in range(u.shape[0]):
         for j in range(2):
             for k in range(N_GLA_INPUTS):
                 u[i, j, k] = init_range * (2.0 * rng.uniform(state) - 1.0)
-
-
-def initial_parameters(settings: GLASettings, gridmap: GridMap, master_seed: int, n_runs: int) -> np.ndarray:
-    """(runs, agents, 2 actions, 2 inputs): the GLA parameters each run starts from. They are the
-    first draws of the run's stream (:func:`glamas.rng.chunk_states`), which :func:`init_glas`
-    makes at the start of the kernel, so they are drawn here again rather than carried out."""
-    u = np.zeros((n_runs, gridmap.n_agents, 2, N_GLA_INPUTS))
-    for r, state in enumerate(rng.chunk_states(master_seed, 0, n_runs)):
-        init_glas(u[r], float(settings.gla_init_range), state)
-    return u
+                u_initial[i, j, k] = u[i, j, k]
 
 
 @njit(cache=True, inline="always")
@@ -594,14 +587,17 @@ def group_arrays(world):
 
 
 @njit(cache=True, nogil=True)
-def run_two(world, learning, automata, schedule, q, u, need_counts, log, state):
-    """One run of Alg. 4 for two agents, the chapter's case (:func:`episodes_two`)."""
+def run_two(world, learning, automata, schedule, q, u, u_initial, need_counts, log, state):
+    """One run of Alg. 4 for two agents, the chapter's case (:func:`episodes_two`), from GLAs
+    initialised randomly (:func:`init_glas`)."""
+    init_glas(u, u_initial, automata.gla_init_range, state)
     episodes_two(world, learning, automata, schedule, q, u, need_counts, log, state, per_run(world))
 
 
 @njit(cache=True, nogil=True)
-def run(world, learning, automata, schedule, q, u, need_counts, log, state):
-    """One run of Alg. 4 for any number of agents (:func:`episodes`)."""
+def run(world, learning, automata, schedule, q, u, u_initial, need_counts, log, state):
+    """One run of Alg. 4 for any number of agents (:func:`episodes`), from GLAs initialised randomly."""
+    init_glas(u, u_initial, automata.gla_init_range, state)
     episodes(world, learning, automata, schedule, q, u, need_counts, log, state, (*per_run(world), group_arrays(world)))
 
 
@@ -739,7 +735,6 @@ def episodes_two(world, learning, automata, schedule, q, u, need_counts, log, st
     :func:`pair_step`; once one is in the goal, the other acts on its Q-learner, with nobody to
     observe and its GLA not updated."""
     cells, done, actions, new_cells, rewards, bumped, collided, reached, acc = arrays[1]
-    init_glas(u, automata.gla_init_range, state)
     for episode in range(schedule.episodes):
         ep.start_episode(world.starts, cells, done, acc)
         t = 0
@@ -758,7 +753,6 @@ def episodes_two(world, learning, automata, schedule, q, u, need_counts, log, st
 def episodes(world, learning, automata, schedule, q, u, need_counts, log, state, arrays):
     """:func:`episodes_two` for any number of agents: :func:`group_step` while three or more act."""
     cells, done, actions, new_cells, rewards, bumped, collided, reached, acc = arrays[1]
-    init_glas(u, automata.gla_init_range, state)
     for episode in range(schedule.episodes):
         ep.start_episode(world.starts, cells, done, acc)
         t = 0

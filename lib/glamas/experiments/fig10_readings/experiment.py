@@ -89,9 +89,10 @@ class ReadingsResult:
         return gw_experiment.GridworldResult(config=self.config.reading(self.config.readings[k]),
                                              learners=np.array(["two_observe"]),
                                              log=self.log[k:k + 1], evaluated=self.evaluated[k:k + 1],
-                                             table_shapes=np.zeros((1, 3), np.int64),
-                                             gla_parameters=self.gla_parameters[k], gla_initial=self.gla_initial[k],
-                                             need_counts=self.need_counts[k], episodes=self.episodes)
+                                             table_shapes=np.zeros((1, 3), np.int64), episodes=self.episodes,
+                                             own={"two_observe": {"u": self.gla_parameters[k],
+                                                                  "u_initial": self.gla_initial[k],
+                                                                  "need_counts": self.need_counts[k]}})
 
 
 def run(config: ReadingsConfig = ReadingsConfig(), seed: int = 0, workers=None, progress=None) -> ReadingsResult:
@@ -101,13 +102,14 @@ def run(config: ReadingsConfig = ReadingsConfig(), seed: int = 0, workers=None, 
     readings = [config.reading(name) for name in config.readings]
     work = [gw_experiment.trainings(reading, seed) for reading in readings]
     parallel.run_many([batch for trainings in work for batch, _ in trainings], workers=workers, progress=progress)
-    parts = [gw_experiment.result_of(reading, [outputs for _, outputs in trainings], seed)
+    parts = [gw_experiment.result_of(reading, [outputs for _, outputs in trainings])
              for reading, trainings in zip(readings, work)]
+    first_level = [part.own["two_observe"] for part in parts]
     return ReadingsResult(config=config, log=np.concatenate([p.log for p in parts]),
                           evaluated=np.concatenate([p.evaluated for p in parts]),
-                          gla_parameters=np.stack([p.gla_parameters for p in parts]),
-                          gla_initial=np.stack([p.gla_initial for p in parts]),
-                          need_counts=np.stack([p.need_counts for p in parts]), episodes=parts[0].episodes)
+                          gla_parameters=np.stack([own["u"] for own in first_level]),
+                          gla_initial=np.stack([own["u_initial"] for own in first_level]),
+                          need_counts=np.stack([own["need_counts"] for own in first_level]), episodes=parts[0].episodes)
 
 
 def scaled(runs: int, episodes: int) -> ReadingsConfig:

@@ -31,7 +31,8 @@ EXPERIMENT = register(Experiment("gridworld", GridworldConfig, run, scaled, Grid
                                  GridworldConfig.episodes, GridworldResult,
                                  claim_rows=lambda result, config: claim_rows(result),
                                  figures=("fig9", "fig10", "fig11a", "fig11b", "fig12a", "fig12b"), map_field="map",
-                                 counts="episodes"))
+                                 counts="episodes", to_arrays=GridworldResult.to_arrays,
+                                 from_arrays=GridworldResult.from_arrays))
 """The chapter's experiment of Section 5.3 (Fig. 9 and 10 draw its map and its GLAs' feedback)."""
 
 

@@ -159,12 +159,13 @@ def first_level_shares(result: GridworldResult) -> dict:
     start of the runs and at their end."""
     config = result.config
     near, far = in_range_distances(config.gridmap())
-    p_near = coordination_probabilities(result.gla_parameters, config, near)
-    p_far = coordination_probabilities(result.gla_parameters, config, far)
+    u, u_initial = result.output("two_observe", "u"), result.output("two_observe", "u_initial")
+    p_near = coordination_probabilities(u, config, near)
+    p_far = coordination_probabilities(u, config, far)
     return {"coordinates_in_range_share_two_observe": float((p_near > 0.5).all(axis=-1).mean()),
             "alone_out_of_range_share_two_observe": float((p_far < 0.5).all(axis=-1).mean()),
-            "stuck_at_start_share_two_observe": stuck_share(result.gla_initial, config),
-            "stuck_at_end_share_two_observe": stuck_share(result.gla_parameters, config)}
+            "stuck_at_start_share_two_observe": stuck_share(u_initial, config),
+            "stuck_at_end_share_two_observe": stuck_share(u, config)}
 
 
 def stuck_share(u: np.ndarray, config: GridworldConfig) -> float:
@@ -186,7 +187,8 @@ def stuck_by_start(result: GridworldResult) -> dict:
     """How 2observe's GLAs that end stuck (:func:`stuck_glas`) started: counts of all GLAs, of those
     saturated on a wrong choice at the start, of those stuck at the end, and of those both."""
     config = result.config
-    start, end = stuck_glas(result.gla_initial, config), stuck_glas(result.gla_parameters, config)
+    start = stuck_glas(result.output("two_observe", "u_initial"), config)
+    end = stuck_glas(result.output("two_observe", "u"), config)
     return {"GLAs": int(start.size), "saturated at the start": int(start.sum()),
             "stuck at the end": int(end.sum()), "stuck at the end, saturated at the start": int((start & end).sum())}
 
@@ -206,14 +208,13 @@ def summary_table(result: GridworldResult) -> str:
 
 
 def with_learner(result: GridworldResult, other: GridworldResult, name: str) -> GridworldResult:
-    """``result`` with learner ``name``'s curves and 2observe's arrays taken from ``other`` (to
-    compare a variant of one learner against the same baselines)."""
+    """``result`` with learner ``name``'s curves and own outputs taken from ``other`` (to compare a
+    variant of one learner against the same baselines)."""
     k, j = result.names().index(name), other.names().index(name)
     log, evaluated = result.log.copy(), result.evaluated.copy()
     log[k], evaluated[k] = other.log[j], other.evaluated[j]
-    learned = registry.get(name).outputs(other.config.setup(name), other.config.gridmap())
-    first_level = {"gla_parameters": "u", "gla_initial": "u", "need_counts": "need_counts"}
-    return replace(result, log=log, evaluated=evaluated, **{field: getattr(other, field) for field, key in first_level.items() if key in learned})
+    own = {**result.own, **({name: other.own[name]} if name in other.own else {})}
+    return replace(result, log=log, evaluated=evaluated, own=own)
 
 
 def state_action_table(result: GridworldResult) -> str:
@@ -241,7 +242,7 @@ def state_action_spaces(result: GridworldResult) -> list[dict]:
 
 def coordination_probability(result: GridworldResult, config: GridworldConfig, deltas) -> np.ndarray:
     """P(coordinate | delta) of 2observe's final GLAs (eq. 15), shape (runs, agents, len(deltas))."""
-    return coordination_probabilities(result.gla_parameters, config, deltas)
+    return coordination_probabilities(result.output("two_observe", "u"), config, deltas)
 
 
 def coordination_probabilities(u: np.ndarray, config: GridworldConfig, deltas) -> np.ndarray:
@@ -339,7 +340,7 @@ def zero_collisions_table(result: GridworldResult) -> str:
 def need_probability(result: GridworldResult) -> np.ndarray:
     """P(need | delta) over 2observe's observed steps, pooled over runs (NaN where a distance
     never occurred): under the symmetric table, coordinating pays where it is above 1/2."""
-    counts = result.need_counts.sum(axis=0)
+    counts = result.output("two_observe", "need_counts").sum(axis=0)
     seen = counts.sum(axis=1)
     with np.errstate(invalid="ignore", divide="ignore"):
         return np.where(seen > 0, counts[:, 1] / seen, np.nan)

@@ -3,7 +3,7 @@ Q-learners, joint-state learners, the MMDP learner and 2observe (Alg. 4) on the 
 each trained for ``episodes`` episodes in ``runs`` independent runs. A result keeps the learning
 curves (block means over episodes) and the final learned structures."""
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, fields
 
 import numpy as np
 
@@ -11,7 +11,7 @@ from glamas import checks, memory, parallel
 from glamas.errors import UserError
 from glamas.gridworld import BOUNCE_MODES, GridMap, load_map
 from glamas.learners import episode as ep
-from glamas.learners import registry, spec, two_observe
+from glamas.learners import registry, spec
 from glamas.qlearning import QSettings
 
 CHAPTER_LEARNERS = ("independent", "joint_state", "mmdp", "two_observe")
@@ -134,16 +134,35 @@ class GridworldResult:
     the columns of ``log``."""
     table_shapes: np.ndarray
     """int (n_learners, 3): (tables, states, actions) of each learner's final Q tables."""
-    gla_parameters: np.ndarray
-    """(runs, agents, 2 actions, 2 inputs): 2observe's final GLA parameters (zeros if it did not run)."""
-    gla_initial: np.ndarray
-    """(runs, agents, 2 actions, 2 inputs): the GLA parameters 2observe's runs started from
-    (zeros if not run)."""
-    need_counts: np.ndarray
-    """(runs, deltas, 2): 2observe's observing agent-steps per distance delta without / with need
-    (``gla_need``; zeros if not run)."""
     episodes: np.ndarray
     """int (bins,): the episode count at the end of each block (the curves' x axis)."""
+    own: dict
+    """What each trained learner learned beyond its Q tables, by its name and then by the names of
+    its spec's outputs (:attr:`glamas.learners.spec.Learner.outputs`), runs on the first axis:
+    2observe's final GLA parameters ``u``, those it drew at the start ``u_initial`` and its
+    ``need_counts``, CQ-learning's ``q_aug`` and ``marked``, sparse MAQ's ``q_pairs``; a learner
+    with none has no entry. Its file holds them as ``learner.output`` arrays (:meth:`to_arrays`)."""
+
+    def output(self, learner: str, name: str) -> np.ndarray:
+        """Learner ``learner``'s own output ``name`` (runs first); one line naming what is missing."""
+        if name not in self.own.get(learner, {}):
+            trained = ", ".join(f"{k} ({', '.join(v)})" for k, v in self.own.items()) or "none"
+            raise UserError(f"this result holds no output {name!r} of {learner!r}; its learners' own outputs: {trained}")
+        return self.own[learner][name]
+
+    def to_arrays(self) -> dict:
+        """The arrays of its file: its fields, and each learner's own outputs as ``learner.output``."""
+        arrays = {f.name: getattr(self, f.name) for f in fields(self) if f.name not in ("config", "own")}
+        return arrays | {f"{name}.{key}": array for name, outputs in self.own.items() for key, array in outputs.items()}
+
+    @classmethod
+    def from_arrays(cls, config, arrays: dict):
+        """The inverse of :meth:`to_arrays`."""
+        own: dict = {}
+        for key in [key for key in arrays if "." in key]:
+            name, _, output = key.partition(".")
+            own.setdefault(name, {})[output] = arrays[key]
+        return cls(config=config, own=own, **{key: array for key, array in arrays.items() if "." not in key})
 
     def widths(self) -> np.ndarray:
         """int (bins,): episodes per block."""
@@ -186,7 +205,7 @@ def run(config: GridworldConfig = GridworldConfig(), seed: int = 0, workers=None
     """
     work = trainings(config, seed)
     parallel.run_many([batch for batch, _ in work], workers=workers, progress=progress)
-    return result_of(config, [outputs for _, outputs in work], seed)
+    return result_of(config, [outputs for _, outputs in work])
 
 
 def trainings(config: GridworldConfig, seed: int = 0) -> list:
@@ -198,23 +217,16 @@ def trainings(config: GridworldConfig, seed: int = 0) -> list:
             for name in config.learners]
 
 
-def result_of(config: GridworldConfig, outputs: list, seed: int = 0) -> GridworldResult:
-    """The result of ``config`` and ``seed`` from its learners' filled outputs (:func:`trainings`,
-    in order)."""
+def result_of(config: GridworldConfig, outputs: list) -> GridworldResult:
+    """The result of ``config`` from its learners' filled outputs (:func:`trainings`, in order)."""
     gridmap = config.gridmap()
-    setup = registry.get("two_observe").setup(config.q, config.own("two_observe"))
-    first_level = {key: np.stack([zeros] * config.runs) for key, zeros in two_observe.outputs(setup, gridmap).items()}
-    initial = np.zeros_like(first_level["u"])
-    if "two_observe" in config.learners:
-        first_level = {key: outputs[config.learners.index("two_observe")][key] for key in first_level}
-        initial = two_observe.initial_parameters(setup.own, gridmap, registry.master_seed(seed, "two_observe"),
-                                                 config.runs)
+    own = {name: {key: learned[key] for key in registry.get(name).outputs(config.setup(name), gridmap)}
+           for name, learned in zip(config.learners, outputs)}
     return GridworldResult(config=config, learners=np.array(config.learners),
                            log=np.stack([learned["log"] for learned in outputs]),
                            evaluated=np.stack([spec.evaluated(learned) for learned in outputs]),
                            table_shapes=np.array([learned["q"].shape[1:] for learned in outputs], dtype=np.int64),
-                           gla_parameters=first_level["u"], gla_initial=initial,
-                           need_counts=first_level["need_counts"], episodes=config.edges()[1:])
+                           episodes=config.edges()[1:], own={name: arrays for name, arrays in own.items() if arrays})
 
 
 def scaled(runs: int, episodes: int) -> GridworldConfig:

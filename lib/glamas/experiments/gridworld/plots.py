@@ -182,7 +182,7 @@ def plot_coordination_probability(ax, result, config: GridworldConfig):
     """What 2observe's GLAs learned: P(coordinate | delta) of each final GLA (faint) and their
     mean, against the rule "coordinate when the agents could collide this step" (delta <= 2 on a
     4-connected grid), with the observed P(need | delta) that the GLA's feedback depends on."""
-    deltas = np.arange(1, result.need_counts.shape[1])  # two acting agents are never at distance 0
+    deltas = np.arange(1, result.output("two_observe", "need_counts").shape[1])  # never at distance 0 while both act
     p = coordination_probability(result, config, deltas)
     for curve in p.reshape(-1, deltas.size):
         ax.plot(deltas, curve, alpha=0.15, linewidth=0.8, **learner_style("two_observe"))

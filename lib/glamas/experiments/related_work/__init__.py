@@ -26,7 +26,8 @@ EXPERIMENT = register(Experiment("related_work", RelatedWorkConfig, run, scaled,
                                  GridworldConfig.episodes, RelatedWorkResult, claim_rows=claim_rows,
                                  figures=("related_collisions", "related_coordinations", "related_reward",
                                           "related_sizes", "related_steps"), chapter=False, map_field="map",
-                                          counts="episodes"))
+                                 counts="episodes", to_arrays=RelatedWorkResult.to_arrays,
+                                 from_arrays=RelatedWorkResult.from_arrays))
 """The related-work comparison (its result file is shared by the related_* figure scripts)."""
 
 

@@ -21,7 +21,7 @@ def usable_joint_states(config: RelatedWorkConfig) -> int:
 def marked_distances(result: RelatedWorkResult, config: RelatedWorkConfig) -> np.ndarray:
     """Manhattan distance of every joint state a CQ agent marked (all runs and agents pooled)."""
     n_cols = config.gridmap().n_cols
-    _, _, own, other = np.nonzero(result.cq_marked)
+    _, _, own, other = np.nonzero(result.output("cq", "marked"))
     return np.abs(own // n_cols - other // n_cols) + np.abs(own % n_cols - other % n_cols)
 
 
@@ -33,7 +33,7 @@ def measure(result: RelatedWorkResult, config: RelatedWorkConfig) -> dict:
     for k, name in enumerate(names):
         m[f"q_entries_{name}"] = float(result.local_entries[k] + result.joint_entries[k].mean())
     if "cq" in names:
-        per_agent = result.cq_marked.sum(axis=(2, 3)).mean()
+        per_agent = result.output("cq", "marked").sum(axis=(2, 3)).mean()
         m["marked_joint_states_cq"] = float(per_agent)
         m["marked_fraction_cq"] = float(per_agent / usable_joint_states(config))
         distances = marked_distances(result, config)

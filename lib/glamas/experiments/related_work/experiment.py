@@ -15,7 +15,7 @@ import numpy as np
 from glamas import parallel
 from glamas.experiments.gridworld import experiment as gw_experiment
 from glamas.gridworld import GridMap
-from glamas.learners import cq, registry
+from glamas.learners import registry
 
 RELATED_LEARNERS = ("sparse_maq", "cq")
 """The related-work learners."""
@@ -46,9 +46,6 @@ class RelatedWorkResult(gw_experiment.GridworldResult):
     MMDP and sparse learners, counted in the final tables; CQ: 4 per marked joint state)."""
     reward_samples: np.ndarray
     """int (n_learners,): immediate rewards each agent keeps for a statistical test (CQ only)."""
-    cq_marked: np.ndarray
-    """bool (runs, agents, own cell, other's cell): the joint states each CQ agent learned to
-    observe (all False if CQ did not run)."""
 
 
 def run(config: RelatedWorkConfig = RelatedWorkConfig(), seed: int = 0, workers=None,
@@ -59,14 +56,12 @@ def run(config: RelatedWorkConfig = RelatedWorkConfig(), seed: int = 0, workers=
     work = gw_experiment.trainings(config, seed)
     parallel.run_many([batch for batch, _ in work], workers=workers, progress=progress)
     outputs = [outputs for _, outputs in work]
-    base = gw_experiment.result_of(config, outputs, seed)
+    base = gw_experiment.result_of(config, outputs)
     gridmap = config.gridmap()
     learned = np.array([registry.get(name).joint_learned(out, config.setup(name), gridmap)
                         for name, out in zip(config.learners, outputs)]).reshape(-1, config.runs)
-    marked = (outputs[config.learners.index("cq")]["marked"] if "cq" in config.learners
-              else np.stack([cq.outputs(config.setup("cq"), gridmap)["marked"]] * config.runs))
     return RelatedWorkResult(**{name: getattr(base, name) for name in base.__dataclass_fields__},
-                             **storage(config, base.table_shapes, learned, gridmap), cq_marked=marked)
+                             **storage(config, base.table_shapes, learned, gridmap))
 
 
 def storage(config: RelatedWorkConfig, shapes: np.ndarray, learned: np.ndarray, gridmap: GridMap) -> dict:

@@ -82,7 +82,8 @@ def plot_marked_distances(ax, result: RelatedWorkResult, config: RelatedWorkConf
     own, other = np.divmod(given, gridmap.n_cells)
     given_distances = np.abs(own // gridmap.n_cols - other // gridmap.n_cols) + np.abs(own % gridmap.n_cols - other % gridmap.n_cols)
     marked = marked_distances(result, config)
-    per_agent = result.cq_marked.shape[0] * result.cq_marked.shape[1]
+    runs, agents = result.output("cq", "marked").shape[:2]
+    per_agent = runs * agents
     distances = np.arange(1, max(distance, marked.max(initial=1)) + 1)
     ax.bar(distances - 0.2, [(given_distances == d).sum() for d in distances], width=0.4, **learner_style("sparse_maq"),
            label="sparse MAQ: coordination states (given)")
