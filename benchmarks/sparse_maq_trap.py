@@ -16,7 +16,7 @@ import argparse
 
 import numpy as np
 
-from glamas import errors, parallel
+from glamas import cli, errors, parallel
 from glamas.experiments import scaling
 from glamas.learners import registry, sparse_maq
 
@@ -44,11 +44,13 @@ def measure(name: str, n: int, runs: int, episodes: int, seed: int, workers) -> 
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--runs", type=int, default=4)
-    parser.add_argument("--episodes", type=int, default=20_000)
-    parser.add_argument("--workers", type=int, default=2)
-    parser.add_argument("--seed", type=int, default=0)
+    parser.add_argument("--runs", type=cli.positive_count, default=4, help="runs per learner and N (default 4)")
+    parser.add_argument("--episodes", type=cli.positive_count, default=20_000,
+                        help="episodes per run, a multiple of 10 (default 20,000)")
+    parser.add_argument("--workers", type=cli.positive_count, default=2, help="threads (default 2)")
+    parser.add_argument("--seed", type=cli.seed_number, default=0, help="master seed (default 0)")
     args = parser.parse_args()
+    scaling.check_trap(args.runs, args.episodes)
     print(f"{args.runs} runs x {args.episodes:,} episodes, step cap {scaling.ScalingConfig.max_steps}; last: the last tenth of the episodes")
     print(f"{'learner':17} N  capped  (last)  trapped agents  aisle own =0  best: trapped  free"
           f"  joint =0    max")

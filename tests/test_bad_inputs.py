@@ -7,8 +7,10 @@ message. Every command must fail within 60 s.
 """
 
 import concurrent.futures
+import contextlib
 import dataclasses
 import hashlib
+import http.server
 import json
 import math
 import os
@@ -228,6 +230,36 @@ def test_a_server_that_is_not_a_dask_scheduler_fails_within_the_timeout():
         with pytest.raises(parallel.BackendError, match=f"cannot reach the Dask scheduler at {address} within 1 s"):
             parallel.connect(parallel.Dask(address, timeout=1.0))
         assert time.monotonic() - started < 5
+
+
+def test_a_port_out_of_range_and_servers_of_other_protocols_are_one_line_each():
+    pytest.importorskip("distributed")
+    with pytest.raises(parallel.BackendError, match="'tcp://127.0.0.1:99999' is not a Dask scheduler address "
+                                                    r"\(port 99999 is out of range 1-65535\)"):
+        parallel.connect(parallel.Dask("tcp://127.0.0.1:99999", timeout=1.0))
+    web = http.server.HTTPServer(("127.0.0.1", 0), http.server.BaseHTTPRequestHandler)  # waits for a request
+    threading.Thread(target=web.serve_forever, daemon=True).start()
+    with socket.socket() as banner:  # greets every connection in another protocol
+        banner.bind(("127.0.0.1", 0))
+        banner.listen()
+
+        def greet():
+            with contextlib.suppress(OSError):
+                while True:
+                    connection, _ = banner.accept()
+                    connection.sendall(b"SSH-2.0-OpenSSH_9.2\r\n")
+                    connection.close()
+        threading.Thread(target=greet, daemon=True).start()
+        try:
+            started = time.monotonic()
+            with pytest.raises(parallel.BackendError, match="sent no Dask handshake"):
+                parallel.connect(parallel.Dask(f"tcp://127.0.0.1:{web.server_address[1]}", timeout=1.0))
+            with pytest.raises(parallel.BackendError, match="does not speak Dask's protocol \\(it began with b'SSH-2.0-'"):
+                parallel.connect(parallel.Dask(f"tcp://127.0.0.1:{banner.getsockname()[1]}", timeout=1.0))
+            assert time.monotonic() - started < 5
+        finally:
+            web.shutdown()
+            web.server_close()
 
 
 def test_a_cluster_without_workers_is_reported_within_the_timeout():
@@ -523,3 +555,16 @@ def test_a_result_without_its_provenance_record_is_stale(tmp_path):
     np.savez(path, __config__=np.array(results.config_json(SMALL_LINE)), x=np.zeros(1))
     with pytest.raises(results.StaleResultError, match=r"records neither the maps nor the glamas version .*\(--rerun\)"):
         results.load(path, SMALL_LINE)
+
+
+@pytest.mark.parametrize("argv, message", [(["--runs", "0"], "argument --runs: must be at least 1, got 0"),
+                                           (["--seed", "-1"], "argument --seed: must be 0 or more, got -1"),
+                                           (["--episodes", "5"], "error: episodes must be a whole number >= 10, got 5"),
+                                           (["--episodes", "15"], "error: episodes must be a multiple of 10")])
+def test_the_trap_benchmark_refuses_bad_options_before_computing(argv, message, monkeypatch, capsys):
+    from benchmarks import sparse_maq_trap
+    monkeypatch.setattr(sys, "argv", ["sparse_maq_trap.py", *argv])
+    with pytest.raises(SystemExit) as stopped:
+        errors.run(sparse_maq_trap.main)
+    err = capsys.readouterr().err
+    assert stopped.value.code == 2 and message in err and "Traceback" not in err

@@ -11,6 +11,7 @@ import numpy as np
 import pytest
 
 from glamas import claims, lineworld
+from glamas.errors import UserError
 from glamas.experiments import and_network, single_gla, state_encoding
 
 ALL_CLAIMS = [(name, claim) for name in claims.experiments() for claim in claims.load(name)]
@@ -51,10 +52,30 @@ def test_verdicts_are_three_valued():
     rows = claims.verdicts([claim], {"x": math.nan, "x:why_undecidable": "no runs"})
     assert not rows[0]["holds"] and rows[0]["verdict"] == "undecidable"
     assert "[undecidable] c" in claims.table(rows) and "undecidable: no runs" in claims.table(rows)
-    with pytest.raises(KeyError, match=r"lack \['x'\]"):
+    with pytest.raises(UserError, match=r"no measurement for the claims c \(x\)"):
         claims.verdicts([claim], {"y": 1.0})
-    with pytest.raises(KeyError, match="no claims for experiment 'nonexistent'"):
+    with pytest.raises(UserError, match="no claims for experiment 'nonexistent'"):
         claims.load("nonexistent")
+
+
+@pytest.mark.parametrize("text, message", [
+    ('{"claims": {"toy": [', r"toy\.json: not valid JSON at line 1, column 21"),
+    ('["claims"]', r"toy\.json: must be an object of sections"),
+    ('{"claims": {"toy": {"id": "c"}}}', r"toy\.json: the claims of toy must be a list"),
+    ('{"claims": {"toy": ["c"]}}', r"toy\.json: each claim of toy must be an object"),
+    ('{"claims": {"toy": [CLAIM]}}'.replace("CLAIM", json.dumps({**CLAIM, "threshold": "high"})),
+     r"toy\.json: claim 'c' of toy: threshold must be a finite number, got 'high'"),
+    ('{"claims": {"toy": [CLAIM]}}'.replace("CLAIM", json.dumps({**CLAIM, "digits": 2.5})),
+     r"claim 'c' of toy: digits must be a whole number"),
+    ('{"claims": {"toy": [CLAIM]}}'.replace("CLAIM", json.dumps({**CLAIM, "metric": ""})),
+     r"claim 'c' of toy: metric must be a non-empty text"),
+])
+def test_a_damaged_claim_file_is_one_line_naming_the_file_and_the_place(tmp_path, monkeypatch, text, message):
+    (tmp_path / "chapter").mkdir()
+    (tmp_path / "chapter" / "toy.json").write_text(text)
+    monkeypatch.setattr(claims, "DATA", tmp_path)
+    with pytest.raises(UserError, match=message):
+        claims.load("toy")
 
 
 def test_every_chapter_file_loads_with_kinds_and_reasons():

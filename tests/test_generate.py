@@ -6,6 +6,8 @@ from collections import deque
 import numpy as np
 import pytest
 
+from glamas import memory
+from glamas.errors import UserError
 from glamas.gridworld import load_map, map_text
 from glamas.gridworld.generate import free_cells, layout, warehouse
 
@@ -79,3 +81,13 @@ def test_shelves_and_aisles():
 def test_bad_arguments(kwargs, message):
     with pytest.raises(ValueError, match=message):
         warehouse(**kwargs)
+
+
+def test_a_warehouse_that_cannot_be_laid_out_or_held_is_one_line_before_allocating(monkeypatch):
+    monkeypatch.setattr(memory, "available_bytes", lambda: 16 * 2 ** 30)  # whatever this machine has
+    with pytest.raises(UserError, match="no warehouse of 1 agents with shelves 100 cells long is between one and "
+                                        "four times as wide as tall"):
+        warehouse(1, 0, shelf_length=100)
+    with pytest.raises(UserError, match=r"a warehouse of 100000 agents has \d+ cells: its goal table .* needs "
+                                        r"14\d\.\d GiB, more than the 16.0 GiB available; choose fewer agents"):
+        warehouse(10 ** 5, 0)

@@ -141,7 +141,7 @@ def test_a_learner_of_no_family_without_a_slot_or_with_anothers_seeds_is_refused
 
 def test_a_second_learner_of_a_registered_name_is_refused_and_the_first_kept(registered):
     with pytest.raises(ValueError, match=r"a learner named 'independent' is registered already \(by "
-                                         r"glamas\.learners\.independent\); choose another name"):
+                                         r"glamas\.learners\.independent\); \S*test_learner_spec must choose another name"):
         registry.register(replace(RANDOM_WALK, name="independent", family="chapter", seed_slot=0))
     assert registry.get("independent").kernel.__module__ == "glamas.learners.independent"
     assert registry.register(RANDOM_WALK) is RANDOM_WALK  # the same module again: replaced

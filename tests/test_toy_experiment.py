@@ -3,6 +3,7 @@ file and a figure script of its own (written here into temporary copies of ``dat
 ``paper_figures``), goes through the memory check, ``glamas.reproduce``, the ledger and
 ``glamas.verify`` without an edit of any library module."""
 
+import dataclasses
 import json
 import textwrap
 from dataclasses import dataclass
@@ -91,3 +92,12 @@ def test_a_toy_experiment_goes_through_memory_reproduce_ledger_and_verify(coin, 
     assert verify.differences(tmp_path / "recomputed") == []  # the same seed gives the same files
     (tmp_path / "recomputed" / "figures" / "coin_figure.png").write_bytes(b"not a figure")
     assert verify.differences(tmp_path / "recomputed") == ["figures/coin_figure.png: differs from the committed figure: its bytes differ"]
+
+
+def test_a_second_experiment_of_a_registered_name_is_refused_naming_both(coin):
+    from glamas.experiments import gridworld
+    with pytest.raises(ValueError, match=r"an experiment named 'gridworld' is registered already \(by "
+                                         r"glamas\.experiments\.gridworld\.experiment\); \S*test_toy_experiment must "
+                                         "choose another name"):
+        register(dataclasses.replace(coin, name="gridworld"))
+    assert registry.REGISTRY["gridworld"] is gridworld.EXPERIMENT

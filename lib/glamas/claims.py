@@ -64,23 +64,33 @@ def load(experiment: str) -> list[Claim]:
     return [_claim(entry, experiment) for entry in chapter_section_entry("claims", experiment)]
 
 
-def _claim(entry: dict, experiment: str) -> Claim:
-    """A validated claim from its JSON entry; a UserError names the claim and the fault."""
+def _claim(entry, experiment: str) -> Claim:
+    """A validated claim from its JSON entry; a UserError names the claim, its file and the fault."""
+    where = f"{_files_of('claims').get(experiment, DATA / 'chapter')}"
+    if not isinstance(entry, dict):
+        raise UserError(f"{where}: each claim of {experiment} must be an object of its fields, got {entry!r}")
     name = entry.get("id", "<no id>")
     missing = [key for key in _REQUIRED if key not in entry]
     if missing:
-        raise UserError(f"claim {name!r} of {experiment} lacks {missing}")
+        raise UserError(f"{where}: claim {name!r} of {experiment} lacks {missing}")
     unknown = sorted(set(entry) - {f.name for f in fields(Claim)})
     if unknown:
-        raise UserError(f"claim {name!r} of {experiment} has unknown keys {unknown}")
+        raise UserError(f"{where}: claim {name!r} of {experiment} has unknown keys {unknown}")
     claim = Claim(**entry)
     if claim.op not in _OPS:
-        raise UserError(f"claim {name!r} of {experiment}: op must be one of {sorted(_OPS)}, got {claim.op!r}")
+        raise UserError(f"{where}: claim {name!r} of {experiment}: op must be one of {sorted(_OPS)}, got {claim.op!r}")
     if claim.kind not in KINDS:
-        raise UserError(f"claim {name!r} of {experiment}: kind must be one of {list(KINDS)}, got {claim.kind!r}")
-    for key in ("where", "chapter", "why"):
+        raise UserError(f"{where}: claim {name!r} of {experiment}: kind must be one of {list(KINDS)}, got {claim.kind!r}")
+    for key in ("id", "metric", "where", "chapter", "why"):
         if not isinstance(getattr(claim, key), str) or not getattr(claim, key).strip():
-            raise UserError(f"claim {name!r} of {experiment}: {key} must be a non-empty text")
+            raise UserError(f"{where}: claim {name!r} of {experiment}: {key} must be a non-empty text")
+    if isinstance(claim.threshold, bool) or not isinstance(claim.threshold, (int, float)) \
+            or not math.isfinite(claim.threshold):
+        raise UserError(f"{where}: claim {name!r} of {experiment}: threshold must be a finite number, "
+                        f"got {claim.threshold!r}")
+    if isinstance(claim.digits, bool) or not isinstance(claim.digits, int) or not 0 <= claim.digits <= 12:
+        raise UserError(f"{where}: claim {name!r} of {experiment}: digits must be a whole number from 0 to 12, "
+                        f"got {claim.digits!r}")
     return claim
 
 
@@ -91,28 +101,52 @@ def parameters(experiment: str) -> dict:
 
 def experiments() -> list[str]:
     """Every experiment that has claims in ``data/chapter/*.json``, in file order."""
-    names = []
+    return list(_files_of("claims"))
+
+
+def _chapter_files() -> list[tuple]:
+    """(path, its content) of every ``data/chapter/*.json``, each checked to be an object of
+    sections ('claims', 'parameters', ...), each an object by experiment; one line naming the file
+    and the place of a fault."""
+    files = []
     for path in sorted((DATA / "chapter").glob("*.json")):
-        names.extend(json.loads(path.read_text()).get("claims", {}))
-    return names
+        try:
+            content = json.loads(path.read_text())
+        except json.JSONDecodeError as error:
+            raise UserError(f"{path}: not valid JSON at line {error.lineno}, column {error.colno} ({error.msg}); "
+                            "correct it, or restore it with git checkout") from None
+        except (OSError, UnicodeDecodeError) as error:
+            raise UserError(f"{path}: cannot be read ({error}); restore it with git checkout") from None
+        if not isinstance(content, dict) or not all(isinstance(section, dict) for section in content.values()):
+            raise UserError(f"{path}: must be an object of sections ('claims', 'parameters'), each an object "
+                            "by experiment; restore it with git checkout")
+        files.append((path, content))
+    return files
+
+
+def _files_of(kind: str) -> dict:
+    """Experiment -> the file holding its ``kind`` section, in file order."""
+    return {experiment: path for path, content in _chapter_files() for experiment in content.get(kind, {})}
 
 
 def chapter_section_entry(kind: str, experiment: str):
     """``kind`` ('claims' or 'parameters') of ``experiment`` from ``data/chapter/*.json``."""
-    found = {}
-    for path in sorted((DATA / "chapter").glob("*.json")):
-        found.update({key: (path, value) for key, value in json.loads(path.read_text()).get(kind, {}).items()})
+    found = {key: value for _, content in _chapter_files() for key, value in content.get(kind, {}).items()}
     if experiment not in found:
-        raise KeyError(f"no {kind} for experiment {experiment!r} in {DATA / 'chapter'}; known: {sorted(found)}")
-    return found[experiment][1]
+        raise UserError(f"no {kind} for experiment {experiment!r} in {DATA / 'chapter'} (those with some: "
+                        f"{', '.join(sorted(found))}); restore the file that held them with git checkout")
+    if kind == "claims" and not isinstance(found[experiment], list):
+        raise UserError(f"{_files_of(kind)[experiment]}: the claims of {experiment} must be a list")
+    return found[experiment]
 
 
 def verdicts(claims: list[Claim], measured: dict) -> list[dict]:
     """One row per claim: the claim, the measured value, whether it holds and the verdict
     (with the reason a NaN measurement is undecidable, when the measurements give one)."""
-    missing = [c.metric for c in claims if c.metric not in measured]
+    missing = [f"{c.id} ({c.metric})" for c in claims if c.metric not in measured]
     if missing:
-        raise KeyError(f"the measurements lack {missing}; the analysis must compute every claimed metric")
+        raise UserError(f"no measurement for the claims {', '.join(missing)}: a claim's metric must be one the "
+                        "experiment's analysis measures; correct its metric in data/chapter")
     rows = []
     for c in claims:
         value = float(measured[c.metric])

@@ -57,8 +57,10 @@ def _whole_number_in(low: int, high: int, below: str):
     return whole_number_in
 
 
-_positive_int = _whole_number_in(1, MAX_COUNT, "must be at least 1")
-_seed = _whole_number_in(0, MAX_SEED, "must be 0 or more")
+positive_count = _positive_int = _whole_number_in(1, MAX_COUNT, "must be at least 1")
+"""An argparse type: a whole number of runs, episodes or workers, at least 1 (for every command's options)."""
+seed_number = _seed = _whole_number_in(0, MAX_SEED, "must be 0 or more")
+"""An argparse type: a master seed, 0 or more."""
 
 
 def figure_parser(description: str, *, runs: int | None = None, iterations: int | None = None, seed: int = 0,

@@ -39,7 +39,7 @@ def check(config, copies: int = 1) -> int:
     available = available_bytes()
     if needed > available:
         raise MemoryEstimateError(
-            f"this run needs about {_gib(needed)} for its arrays, more than the {_gib(available)} of "
+            f"this run needs about {gib(needed)} for its arrays, more than the {gib(available)} of "
             "memory available; use fewer runs or iterations (--runs, --iterations) or a smaller map")
     return needed
 
@@ -50,5 +50,5 @@ def per_run(runs: int, values: int) -> int:
     return runs * values * BYTES_PER_VALUE * WORKING_COPIES
 
 
-def _gib(n_bytes: float) -> str:
+def gib(n_bytes: float) -> str:
     return f"{n_bytes / 2 ** 30:,.1f} GiB"

@@ -115,7 +115,8 @@ def register(experiment: Experiment) -> Experiment:
     refused; the same module registering it again (a reload) replaces it."""
     known = REGISTRY.get(experiment.name)
     if known is not None and known.run.__module__ != experiment.run.__module__:
-        raise UserError(f"an experiment named {experiment.name!r} is registered already; choose another name")
+        raise UserError(f"an experiment named {experiment.name!r} is registered already (by {known.run.__module__}); "
+                        f"{experiment.run.__module__} must choose another name")
     REGISTRY[experiment.name] = experiment
     if experiment.stored:
         committed.SCRIPTS_OF[experiment.file(".").name] = experiment.figures

@@ -18,6 +18,7 @@ from dataclasses import replace
 
 import numpy as np
 
+from glamas import memory
 from glamas.gridworld.maps import GridMap, load_map
 from glamas.errors import UserError
 
@@ -28,6 +29,7 @@ def warehouse(n_agents: int, seed: int, density: float = 0.1, shelf_length: int 
     and goal drawn from ``numpy.random.default_rng(seed)``; named ``warehouse_N_seed_S``."""
     check_arguments(n_agents, seed, density, shelf_length)
     bays_across, shelf_rows = layout(n_agents, density, shelf_length)
+    _check_memory(n_agents, free_cells(bays_across, shelf_rows, shelf_length) + bays_across * shelf_rows * shelf_length)
     blocked = shelves(bays_across, shelf_rows, shelf_length)
     free = np.flatnonzero(~blocked.ravel())
     chosen = np.random.default_rng(seed).choice(free, size=2 * n_agents, replace=False)
@@ -58,7 +60,20 @@ def layout(n_agents: int, density: float, shelf_length: int) -> tuple[int, int]:
         key = (free_cells(bays_across, shelf_rows, shelf_length), abs(n_cols - 2 * n_rows))
         if best is None or key < best[0]:
             best = key, (bays_across, shelf_rows)
+    if best is None:
+        raise UserError(f"no warehouse of {n_agents} agents with shelves {shelf_length} cells long is between one "
+                        "and four times as wide as tall; choose shorter shelves or more agents")
     return best[1]
+
+
+def _check_memory(n_agents: int, n_cells: int) -> None:
+    """Refuse, before allocating, a map whose goal table (one bool per agent and cell,
+    :attr:`glamas.gridworld.GridMap.goal_of`) would not fit in the memory there is."""
+    needed = n_agents * n_cells
+    if needed > memory.available_bytes():
+        raise memory.MemoryEstimateError(f"a warehouse of {n_agents} agents has {n_cells} cells: its goal table (agents x cells) "
+                        f"needs {memory.gib(needed)}, more than the {memory.gib(memory.available_bytes())} available; "
+                        "choose fewer agents")
 
 
 def _fewest_bays(shelf_rows: int, shelf_length: int, wanted: int) -> int:

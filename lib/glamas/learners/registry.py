@@ -45,7 +45,7 @@ def register(learner: Learner) -> Learner:
     known = LEARNERS.get(learner.name)
     if known is not None and _module(known) != _module(learner):
         raise UserError(f"a learner named {learner.name!r} is registered already (by {_module(known)}); "
-                        "choose another name")
+                        f"{_module(learner)} must choose another name")
     if learner.family not in FAMILIES:
         raise UserError(f"a learner's family must be one of {FAMILIES}, got {learner.family!r}")
     if learner.family != "other" and not (isinstance(learner.seed_slot, int) and learner.seed_slot >= 0):

@@ -38,7 +38,7 @@ async def _probe(distributed, backend: Dask) -> None:
     """Ask the address for its identity, with a deadline: distributed's own client waits without
     one for a server that accepts the connection but never answers as a scheduler would."""
     async def identity():
-        await _listening(distributed, backend.scheduler)
+        await _listening(distributed, backend)
         comm = await distributed.comm.connect(backend.scheduler, timeout=backend.timeout)
         try:
             await comm.write({"op": "identity"})
@@ -51,16 +51,35 @@ async def _probe(distributed, backend: Dask) -> None:
         raise OSError(f"the server there answered, but not as a Dask scheduler ({str(reply)[:80]})")
 
 
-async def _listening(distributed, address: str) -> None:
-    """Open and close a TCP connection to ``address``: ConnectionRefusedError at once when nothing
-    listens there, where distributed's connect would retry until its timeout. An address without
-    host and port (``inproc://``) or a malformed one is left to distributed's connect."""
+LARGEST_MESSAGE = 2 ** 30
+"""Bytes beyond any handshake a Dask scheduler sends: a server whose first 8 bytes read as a length
+beyond it speaks another protocol (distributed would try to allocate that much)."""
+
+
+async def _listening(distributed, backend: Dask) -> None:
+    """Connect to the backend's address and read the handshake a Dask scheduler sends as soon as it
+    accepts a connection, sending nothing: ConnectionRefusedError at once when nothing listens
+    there, where distributed's connect would retry until its timeout; TimeoutError when the server
+    accepts but sends nothing (an HTTP server waits for a request); OSError when its first bytes are
+    not the length of a Dask message (another protocol's banner). A port out of range is a
+    ValueError; an address without host and port (``inproc://``) or a malformed one is left to
+    distributed's connect."""
     try:
-        host, port = distributed.comm.get_address_host_port(address)
+        host, port = distributed.comm.get_address_host_port(backend.scheduler)
     except ValueError:
         return
-    _, writer = await asyncio.open_connection(host, port)
-    writer.close()
+    if not 0 < port < 2 ** 16:
+        raise ValueError(f"port {port} is out of range 1-65535")
+    reader, writer = await asyncio.open_connection(host, port)
+    try:
+        try:
+            head = await asyncio.wait_for(reader.readexactly(8), backend.timeout / 2)  # within the probe's deadline
+        except (asyncio.TimeoutError, asyncio.IncompleteReadError):
+            raise TimeoutError("it accepted the connection but sent no Dask handshake") from None
+        if int.from_bytes(head, "little") >= LARGEST_MESSAGE:
+            raise OSError(f"the server there does not speak Dask's protocol (it began with {head!r})")
+    finally:
+        writer.close()
 
 
 def run_on_dask(backend: Dask, jobs: list):

@@ -11,7 +11,7 @@ from glamas.experiments.scaling.analysis import (claim_rows, growth, growth_tabl
                                                  pivot_table, plan_table, size_table, trap_table)
 from glamas.experiments.scaling.experiment import (CHAPTER_METHODS, METHODS, RELATED_METHODS, ManyAgentsConfig,
                                                    ScalingConfig, ScalingResult, aisle_cells, label, many_agents_scaled,
-                                                   run, scaled, seed_of, trap)
+                                                   check_trap, run, scaled, seed_of, trap)
 from glamas.paths import RESULTS
 
 PLOTS = ("plot_sizes", "plot_final", "plot_curves", "plot_greedy")
@@ -21,7 +21,7 @@ __getattr__ = plots_on_first_use(__name__, PLOTS)
 __all__ = ["CHAPTER_METHODS", "EXPERIMENT", "MANY_AGENTS", "METHODS", "RELATED_METHODS", "ManyAgentsConfig",
            "ScalingConfig", "ScalingResult", "load_many_agents",
            "aisle_cells", "claim_rows", "growth", "growth_table", "label", "load", "measure", "performance_table",
-           "pivot_table", "plan_table", "run", "seed_of", "size_table", "trap", "trap_table", *PLOTS]
+           "check_trap", "pivot_table", "plan_table", "run", "seed_of", "size_table", "trap", "trap_table", *PLOTS]
 
 EXPERIMENT = register(Experiment("scaling", ScalingConfig, run, scaled, ScalingConfig.runs, ScalingConfig.episodes,
                                  ScalingResult, claim_rows=lambda result, config: claim_rows(result),

@@ -19,6 +19,7 @@ joint state, measured) and CQ its reward windows; all of it counts in their valu
 """
 
 import math
+import string
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -96,8 +97,12 @@ class ScalingConfig:
         object.__setattr__(self, "agents", tuple(sorted(agents)))
         check_learners(self, self.q)
         checks.positive(self, "memory_budget_gib")
-        if "{n}" not in self.map:
-            raise UserError(f"map must contain '{{n}}' for the number of agents, got {self.map!r}")
+        try:
+            placeholders = {name for _, name, _, _ in string.Formatter().parse(self.map) if name is not None}
+        except ValueError:  # a lone '{' or '}'
+            placeholders = None
+        if placeholders != {"n"}:
+            raise UserError(f"map must hold '{{n}}' for the number of agents and no other '{{...}}', got {self.map!r}")
         for n in self.agents:
             gridmap = self.gridmap(n)
             if gridmap.n_agents != n:
@@ -348,6 +353,7 @@ def trap(name: str, n: int, runs: int, episodes: int, seed: int = 0, config: Sca
     the same over the other free cells but the goal for the trapped agents (``elsewhere_trapped``),
     and the runs' ``outputs``. The runs draw from the study's seeds of (seed, learner, N), or from
     ``master_seed``."""
+    check_trap(runs, episodes)
     learner, gridmap = registry.get(name), config.gridmap(n)
     schedule = ep.Schedule(episodes, ep.uniform_edges(episodes, episodes // 10), config.max_steps)
     master_seed = seed_of(seed, name, n) if master_seed is None else master_seed
@@ -364,6 +370,15 @@ def trap(name: str, n: int, runs: int, episodes: int, seed: int = 0, config: Sca
             "trapped": int(trapped.sum()), "agents": int(trapped.size), "aisle_zero": float((own == 0.0).mean()),
             "best_trapped": _mean_where(best, trapped), "best_free": _mean_where(best, ~trapped),
             "elsewhere_trapped": _mean_where(best_elsewhere, trapped), "outputs": out}
+
+
+def check_trap(runs: int, episodes: int) -> None:
+    """Refuse in one line what :func:`trap` cannot measure: no run, or episodes that are not tenths."""
+    for name, value, low in (("runs", runs, 1), ("episodes", episodes, 10)):
+        if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < low:
+            raise UserError(f"{name} must be a whole number >= {low}, got {value!r}")
+    if episodes % 10:
+        raise UserError(f"episodes must be a multiple of 10 (the trap reads the last tenth), got {episodes}")
 
 
 def _mean_where(values: np.ndarray, chosen: np.ndarray) -> float:
