@@ -4,6 +4,7 @@ or worker lost mid-run ends in one BackendError. Only generous upper bounds of t
 are timed."""
 
 import os
+import re
 import signal
 import socket
 import subprocess
@@ -15,7 +16,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from glamas import atomic, parallel, results, sources
+from glamas import atomic, figures, parallel, results, sources
 from glamas.experiments import gridworld, single_gla
 
 SMALL_LINE = single_gla.SingleGLAConfig(runs=2, iterations=200, record_points=10)
@@ -45,6 +46,23 @@ def test_a_results_directory_locked_too_long_is_named_with_its_holder(tmp_path, 
         holder.kill()
         holder.wait()
     assert list(tmp_path.iterdir()) == []  # nothing written
+
+
+def test_a_held_results_directory_is_refused_before_computing(tmp_path, capsys):
+    holder = _held(tmp_path)
+    try:
+        started = time.monotonic()
+        argv = ["--runs", "2", "--iterations", "200", "--results", str(tmp_path), "--out", str(tmp_path / "figures")]
+        with pytest.raises(SystemExit) as stopped:
+            with figures.figure(single_gla.FIG5, "fig5", "Fig. 5.", argv):
+                pass
+        assert stopped.value.code == 2 and time.monotonic() - started < 4 + atomic.CHECK_SECONDS
+        assert re.search(rf"error: the directory {tmp_path} has been locked by process {holder.pid} \(.*\) for more "
+                         rf"than {atomic.CHECK_SECONDS:g} s", capsys.readouterr().err)
+    finally:
+        holder.kill()
+        holder.wait()
+    assert not (tmp_path / "single_gla.npz").exists()
 
 
 def test_the_kernel_cache_locked_too_long_turns_caching_off_with_one_warning(tmp_path, monkeypatch, capsys):

@@ -40,11 +40,12 @@ def locked(directory):
         os.close(fd)
 
 
-def wait_for_lock(fd: int, what: str) -> None:
+def wait_for_lock(fd: int, what: str, seconds: float | None = None) -> None:
     """Take an exclusive lock on the open file ``fd`` (released when it is closed), waiting at
-    most LOCK_WAIT_SECONDS for another holder to release it; :class:`LockTimeoutError` naming
-    ``what`` and the holder (:func:`lock_holder`) after that."""
-    deadline = time.monotonic() + LOCK_WAIT_SECONDS
+    most ``seconds`` (None: LOCK_WAIT_SECONDS) for another holder to release it;
+    :class:`LockTimeoutError` naming ``what`` and the holder (:func:`lock_holder`) after that."""
+    seconds = LOCK_WAIT_SECONDS if seconds is None else seconds
+    deadline = time.monotonic() + seconds
     while True:
         try:
             fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
@@ -52,8 +53,27 @@ def wait_for_lock(fd: int, what: str) -> None:
         except BlockingIOError:
             if time.monotonic() > deadline:
                 raise LockTimeoutError(f"{what} has been locked by {lock_holder(fd)} for more than "
-                                       f"{LOCK_WAIT_SECONDS:g} s; let it finish, or stop it and run again") from None
+                                       f"{seconds:g} s; let it finish, or stop it and run again") from None
             time.sleep(_LOCK_POLL_SECONDS)
+
+
+CHECK_SECONDS = 2.0
+"""How long :func:`check_unlocked` waits: longer than a save holds a lock."""
+
+
+def check_unlocked(directory) -> None:
+    """Before a long computation whose result goes to ``directory``: refuse at once, naming the
+    holder, when another process holds its lock for longer than a save takes (CHECK_SECONDS), so
+    that the refusal does not come after the computation. Nothing is held afterwards: the save
+    takes the lock again (:func:`locked`)."""
+    directory = Path(directory)
+    if not directory.is_dir():
+        return
+    fd = os.open(directory, os.O_RDONLY)
+    try:
+        wait_for_lock(fd, f"the directory {directory}", CHECK_SECONDS)
+    finally:
+        os.close(fd)
 
 
 def lock_holder(fd: int) -> str:

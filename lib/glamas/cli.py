@@ -200,9 +200,10 @@ def scratch_key(parser: argparse.ArgumentParser, args: argparse.Namespace) -> st
 
 
 def check_before_run(args: argparse.Namespace, name: str, config, copies: int = 1) -> None:
-    """What a run of ``copies`` times ``config`` needs, checked before it computes: its result
-    file ``name`` can take the result (unless --force; --rerun replaces an unreadable one), and its
-    arrays fit in memory."""
+    """What a run of ``copies`` times ``config`` needs, checked before it computes: no other process
+    holds the results directory, its result file ``name`` can take the result (unless --force;
+    --rerun replaces an unreadable one), and its arrays fit in memory."""
+    atomic.check_unlocked(args.results)
     if not args.force:
         results.check_writable(args.results / f"{name}.npz", config, seed=args.seed, replace_unreadable=args.rerun)
     memory.check(config, copies)
