@@ -568,3 +568,39 @@ def test_the_trap_benchmark_refuses_bad_options_before_computing(argv, message, 
         errors.run(sparse_maq_trap.main)
     err = capsys.readouterr().err
     assert stopped.value.code == 2 and message in err and "Traceback" not in err
+
+
+def test_a_result_of_edited_code_is_stale_and_of_edited_comments_is_not(tmp_path, monkeypatch):
+    clone = tmp_path / "glamas"
+    shutil.copytree(sources.PACKAGE, clone, ignore=shutil.ignore_patterns("__pycache__"))
+    monkeypatch.setattr(sources, "PACKAGE", clone)
+    monkeypatch.setattr(provenance, "LEARNERS", clone / "learners")
+    config = gridworld.GridworldConfig(runs=1, episodes=10, bins=10)
+    stored = results.save(tmp_path / "gw.npz", config, {"x": np.zeros(1)})
+    kernel = clone / "learners" / "independent.py"
+    text = kernel.read_text()
+    kernel.write_text(text.replace('"""Independent Q-learners', '"""Independent Q-learners (edited)', 1) + "# a comment\n")
+    assert results.load(stored, config)["x"].shape == (1,)  # docstrings and comments are not code
+    kernel.write_text(text.replace("return n_agents, n_cells, rules.N_ACTIONS", "return n_agents, n_cells, 4"))
+    with pytest.raises(results.StaleResultError, match=r"gw\.npz is stale: the code that computes it changed since "
+                                                       r"it was made \(glamas/learners/independent\.py\)"):
+        results.load(stored, config)
+
+
+@pytest.mark.parametrize("edit, problem", [
+    (lambda a: {**a, "learners": a["learners"][::-1]}, "arrays whose contents differ from those it recorded: learners"),
+    (lambda a: {**a, "log": a["log"][:1]}, "arrays whose contents differ from those it recorded: log"),
+    (lambda a: {**a, "log": np.full_like(a["log"], np.nan)}, "arrays whose contents differ from those it recorded: log"),
+    (lambda a: {k: v for k, v in a.items() if k != "log"}, "arrays missing: log"),
+    (lambda a: {**a, "extra": np.zeros(2)}, "arrays it did not record: extra"),
+])
+def test_a_result_file_whose_arrays_were_edited_is_refused_naming_them_and_kept(tmp_path, edit, problem):
+    arrays = {"learners": np.array(["independent", "mmdp"]), "log": np.arange(6.0).reshape(2, 3)}
+    path = results.save(tmp_path / "r.npz", SMALL_LINE, arrays)
+    with np.load(path) as archive:
+        header = {key: archive[key] for key in ("__config__", "__provenance__")}
+    np.savez(path, **header, **edit(arrays))
+    before = path.read_bytes()
+    with pytest.raises(results.ResultFileError, match=rf"r\.npz is damaged or was edited \({re.escape(problem)}"):
+        results.load(path, SMALL_LINE)
+    assert path.read_bytes() == before

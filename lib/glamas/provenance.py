@@ -1,25 +1,68 @@
-"""What a result depends on beyond its configuration: the map files it read and the library's
-version.
+"""What a result depends on beyond its configuration: the map files it read, the code that computed
+it, and the arrays it holds.
 
 A config names its map (its field ``map``, with ``{n}`` for each of its ``agents`` in the
-scaling study), not its content; an edited map or library would otherwise serve an old result as if it were current.
-The library is recorded by its version, ``glamas.__version__``, which a change that alters what
-an experiment computes must raise (the tests that recompute the committed results catch a change
-that forgets to): a hash of the sources would make every committed result stale at every edit of a
-comment.
+scaling study), not its content, and an experiment is named by its configuration, not by the code
+that runs it: an edited map or an edited kernel would otherwise serve an old result as if it were
+current. So a result records a digest of every map file it read and of every module of the code
+that computed it (:func:`code_files`: the module of its configuration, the compiled kernels, and
+every module of glamas they import, each digested without its comments and docstrings:
+:func:`glamas.sources.code_digest`), with the library's version; a difference in any of them makes
+it stale. It also records a digest of each of its arrays, which :mod:`glamas.results` checks on
+loading, so that a damaged or edited array is found before anything is drawn from it.
 """
 
 import dataclasses
+import hashlib
+import inspect
+from pathlib import Path
+
+import numpy as np
 
 import glamas
+from glamas import sources
 from glamas.gridworld.maps import MapError, map_hash
 
 MISSING = "missing"
 
 
-def record(config) -> dict:
-    """``{"version": glamas.__version__, "maps": {field: hash of the map file's bytes}}``."""
-    return {"version": glamas.__version__, "maps": {field: file_hash(name) for field, name in map_files(config)}}
+def record(config, arrays: dict | None = None) -> dict:
+    """``{"version", "maps": {field: hash of the map file}, "code": {module: digest},
+    "arrays": {name: digest}}`` of a result of ``config`` holding ``arrays``."""
+    found = {"version": glamas.__version__, "maps": {field: file_hash(name) for field, name in map_files(config)},
+             "code": code_record(config)}
+    if arrays is not None:
+        found["arrays"] = array_digests(arrays)
+    return found
+
+
+def code_files(config) -> list[Path]:
+    """The modules whose code computes a result of ``config``: its configuration's module, every
+    module of :mod:`glamas.learners` (the registry finds them all, so any experiment may run any),
+    and every module of glamas these import, directly or not. The analyses and plots are not
+    among them: they read a result, they do not make it."""
+    module = Path(inspect.getfile(type(config))).resolve()
+    start = ([module] if module.is_relative_to(sources.PACKAGE) else []) + sorted(LEARNERS.glob("*.py"))
+    return sources.import_closure(start)
+
+
+LEARNERS = sources.PACKAGE / "learners"
+
+
+def code_record(config) -> dict:
+    """{module's path in the package: :func:`glamas.sources.code_digest`} of :func:`code_files`."""
+    return {path.relative_to(sources.PACKAGE).as_posix(): sources.code_digest(path) for path in code_files(config)}
+
+
+def array_digests(arrays: dict) -> dict:
+    """{name: the first 16 hex digits of the SHA-256 of the array's dtype, shape and bytes}."""
+    digests = {}
+    for name, array in arrays.items():
+        array = np.ascontiguousarray(array)
+        digest = hashlib.sha256(f"{array.dtype.str}{array.shape}".encode())
+        digest.update(array.tobytes())
+        digests[name] = digest.hexdigest()[:16]
+    return digests
 
 
 def map_files(config, prefix: str = "") -> list[tuple[str, str]]:
@@ -54,6 +97,14 @@ def mismatch(stored: dict, current: dict) -> str | None:
                           if stored.get("maps", {}).get(field) != current["maps"].get(field))
     if changed_maps:
         return f"the map file of {', '.join(changed_maps)} changed since it was made"
+    if "code" not in stored:
+        return "it records not the code that computed it (an older glamas made it)"
+    changed_code = sorted(module for module in set(stored["code"]) | set(current["code"])
+                          if stored["code"].get(module) != current["code"].get(module))
+    if changed_code:
+        shown = ", ".join(f"glamas/{module}" for module in changed_code[:3])
+        more = f" and {len(changed_code) - 3} more" if len(changed_code) > 3 else ""
+        return f"the code that computes it changed since it was made ({shown}{more})"
     if stored.get("version") != current["version"]:
         return f"it was made by glamas {stored.get('version')}, this is glamas {current['version']}"
     return None

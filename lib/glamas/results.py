@@ -4,8 +4,10 @@ Files are written atomically (temporary file, then rename) under a lock of their
 replace a file made by a different configuration without ``overwrite`` (checked again at the
 moment of writing, so two runs cannot silently replace each other's result), and are read with
 ``allow_pickle=False``. Besides the configuration, a file records what the result depends on
-beyond it (:mod:`glamas.provenance`: the map files' hashes, the library's version) and is
-refused when that changed, or when it records nothing of the kind (made by an older glamas).
+beyond it (:mod:`glamas.provenance`: the map files' hashes, the digests of the code that computed
+it, the library's version) and is refused when that changed, or when it records nothing of the
+kind (made by an older glamas); and the digests of its arrays, checked on loading, so that a
+damaged or edited array is refused, naming it, before anything is drawn.
 """
 
 import dataclasses
@@ -59,7 +61,7 @@ def save(path, config, arrays: dict, *, seed: int | None = None, overwrite: bool
     if reserved:
         raise UserError(f"{reserved} are reserved for the configuration and its provenance")
     header = {_CONFIG_KEY: np.array(config_json(config, seed)),
-              _PROVENANCE_KEY: np.array(json.dumps(provenance.record(config), sort_keys=True))}
+              _PROVENANCE_KEY: np.array(json.dumps(provenance.record(config, arrays), sort_keys=True))}
     with atomic.locked(path.parent):
         if not overwrite:
             check_writable(path, config, seed=seed, replace_unreadable=replace_unreadable)
@@ -100,15 +102,18 @@ def load(path, config, *, seed: int | None = None) -> dict:
         raise ResultFileError(f"{path} is stale: it was made by another configuration "
                               f"({_difference(stored, expected)}); "
                               + _advice(path, "run the experiment again to refresh it", "--force"))
-    _check_provenance(path, config)
+    stored = _check_provenance(path, config)
     try:
         with np.load(path, allow_pickle=False) as archive:
-            return {key: archive[key] for key in archive.files if key not in _RESERVED}
+            arrays = {key: archive[key] for key in archive.files if key not in _RESERVED}
     except _UNREADABLE as error:
         raise _unreadable(path, error) from None
+    _check_arrays(path, stored.get("arrays"), arrays)
+    return arrays
 
 
-def _check_provenance(path: Path, config) -> None:
+def _check_provenance(path: Path, config) -> dict:
+    """The provenance record of ``path``, after checking it against the current one."""
     try:
         stored = json.loads(_read_text(path, _PROVENANCE_KEY))
     except ResultFileError:
@@ -117,6 +122,24 @@ def _check_provenance(path: Path, config) -> None:
     changed = provenance.mismatch(stored, provenance.record(config))
     if changed:
         raise StaleResultError(f"{path} is stale: {changed}; " + _advice(path, _REFRESH))
+    return stored
+
+
+def _check_arrays(path: Path, recorded: dict | None, arrays: dict) -> None:
+    """Refuse, naming them, arrays that are not those the file recorded when it was written
+    (added, missing, or with other contents: a damaged or edited file)."""
+    if recorded is None:
+        raise StaleResultError(f"{path} records no digests of its arrays (an older glamas made it); "
+                               + _advice(path, _REFRESH))
+    found = provenance.array_digests(arrays)
+    missing, extra = sorted(set(recorded) - set(found)), sorted(set(found) - set(recorded))
+    changed = sorted(name for name in set(found) & set(recorded) if found[name] != recorded[name])
+    problems = ([f"arrays missing: {', '.join(missing)}"] if missing else []) \
+        + ([f"arrays it did not record: {', '.join(extra)}"] if extra else []) \
+        + ([f"arrays whose contents differ from those it recorded: {', '.join(changed)}"] if changed else [])
+    if problems:
+        raise UnreadableResultError(f"{path} is damaged or was edited ({'; '.join(problems)}) and was kept; "
+                                    + _advice(path, "run again with --rerun or --force to replace it"))
 
 
 def _read_text(path: Path, key: str, kept: bool = False) -> str:

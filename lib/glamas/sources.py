@@ -21,6 +21,7 @@ caching off for the process, with one warning line: kernels then compile in ever
 never come from a stale cache, and numba never falls back.
 """
 
+import ast
 import hashlib
 import os
 import re
@@ -56,12 +57,24 @@ def kernel_source_files(package: Path = PACKAGE) -> list[Path]:
     that imports numba, and every module of the package those import, directly or not (read
     from their import statements; a package's ``__init__`` stands for the package)."""
     files = source_files(package)
-    texts = {path: path.read_text(encoding="utf-8", errors="replace") for path in files}
+    return import_closure([path for path in files if _NUMBA.search(_text(path))], package)
+
+
+def _text(path: Path) -> str:
+    return path.read_text(encoding="utf-8", errors="replace")
+
+
+def import_closure(start: list, package: Path | None = None) -> list[Path]:
+    """The modules ``start`` (paths of the package's sources) and every module of the package they
+    import, directly or not, in a fixed order (``package``: PACKAGE, as it is when called)."""
+    package = PACKAGE if package is None else package
+    files = source_files(package)
+    texts = {path: _text(path) for path in files}
     by_name = {}
     for path in files:
         parts = (package.name,) + path.relative_to(package).with_suffix("").parts
         by_name[".".join(parts[:-1] if parts[-1] == "__init__" else parts)] = path
-    reached = [path for path in files if _NUMBA.search(texts[path])]
+    reached = list(start)
     seen = set(reached)
     while reached:
         for module, names, line, plain in _IMPORT.findall(texts[reached.pop()]):
@@ -72,6 +85,26 @@ def kernel_source_files(package: Path = PACKAGE) -> list[Path]:
                     seen.add(path)
                     reached.append(path)
     return sorted(seen)
+
+
+def code_digest(path: Path) -> str:
+    """A digest of what the module at ``path`` does: the SHA-256 of its syntax tree without its
+    docstrings (comments, docstrings, blank lines and line breaks do not count), first 16 hex digits."""
+    stat = path.stat()
+    key = (path, stat.st_mtime_ns, stat.st_size)
+    if key not in _DIGESTS:
+        tree = ast.parse(_text(path))
+        for node in ast.walk(tree):
+            body = getattr(node, "body", None)
+            if isinstance(body, list) and body and isinstance(body[0], ast.Expr) \
+                    and isinstance(body[0].value, ast.Constant) and isinstance(body[0].value.value, str):
+                node.body = body[1:] or [ast.Pass()]
+        _DIGESTS[key] = hashlib.sha256(ast.dump(tree).encode()).hexdigest()[:16]
+    return _DIGESTS[key]
+
+
+_DIGESTS: dict = {}
+"""code_digest by (path, modification time, size): computed once per process for a file as it is."""
 
 
 def source_hash(package: Path = PACKAGE) -> str:
