@@ -85,9 +85,13 @@ reproduce: $(READY)
 ## verify: recompute every experiment (every script in paper_figures/) into $(VERIFY) as `make
 ## reproduce` does, and compare every result array and figure with the committed ones, both ways
 ## (a file on one side only is a difference), e.g. `make verify VERIFY=out/verify`.
+## ADOPT=1: when nothing differs, the recomputed result files replace the committed ones (their records
+## of the code that computed them are then the current code's: after a change of code that computes
+## the same results)
+ADOPT ?=
 verify: $(READY)
 	$(PY) -m glamas.reproduce --all --fresh "$$VERIFY"
-	$(PY) -m glamas.verify "$$VERIFY"
+	$(PY) -m glamas.verify "$$VERIFY" $(if $(ADOPT),--adopt)
 
 ## benchmark-maps: the sparse-interaction benchmark: every learner on the field's maps (TunnelToGoal
 ## with 2, 3 and 4 agents, ISR, CIT, CMU) against each map's exact optimum, under the chapter's rewards

@@ -138,3 +138,29 @@ def test_a_label_moved_by_a_hundredth_of_a_point_is_a_difference(twins, capsys):
     status, printed = _verified(out, capsys)
     assert status == 1 and printed[0].startswith("figures/label.pdf: differs from the committed figure: PDF object ")
     assert printed[-1] == "1 difference from the committed results and figures"
+
+
+def test_adopt_takes_the_recomputed_results_only_when_nothing_differs(tmp_path, monkeypatch, capsys):
+    from glamas import results
+    from glamas.experiments import single_gla
+    config = single_gla.FIG5.paper_scale()
+    committed, out = tmp_path / "committed", tmp_path / "out"
+    for side in (committed, out):
+        (side / "results").mkdir(parents=True)
+        (side / "figures").mkdir()
+    np.savez(committed / "results" / "single_gla.npz", __config__=np.array(results.config_json(config, 0)),
+             __provenance__=np.array('{"version": "0.6.0", "maps": {}}'), x=np.arange(3.0))
+    shutil.copy(committed / "results" / "single_gla.npz", out / "results")
+    monkeypatch.setattr(verify, "RESULTS", committed / "results")
+    monkeypatch.setattr(verify, "FIGURES", committed / "figures")
+    with pytest.raises(results.StaleResultError, match="records not the code that computed it"):
+        results.load(committed / "results" / "single_gla.npz", config, seed=0)
+    assert verify.main([str(out), "--adopt"]) == 0
+    assert "adopted 1 recomputed result file" in capsys.readouterr().out
+    assert np.array_equal(results.load(committed / "results" / "single_gla.npz", config, seed=0)["x"], np.arange(3.0))
+    np.savez(out / "results" / "single_gla.npz", __config__=np.array(results.config_json(config, 0)),
+             __provenance__=np.array("{}"), x=np.arange(4.0))
+    before = (committed / "results" / "single_gla.npz").read_bytes()
+    assert verify.main([str(out), "--adopt"]) == 1
+    assert "adopted nothing" in capsys.readouterr().out
+    assert (committed / "results" / "single_gla.npz").read_bytes() == before

@@ -39,14 +39,27 @@ def record(config, arrays: dict | None = None) -> dict:
 def code_files(config) -> list[Path]:
     """The modules whose code computes a result of ``config``: its configuration's module, every
     module of :mod:`glamas.learners` (the registry finds them all, so any experiment may run any),
-    and every module of glamas these import, directly or not. The analyses and plots are not
-    among them: they read a result, they do not make it."""
+    and every module of glamas these import, directly or not, but those that read or keep a result
+    rather than make it (:func:`computes`)."""
     module = Path(inspect.getfile(type(config))).resolve()
     start = ([module] if module.is_relative_to(sources.PACKAGE) else []) + sorted(LEARNERS.glob("*.py"))
-    return sources.import_closure(start)
+    return sources.import_closure(start, follow=computes)
 
 
 LEARNERS = sources.PACKAGE / "learners"
+KEEPING = ("atomic.py", "committed.py", "errors.py", "paths.py", "provenance.py", "results.py",
+           "experiments/registry.py", "experiments/faces.py")
+"""Modules that keep, name and check results and report errors, but compute nothing of them."""
+READING = ("__init__.py", "analysis.py", "plots.py")
+"""The modules of an experiment's package that read its result: its face, its analysis, its plots."""
+
+
+def computes(path: Path) -> bool:
+    """Whether module ``path`` can change what a result holds: not one of KEEPING, nor a module of
+    an experiment's package that reads its result (READING)."""
+    relative = path.relative_to(sources.PACKAGE).as_posix()
+    reading = relative.startswith("experiments/") and relative.count("/") == 2 and path.name in READING
+    return relative not in KEEPING and not reading
 
 
 def code_record(config) -> dict:
@@ -73,7 +86,7 @@ def map_files(config, prefix: str = "") -> list[tuple[str, str]]:
         value, name = getattr(config, field.name), prefix + field.name
         if dataclasses.is_dataclass(value):
             found += map_files(value, f"{name}.")
-        elif field.name == "map" and isinstance(value, str) and "{n}" in value:
+        elif field.name == "map" and isinstance(value, str) and "{n}" in value and hasattr(config, "agents"):
             found += [(f"{name}[n={n}]", value.format(n=n)) for n in getattr(config, "agents", ())]
         elif field.name == "map" and isinstance(value, str):
             found.append((name, value))
@@ -93,6 +106,8 @@ def file_hash(name: str) -> str:
 
 def mismatch(stored: dict, current: dict) -> str | None:
     """What differs between a stored and the current record, in words (None: nothing)."""
+    if not (isinstance(stored, dict) and all(isinstance(stored.get(key, {}), dict) for key in ("maps", "code"))):
+        return "its record of what made it is not one glamas writes"
     changed_maps = sorted(field for field in set(stored.get("maps", {})) | set(current["maps"])
                           if stored.get("maps", {}).get(field) != current["maps"].get(field))
     if changed_maps:

@@ -64,9 +64,10 @@ def _text(path: Path) -> str:
     return path.read_text(encoding="utf-8", errors="replace")
 
 
-def import_closure(start: list, package: Path | None = None) -> list[Path]:
+def import_closure(start: list, package: Path | None = None, follow=None) -> list[Path]:
     """The modules ``start`` (paths of the package's sources) and every module of the package they
-    import, directly or not, in a fixed order (``package``: PACKAGE, as it is when called)."""
+    import, directly or not, in a fixed order (``package``: PACKAGE, as it is when called); with
+    ``follow(path) -> bool``, only the modules it accepts are reached and looked into."""
     package = PACKAGE if package is None else package
     files = source_files(package)
     texts = {path: _text(path) for path in files}
@@ -81,7 +82,7 @@ def import_closure(start: list, package: Path | None = None) -> list[Path]:
             candidates = [plain] if plain else [module] + [f"{module}.{name.split()[0]}"
                                                            for name in (names or line).split(",") if name.strip()]
             for path in (by_name.get(name) for name in candidates):
-                if path is not None and path not in seen:
+                if path is not None and path not in seen and (follow is None or follow(path)):
                     seen.add(path)
                     reached.append(path)
     return sorted(seen)
@@ -94,13 +95,18 @@ def code_digest(path: Path) -> str:
     key = (path, stat.st_mtime_ns, stat.st_size)
     if key not in _DIGESTS:
         tree = ast.parse(_text(path))
-        for node in ast.walk(tree):
+        for node in ast.walk(tree):  # docstrings, of modules, classes, functions and attributes
             body = getattr(node, "body", None)
-            if isinstance(body, list) and body and isinstance(body[0], ast.Expr) \
-                    and isinstance(body[0].value, ast.Constant) and isinstance(body[0].value.value, str):
-                node.body = body[1:] or [ast.Pass()]
+            if isinstance(body, list):
+                node.body = [statement for statement in body if not _is_text(statement)] or [ast.Pass()]
         _DIGESTS[key] = hashlib.sha256(ast.dump(tree).encode()).hexdigest()[:16]
     return _DIGESTS[key]
+
+
+def _is_text(statement) -> bool:
+    """Whether ``statement`` is a string alone: a docstring, which does nothing."""
+    return isinstance(statement, ast.Expr) and isinstance(statement.value, ast.Constant) \
+        and isinstance(statement.value.value, str)
 
 
 _DIGESTS: dict = {}

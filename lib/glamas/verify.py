@@ -13,9 +13,16 @@ It prints one line per difference, then one per PDF that is the same figure but 
 (a number's last decimal rounded otherwise on another processor: not a difference, but said), then a
 summary line, and exits 0 when everything is equal, 1 on any difference, 2 on bad usage (the usage
 and one line ``error: ...`` on stderr).
+
+A committed result records the code that computed it (:mod:`glamas.provenance`), so a change of
+that code makes it stale even when it computes the same arrays. ``--adopt`` then takes the
+recomputed result files in place of the committed ones, with their new records, and only when
+nothing differs: every array and figure the same, so the records are what changed
+(``make verify ADOPT=1``). The records are made when adopting, of the code as it is then.
 """
 
 import argparse
+import json
 import zipfile
 import zlib
 from pathlib import Path
@@ -28,6 +35,7 @@ from glamas.committed import figure_advice, result_advice, shown
 from glamas.paths import FIGURES, RESULTS
 
 _PROVENANCE = "__provenance__"
+_CONFIG = "__config__"
 _UNREADABLE = (OSError, ValueError, KeyError, EOFError, zipfile.BadZipFile, zlib.error, NotImplementedError)
 """What a missing, damaged, truncated or foreign archive raises while it is read."""
 
@@ -141,6 +149,9 @@ def main(argv=None) -> int:
                                      description=" ".join(__doc__.split("\n\n")[0].split()))
     parser.add_argument("directory", metavar="DIR", type=Path,
                         help="the directory `make verify` recomputed into (its results/ and figures/)")
+    parser.add_argument("--adopt", action="store_true",
+                        help="when nothing differs, copy the recomputed result files over the committed ones "
+                             "(their records of the code that computed them are the new code's)")
     args = parser.parse_args(argv)
     missing = [f"{name}/" for name in ("results", "figures") if not (args.directory / name).is_dir()]
     if missing:
@@ -155,7 +166,37 @@ def main(argv=None) -> int:
               f"{figure_files.TOLERANCE:g} pt, not byte for byte)") if close else ""
     print(f"{len(real)} difference{'s' * (len(real) != 1)} from the committed results and figures{within}" if real else
           f"every committed result and figure is what the code computes{within}, and nothing else was computed")
+    if args.adopt and not real:
+        adopted = adopt(args.directory / "results")
+        print(f"adopted {adopted} recomputed result file{'s' * (adopted != 1)} in {shown(RESULTS)}: the same arrays, "
+              "recorded with the code that computed them now")
+    elif args.adopt:
+        print("adopted nothing: the recomputation differs from the committed files")
     return 1 if real else 0
+
+
+def adopt(recomputed: Path) -> int:
+    """Save the arrays of every result file of ``recomputed`` as its committed twin, with the record
+    of the code as it is now (:func:`glamas.results.save`); returns how many. Each is the
+    paper-scale result of its experiment (its configuration checked against the file's)."""
+    from glamas import results
+    from glamas.experiments import registry
+
+    experiments = {experiment.name: experiment for experiment in registry.experiments()}
+    files = sorted(recomputed.glob("*.npz"))
+    for path in files:
+        experiment = experiments.get(path.stem)
+        if experiment is None:
+            raise errors.UserError(f"{shown(path)} is the result of no registered experiment; adopted nothing more")
+        config = experiment.paper_scale()
+        with np.load(path, allow_pickle=False) as archive:
+            stored = str(archive[_CONFIG])
+            arrays = {key: archive[key] for key in archive.files if not key.startswith("__")}
+        seed = json.loads(stored)["fields"]["seed"]
+        if stored != results.config_json(config, seed):
+            raise errors.UserError(f"{shown(path)} is not the paper-scale result of {path.stem}; adopted nothing more")
+        results.save(RESULTS / path.name, config, arrays, seed=seed, overwrite=True)
+    return len(files)
 
 
 if __name__ == "__main__":

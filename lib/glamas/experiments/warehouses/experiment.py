@@ -14,8 +14,8 @@ steps until it is in) and the makespan (the last arrival).
 The learners train with the scaling study's settings under each formulation (the benchmark's
 :data:`~glamas.experiments.benchmark_maps.FORMULATIONS`: the chapter's rewards and Q-learning, or
 the field's step costs with the field's learning settings), on the field's schedule of 2000
-episodes, and are evaluated greedily afterwards (learning off). Their logs are kept per episode in
-the worker and reduced there to what is stored: the learning curve in blocks (CSR, ISR,
+episodes, and are evaluated greedily afterwards (learning off). Their logs are kept per episode,
+one N at a time, and reduced to what is stored: the learning curve in blocks (CSR, ISR,
 collisions), the first episode from which ISR stays high, and which agents ever reached their goal
 while learning, the first thing to know of an agent that the greedy policy does not bring in.
 """
@@ -71,7 +71,7 @@ class WarehousesConfig:
     bounce: str = "previous"
     """Where a collided agent goes (glamas.gridworld.rules)."""
     max_steps: int = 1000
-    """Step cap per episode (the study of many agents'): 13 to 26 times the plans' makespans."""
+    """Step cap per episode (the study of many agents'): many times every plan's makespan."""
     episodes: int = 2000
     """Episodes per run (the field's schedule)."""
     blocks: int = 20
@@ -81,8 +81,8 @@ class WarehousesConfig:
     evaluation_episodes: int = 10
     """Greedy episodes after training (learning off), each kept."""
     memory_budget_gib: float = 4.0
-    """Memory the Q tables of one run may take, in GiB; a learner whose tables would need more is
-    skipped at that N (CQ-learning's at 128 agents)."""
+    """Memory the tables of one run may take, in GiB; a learner whose tables would need more is
+    skipped at that N (CQ-learning from 32 agents on, sparse MAQ at 128)."""
 
     def __post_init__(self):
         checks.field_types(self)
@@ -113,10 +113,11 @@ class WarehousesConfig:
         return registry.get(name).setup(FORMULATION_Q[formulation], own)
 
     def rewards(self, formulation: str):
+        """What a step pays under ``formulation``."""
         return FORMULATION_REWARDS[formulation]
 
     def schedule(self) -> ep.Schedule:
-        """Training with every episode in a row of its own (reduced in the worker: :func:`reduce_run`)."""
+        """Training with every episode in a row of its own (reduced after the runs: :func:`reduce_log`)."""
         return ep.Schedule(self.episodes, ep.uniform_edges(self.episodes, 1), self.max_steps)
 
     def memory_bytes(self) -> int:
