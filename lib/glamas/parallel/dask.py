@@ -7,6 +7,7 @@ import logging
 import time
 from concurrent.futures import CancelledError, ThreadPoolExecutor
 
+from glamas.errors import UserError
 from glamas.parallel.backends import BackendError, Dask, require_dask
 from glamas.parallel.job import batch_chunk, run_chunk
 
@@ -62,14 +63,14 @@ async def _listening(distributed, backend: Dask) -> None:
     there, where distributed's connect would retry until its timeout; TimeoutError when the server
     accepts but sends nothing (an HTTP server waits for a request); OSError when its first bytes are
     not the length of a Dask message (another protocol's banner). A port out of range is a
-    ValueError; an address without host and port (``inproc://``) or a malformed one is left to
+    UserError (a ValueError); an address without host and port (``inproc://``) or a malformed one is left to
     distributed's connect."""
     try:
         host, port = distributed.comm.get_address_host_port(backend.scheduler)
     except ValueError:
         return
     if not 0 < port < 2 ** 16:
-        raise ValueError(f"port {port} is out of range 1-65535")
+        raise UserError(f"port {port} is out of range 1-65535")
     reader, writer = await asyncio.open_connection(host, port)
     try:
         try:
