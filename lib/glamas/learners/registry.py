@@ -2,10 +2,12 @@
 adding a learner is one module that declares a :class:`glamas.learners.spec.Learner` and calls
 :func:`register` on it. The modules of :mod:`glamas.learners` are found here (:func:`discover`,
 which the package runs when it is first imported, before any of its modules is used), so a module
-placed there is known by being there, as an experiment of :mod:`glamas.experiments` is; a learner defined elsewhere (a user's module, a test,
-a notebook) is known once its :func:`register` has run. A registered learner can then be trained by
-name in every experiment that trains learners, with settings of its own (its spec's ``defaults``)
-that configs hold by its name.
+placed there is known by being there, as an experiment of :mod:`glamas.experiments` is. A learner
+defined elsewhere (a user's module, a test, a notebook) is known once its :func:`register` has run,
+and a module of one's own is imported with the package's when the environment variable
+GLAMAS_LEARNERS names it (:data:`LEARNER_MODULES`). A registered learner can then be trained by name
+in every experiment that trains learners, with settings of its own (its spec's ``defaults``) that
+configs hold by its name.
 
 Seeds: each learner's runs draw from a master seed of its own (:func:`master_seed`), made from the
 experiment's seed key, its family and the seed slot its spec declares, so that the order in which
@@ -13,7 +15,9 @@ learners are registered or listed never decides anyone's streams.
 """
 
 import importlib
+import os
 import pkgutil
+import sys
 import zlib
 
 from glamas.errors import UserError
@@ -70,12 +74,27 @@ def _order(learner: Learner) -> tuple:
     return FAMILIES.index(learner.family), slot, learner.name
 
 
+LEARNER_MODULES = "GLAMAS_LEARNERS"
+"""The environment variable naming modules of learners outside the package (comma-separated, e.g.
+``GLAMAS_LEARNERS=my_learners``, importable from ``PYTHONPATH``), which :func:`discover` imports too:
+so a figure script trains a learner of one's own by name (``--learners my_learner``)."""
+
+
 def discover() -> None:
-    """Import every module of :mod:`glamas.learners`: each registers the learners it declares."""
+    """Import every module of :mod:`glamas.learners`, and those :data:`LEARNER_MODULES` names: each
+    registers the learners it declares. A module named there that cannot be imported is one warning
+    line naming it (its learners are then unknown, and a config naming them says so)."""
     package = importlib.import_module("glamas.learners")
     for module in pkgutil.iter_modules(package.__path__, f"{package.__name__}."):
         if module.name != __name__:
             importlib.import_module(module.name)
+    for name in (name.strip() for name in os.environ.get(LEARNER_MODULES, "").split(",")):
+        try:
+            if name:
+                importlib.import_module(name)
+        except ImportError as error:
+            print(f"warning: {LEARNER_MODULES} names the module {name!r}, which cannot be imported ({error}); put "
+                  "its directory on PYTHONPATH or correct the name", file=sys.stderr)
 
 
 def unregister(name: str) -> None:
