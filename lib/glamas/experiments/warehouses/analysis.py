@@ -123,43 +123,33 @@ def reached_table(result: WarehousesResult, formulation: str) -> str:
     """The budget axis: per learner and N, on how many instances the learning curve's ISR held
     HIGH_ISR over a window within the budget, and the median episodes it took there ('> budget'
     where no instance got there, '-' where the learner did not run)."""
-    budget = result.config.episodes
-    width = max(map(len, map(registry.label, result.names()))) + 2
-    header = f"episodes to ISR >= {HIGH_ISR:.0%} ({formulation})"
-    lines = [f"{header:{max(width, len(header))}s}" + "".join(f"{f'N = {n}':>16s}" for n in result.agents.tolist())]
-    for learner in result.names():
-        cells = []
-        for n in result.agents.tolist():
-            index = result.index(formulation, n, learner)
-            if not result.ran[index]:
-                cells.append("-")
-                continue
-            reached = result.reached[index]
-            got = reached[reached >= 0]
-            cells.append(f"{got.size}/{reached.size}: {int(np.median(got))}" if got.size else f"> {budget}")
-        lines.append(f"{registry.label(learner):{max(width, len(header))}s}" + "".join(f"{cell:>16s}" for cell in cells))
-    return "\n".join(lines)
+    def cell(index) -> str:
+        reached = result.reached[index]
+        got = reached[reached >= 0]
+        return f"{got.size}/{reached.size}: {int(np.median(got))}" if got.size else f"> {result.config.episodes}"
+    return _by_learner_and_n(result, formulation, f"episodes to ISR >= {HIGH_ISR:.0%} ({formulation})", cell)
 
 
 def causes_table(result: WarehousesResult, formulation: str) -> str:
     """Why agents stay out: per learner and N, the share of the agents that the last greedy episode
     leaves short of their goal, and among those the share that never reached their goal in any
     training episode (their tables hold no value from it); means over instances."""
-    width = max(map(len, map(registry.label, result.names()))) + 2
-    lines = [f"{'agents out (greedy) / of them never in while learning (' + formulation + ')':{width}s}"]
-    lines[0] += "".join(f"{f'N = {n}':>16s}" for n in result.agents.tolist())
-    lines[0] = lines[0].lstrip()
+    def cell(index) -> str:
+        never = result.never_in[index]
+        never_text = f"{np.nanmean(never):.0%}" if np.isfinite(never).any() else "-"
+        return f"{result.short[index].mean():.0%} / {never_text}"
+    return _by_learner_and_n(result, formulation, f"agents out / never in while learning ({formulation})", cell)
+
+
+def _by_learner_and_n(result: WarehousesResult, formulation: str, header: str, cell) -> str:
+    """A table of learners (rows) by N (columns): ``cell(index)`` of each (formulation, N, learner)
+    index of the result's arrays, '-' where the learner did not run."""
+    width = max(len(header), *map(len, map(registry.label, result.names()))) + 2
+    lines = [f"{header:{width}s}" + "".join(f"{f'N = {n}':>16s}" for n in result.agents.tolist())]
     for learner in result.names():
-        cells = []
-        for n in result.agents.tolist():
-            index = result.index(formulation, n, learner)
-            if not result.ran[index]:
-                cells.append("-")
-                continue
-            short, never = result.short[index], result.never_in[index]
-            never_text = f"{np.nanmean(never):.0%}" if np.isfinite(never).any() else "-"
-            cells.append(f"{short.mean():.0%} / {never_text}")
-        lines.append(f"{registry.label(learner):{width}s}" + "".join(f"{cell:>16s}" for cell in cells))
+        indexes = [result.index(formulation, n, learner) for n in result.agents.tolist()]
+        cells = [cell(index) if result.ran[index] else "-" for index in indexes]
+        lines.append(f"{registry.label(learner):{width}s}" + "".join(f"{text:>16s}" for text in cells))
     return "\n".join(lines)
 
 
