@@ -19,6 +19,7 @@ def test_every_registered_learner_keeps_the_contract(name):
     (replace(independent.LEARNER, table_shape=lambda cells, agents: (agents, cells, 5)), "4 or 4\\*\\*2 actions"),
     (replace(independent.LEARNER, table_shape=lambda cells, agents: (agents, cells)), "three whole numbers"),
     (replace(independent.LEARNER, kernel=njit(independent.run.py_func)), "cache=True and nogil=True"),
+    (replace(independent.LEARNER, kernel=njit(nogil=True)(independent.run.py_func)), "cache=True and nogil=True"),
     (replace(independent.LEARNER, label=""), "name and label must be non-empty"),
 ])
 def test_a_broken_promise_is_named(broken, promise):

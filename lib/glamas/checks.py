@@ -43,6 +43,16 @@ def distinct_names(config, name: str, known, what: str) -> None:
     object.__setattr__(config, name, names)
 
 
+def agent_counts(config, minimum: int) -> None:
+    """Raise unless ``config.agents`` is a non-empty tuple or list of distinct whole numbers of agents
+    of at least ``minimum``; store them as a sorted tuple."""
+    agents = tuple(config.agents) if isinstance(config.agents, (tuple, list)) else ()
+    if not agents or len(set(agents)) != len(agents) or not all(
+            isinstance(n, int) and not isinstance(n, bool) and n >= minimum for n in agents):
+        raise UserError(f"agents must be distinct whole numbers >= {minimum}, got {config.agents!r}")
+    object.__setattr__(config, "agents", tuple(sorted(agents)))
+
+
 def one_of(config, name: str, allowed) -> None:
     """Raise unless field ``name`` of ``config`` is one of ``allowed``."""
     value = getattr(config, name)

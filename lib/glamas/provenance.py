@@ -13,14 +13,11 @@ loading, so that a damaged or edited array is found before anything is drawn fro
 """
 
 import dataclasses
-import hashlib
 import inspect
 from pathlib import Path
 
-import numpy as np
-
 import glamas
-from glamas import sources
+from glamas import memo, sources
 from glamas.gridworld.maps import MapError, map_hash
 
 MISSING = "missing"
@@ -68,14 +65,8 @@ def code_record(config) -> dict:
 
 
 def array_digests(arrays: dict) -> dict:
-    """{name: the first 16 hex digits of the SHA-256 of the array's dtype, shape and bytes}."""
-    digests = {}
-    for name, array in arrays.items():
-        array = np.ascontiguousarray(array)
-        digest = hashlib.sha256(f"{array.dtype.str}{array.shape}".encode())
-        digest.update(array.tobytes())
-        digests[name] = digest.hexdigest()[:16]
-    return digests
+    """{name: :func:`glamas.memo.digest` of the array (its dtype, shape and bytes)}."""
+    return {name: memo.digest(array) for name, array in arrays.items()}
 
 
 def map_files(config, prefix: str = "") -> list[tuple[str, str]]:

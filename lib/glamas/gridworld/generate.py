@@ -29,7 +29,7 @@ def warehouse(n_agents: int, seed: int, density: float = 0.1, shelf_length: int 
     and goal drawn from ``numpy.random.default_rng(seed)``; named ``warehouse_N_seed_S``."""
     check_arguments(n_agents, seed, density, shelf_length)
     bays_across, shelf_rows = layout(n_agents, density, shelf_length)
-    _check_memory(n_agents, free_cells(bays_across, shelf_rows, shelf_length) + bays_across * shelf_rows * shelf_length)
+    _check_memory(n_agents, math.prod(dimensions(bays_across, shelf_rows, shelf_length)))
     blocked = shelves(bays_across, shelf_rows, shelf_length)
     free = np.flatnonzero(~blocked.ravel())
     chosen = np.random.default_rng(seed).choice(free, size=2 * n_agents, replace=False)
@@ -54,7 +54,7 @@ def layout(n_agents: int, density: float, shelf_length: int) -> tuple[int, int]:
     best = None
     for shelf_rows in range(1, math.isqrt(wanted) + 2):
         bays_across = _fewest_bays(shelf_rows, shelf_length, wanted)
-        n_rows, n_cols = 2 * shelf_rows + 1, bays_across * (shelf_length + 1) + 1
+        n_rows, n_cols = dimensions(bays_across, shelf_rows, shelf_length)
         if not n_rows <= n_cols <= 4 * n_rows:
             continue
         key = (free_cells(bays_across, shelf_rows, shelf_length), abs(n_cols - 2 * n_rows))
@@ -84,16 +84,22 @@ def _fewest_bays(shelf_rows: int, shelf_length: int, wanted: int) -> int:
     return bays_across
 
 
+def dimensions(bays_across: int, shelf_rows: int, shelf_length: int) -> tuple[int, int]:
+    """(rows, columns) of a warehouse of ``shelf_rows`` rows of ``bays_across`` shelves: a row of
+    aisle above, below and between the rows of shelves, a column of aisle left and right of each."""
+    return 2 * shelf_rows + 1, bays_across * (shelf_length + 1) + 1
+
+
 def free_cells(bays_across: int, shelf_rows: int, shelf_length: int) -> int:
     """Free cells of a warehouse of ``shelf_rows`` rows of ``bays_across`` shelves."""
-    n_rows, n_cols = 2 * shelf_rows + 1, bays_across * (shelf_length + 1) + 1
+    n_rows, n_cols = dimensions(bays_across, shelf_rows, shelf_length)
     return n_rows * n_cols - bays_across * shelf_rows * shelf_length
 
 
 def shelves(bays_across: int, shelf_rows: int, shelf_length: int) -> np.ndarray:
     """bool (rows, cols): the shelf cells. Odd rows hold shelves of ``shelf_length`` cells, each
     with a one-cell aisle left and right of it; even rows are aisles."""
-    n_rows, n_cols = 2 * shelf_rows + 1, bays_across * (shelf_length + 1) + 1
+    n_rows, n_cols = dimensions(bays_across, shelf_rows, shelf_length)
     blocked = np.zeros((n_rows, n_cols), dtype=bool)
     for bay in range(bays_across):
         first = bay * (shelf_length + 1) + 1

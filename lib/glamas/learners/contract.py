@@ -24,16 +24,18 @@ Each promise is checked on a map of two agents and on one of three (the shapes o
 of many agents), for a few episodes.
 """
 
-import numpy as np
+import os
 
-from glamas import parallel, rng
+import numpy as np
+from numba.core.caching import NullCache
+
+from glamas import parallel, rng, sources
 from glamas.errors import UserError
 from glamas.gridworld import GridMap, load_map
 from glamas.gridworld.rules import N_ACTIONS
 from glamas.learners import episode as ep
 from glamas.learners import spec
 from glamas.learners.spec import Learner
-from glamas.qlearning import QLearning
 
 MAPS = ("tunnel_to_goal", "warehouse_3")
 """The maps a learner is checked on: two agents sharing a goal behind a tunnel, three on an aisle."""
@@ -68,7 +70,7 @@ def _spec(learner: Learner) -> None:
         options = getattr(kernel, "targetoptions", None)
         if options is None:
             _fail(learner, f"its kernel {kernel!r} is not compiled by numba (@njit(cache=True, nogil=True))")
-        if not (options.get("cache") or getattr(kernel, "_cache", None) is not None) or not options.get("nogil"):
+        if not (_cached(kernel) and options.get("nogil")):
             _fail(learner, f"its kernel {kernel.py_func.__qualname__} must be compiled with cache=True and nogil=True")
     for cells, agents in ((25, 2), (35, 3)):
         shape = learner.table_shape(cells, agents)
@@ -80,6 +82,12 @@ def _spec(learner: Learner) -> None:
             _fail(learner, f"table_shape({cells}, {agents}) must be (1 or {agents} tables, {cells} or {cells}**{agents} "
                            f"states, {N_ACTIONS} or {N_ACTIONS}**{agents} actions), got {shape!r}: the kernels "
                            "index the tables by agent, cell (or joint cell) and action without bounds checks")
+
+
+def _cached(kernel) -> bool:
+    """Whether numba caches ``kernel`` (``cache=True``); taken as so where glamas turned numba's
+    caching off for this process (:func:`glamas.sources.turn_caching_off`), which no kernel can show."""
+    return not isinstance(kernel._cache, NullCache) or os.environ.get(sources.CACHE_OFF_VARIABLE) is not None
 
 
 def _train(learner, setup, gridmap, schedule, runs, seed, workers, chunk=None, kernel=None) -> dict:
@@ -131,18 +139,17 @@ def _log(learner: Learner, log: np.ndarray, n: int, max_steps: int, where: str) 
 
 
 def _frozen(learner: Learner, setup, gridmap: GridMap, outputs: dict, max_steps: int, where: str) -> None:
-    """Run 0's learned outputs played twice with learning off: unchanged, the same episodes."""
-    world, _, *own, _ = spec.kernel_inputs(learner, setup, gridmap, ep.Schedule(1, ep.uniform_edges(1, 1), max_steps))
-    frozen = learner.freeze(tuple(own))
-    schedule = ep.Schedule(5, ep.uniform_edges(5, 1), max_steps)
-    learning = QLearning(0.0, setup.q.discount, 1.0)
+    """Run 0's learned outputs played twice as the experiments evaluate them, learning off
+    (:func:`glamas.learners.spec.evaluations`): unchanged, the same episodes."""
+    evaluation = spec.Evaluation(5, (1.0,), per_episode=True)
+    (played,) = spec.evaluations(learner, setup, gridmap, evaluation, max_steps, 3)
     learned = [outputs[k][0] for k in outputs if k != "log"]
     kept = [k not in learner.counters for k in outputs if k != "log"]
     logs = []
     for _ in range(2):
         copies = [np.array(array) for array in learned]
-        log = np.zeros((5, ep.n_columns(gridmap.n_agents)))
-        learner.kernel_for(gridmap.n_agents)(world, learning, *frozen, schedule, *copies, log, rng.run_states(3, 1)[0])
+        log = np.zeros((evaluation.episodes, ep.n_columns(gridmap.n_agents)))
+        learner.kernel_for(gridmap.n_agents)(*played.inputs, *copies, log, rng.run_states(3, 1)[0])
         if not all(np.array_equal(copy, array) for copy, array, keep in zip(copies, learned, kept) if keep):
             _fail(learner, f"played with learning off (Q-learning rate 0, freeze), it changes what it learned {where}")
         logs.append(log)

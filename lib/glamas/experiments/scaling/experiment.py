@@ -90,11 +90,7 @@ class ScalingConfig:
         if self.episodes % self.bin_size:
             raise UserError(f"bin_size ({self.bin_size}) must divide episodes ({self.episodes}); "
                             "choose a bin size such as 100 that divides the episode count")
-        agents = tuple(self.agents) if isinstance(self.agents, (tuple, list)) else None
-        if (not agents or len(set(agents)) != len(agents)
-                or not all(isinstance(n, int) and not isinstance(n, bool) and n >= 2 for n in agents)):
-            raise UserError(f"agents must be distinct whole numbers >= 2, got {self.agents!r}")
-        object.__setattr__(self, "agents", tuple(sorted(agents)))
+        checks.agent_counts(self, 2)
         check_learners(self, self.q)
         checks.positive(self, "memory_budget_gib")
         try:

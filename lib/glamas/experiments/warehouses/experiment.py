@@ -88,11 +88,7 @@ class WarehousesConfig:
         checks.field_types(self)
         checks.whole_numbers(self, {"instances": 1, "max_steps": 1, "episodes": 1, "blocks": 1, "window": 1,
                                     "evaluation_episodes": 1})
-        agents = tuple(self.agents) if isinstance(self.agents, (tuple, list)) else ()
-        if not agents or len(set(agents)) != len(agents) or not all(
-                isinstance(n, int) and not isinstance(n, bool) and n >= 3 for n in agents):
-            raise UserError(f"agents must be distinct whole numbers >= 3, got {self.agents!r}")
-        object.__setattr__(self, "agents", tuple(sorted(agents)))
+        checks.agent_counts(self, 3)
         checks.distinct_names(self, "formulations", FORMULATIONS, "reward formulations")
         check_learners(self, FORMULATION_Q["chapter"])
         if self.episodes % self.blocks:
@@ -217,19 +213,16 @@ def reduce_log(log: np.ndarray, n: int, max_steps: int, blocks: int, window: int
     """From one run's per-episode log (episodes, columns): the curve (blocks, CURVE), the episodes
     until ISR held (see ``WarehousesResult.reached``) and the agents that ever arrived (bool (n,)).
     An agent is in when its steps are below the cap (one arriving on the capping step counts as out)."""
-    arrived = log[:, :n] < max_steps  # (episodes, agents)
-    in_goal = arrived.mean(axis=1)
-    completed = 1.0 - log[:, ep.column(n, ep.CAPPED)]
-    collisions = log[:, ep.column(n, ep.COLLISIONS)]
-    per_episode = np.stack([completed, in_goal, collisions], axis=-1)
+    per_episode = greedy_rows(log, n, max_steps)[:, [GREEDY.index(name) for name in CURVE]]
     curve = per_episode.reshape(blocks, -1, len(CURVE)).mean(axis=1)
+    in_goal = per_episode[:, CURVE.index("in_goal")]
     held = np.convolve(in_goal, np.ones(window) / window, mode="valid") >= HIGH_ISR
     reached = int(np.argmax(held)) + window if held.any() else -1
-    return curve, reached, arrived.any(axis=0)
+    return curve, reached, (log[:, :n] < max_steps).any(axis=0)
 
 
 def greedy_rows(log: np.ndarray, n: int, max_steps: int) -> np.ndarray:
-    """(episodes, GREEDY) from a per-episode evaluation log."""
+    """(episodes, GREEDY) from a per-episode log (an agent is in when its steps are below the cap)."""
     steps = log[:, :n]
     return np.stack([1.0 - log[:, ep.column(n, ep.CAPPED)], (steps < max_steps).mean(axis=1), steps.sum(axis=1),
                      log[:, ep.column(n, ep.LENGTH)], log[:, ep.column(n, ep.COLLISIONS)],
