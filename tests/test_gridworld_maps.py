@@ -271,6 +271,8 @@ def test_a_map_in_another_reasonable_form_is_the_same_map(tmp_path, capsys):
     assert canonical_difference(path) is None
     canonical.main([str(path), "--write"])
     assert "in its canonical form already" in capsys.readouterr().out
+    with pytest.raises(MapError, match="no map file no_such_map; give a map file's path or the name of a map"):
+        canonical.main(["no_such_map", "--write"])
 
 
 def random_map_text(rng, n_rows, n_cols, n_agents):
