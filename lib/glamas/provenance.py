@@ -40,13 +40,14 @@ def code_files(config) -> list[Path]:
     rather than make it (:func:`computes`)."""
     module = Path(inspect.getfile(type(config))).resolve()
     start = ([module] if module.is_relative_to(sources.PACKAGE) else []) + sorted(LEARNERS.glob("*.py"))
-    return sources.import_closure(start, follow=computes)
+    return sources.import_closure([path for path in start if computes(path)], follow=computes)
 
 
 LEARNERS = sources.PACKAGE / "learners"
 KEEPING = ("atomic.py", "committed.py", "errors.py", "paths.py", "provenance.py", "results.py",
-           "experiments/registry.py", "experiments/faces.py")
-"""Modules that keep, name and check results and report errors, but compute nothing of them."""
+           "experiments/registry.py", "experiments/faces.py", "learners/contract.py")
+"""Modules that keep, name and check results, check learners or report errors, but compute nothing
+of a result (the learner contract runs learners to test them, never for a result)."""
 READING = ("__init__.py", "analysis.py", "plots.py")
 """The modules of an experiment's package that read its result: its face, its analysis, its plots."""
 
