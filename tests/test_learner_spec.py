@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 from numba import njit
 
-from glamas import checks, parallel, rng
+from glamas import checks, parallel, rng, seeds
 from glamas.experiments import gridworld as gw
 from glamas.experiments import related_work as rw
 from glamas.experiments import scaling as sc
@@ -149,11 +149,12 @@ def test_a_second_learner_of_a_registered_name_is_refused_and_the_first_kept(reg
 
 def test_library_seeds_are_the_committed_formulas(registered):
     """Each library learner's declared slot gives the seeds of the committed results: the chapter's
-    four learners key * 4 + 0..3, the related-work learners 2**32 + key * 2 + 0..1, the scaling
-    study's five chapter slots key * 5 + 0..4."""
+    four learners key * 4 + 0..3, the related-work learners 2**32 + key * 2 + 0..1; the scaling
+    study's are named by the seed, the study, N and the learner."""
     assert [registry.master_seed(5, name) for name in gw.CHAPTER_LEARNERS] == [20, 21, 22, 23]
     assert [registry.master_seed(5, name) for name in rw.RELATED_LEARNERS] == [2 ** 32 + 10, 2 ** 32 + 11]
-    assert [sc.seed_of(2, name, 3) for name in sc.CHAPTER_METHODS] == [(2 * 16 + 3) * 5 + k for k in range(5)]
+    assert [sc.seed_of(2, name, 3) for name in sc.CHAPTER_METHODS] == [seeds.named(2, "scaling", 3, name)
+                                                                       for name in sc.CHAPTER_METHODS]
     assert registry.master_seed(0, "random_walk") != registry.master_seed(1, "random_walk")
     assert registry.master_seed(5, "two_observe_rule") >= registry.SEED_OFFSETS["other"]  # beyond the stride of 4
 

@@ -11,8 +11,8 @@ from glamas.experiments.benchmark_maps.analysis import (claim_rows, excess_grid,
                                                         margin_table, measure, optimum_table, plans_table, push_margin,
                                                         solved_table, table)
 from glamas.experiments.benchmark_maps.experiment import (FIELD_MAPS, FORMULATIONS, PLANS, BenchmarkConfig,
-                                                          BenchmarkResult, configured, field_scaled, run, scaled,
-                                                          seed_key)
+                                                          BenchmarkResult, case_names, configured, field_scaled, run,
+                                                          scaled)
 from glamas.experiments.faces import plots_on_first_use
 from glamas.experiments.registry import Experiment, register
 from glamas.paths import RESULTS
@@ -22,9 +22,9 @@ PLOTS = ("plot_table", "plot_curves", "plot_optimum", "plot_plan", "plot_budgets
 __getattr__ = plots_on_first_use(__name__, PLOTS)
 
 __all__ = ["BUDGETS_EXPERIMENT", "EXPERIMENT", "FIELD_EXPERIMENT", "FIELD_MAPS", "FORMULATIONS", "PLANS",
-           "BenchmarkConfig", "BenchmarkResult", "budgets", "claim_rows", "configured", "excess_grid",
+           "BenchmarkConfig", "BenchmarkResult", "budgets", "case_names", "claim_rows", "configured", "excess_grid",
            "field_claim_rows", "field_scaled", "formulations_table", "load", "load_budgets", "load_field",
-           "margin_table", "measure", "optimum_table", "plans_table", "push_margin", "run", "scaled", "seed_key",
+           "margin_table", "measure", "optimum_table", "plans_table", "push_margin", "run", "scaled",
            "solved_table", "table", *PLOTS]
 
 EXPERIMENT = register(Experiment("benchmark_maps", BenchmarkConfig, run, scaled, BenchmarkConfig.runs,

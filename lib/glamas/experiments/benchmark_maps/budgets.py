@@ -4,7 +4,7 @@ several numbers of training episodes, under each reward formulation.
 The benchmark judges every learner at the field's 2000 episodes; the chapter trains 2observe for
 200,000 (Sec. 5.3), and a learner that solves nothing at 2000 may need more, not fail. Each budget
 is the benchmark itself (:func:`glamas.experiments.benchmark_maps.experiment.configured` at that
-many episodes, the same seed keys), so the runs of a budget are those of the benchmark at that
+many episodes, the same seeds), so the runs of a budget are those of the benchmark at that
 length: its first episodes are those of a shorter budget's runs, and a result's budget of 2000
 equals the benchmark's result. Only what the greedy evaluations after training measure is kept.
 """
@@ -18,7 +18,7 @@ from glamas import checks
 from glamas.errors import UserError
 from glamas.experiments.benchmark_maps.analysis import SOLVED_COLLISIONS
 from glamas.experiments.benchmark_maps.experiment import (FIELD_MAPS, FORMULATIONS, PLANS, BenchmarkConfig,
-                                                          configured, optimal_plans, seed_key)
+                                                          configured, optimal_plans, case_names)
 from glamas.experiments.gridworld.analysis import COMPLETION
 from glamas.experiments.scaling.experiment import METHODS, METRICS, sweep
 from glamas.learners import registry, spec
@@ -106,7 +106,7 @@ class BudgetsResult:
 
 def run(config: BudgetsConfig = BudgetsConfig(), seed: int = 0, workers=None, progress=None) -> BudgetsResult:
     """The benchmark's learners (:func:`glamas.experiments.scaling.experiment.sweep`) at every
-    formulation and budget of ``config``, one benchmark after the other, with the benchmark's seed keys."""
+    formulation and budget of ``config``, one benchmark after the other, with the benchmark's seeds."""
     shape = (len(config.formulations), len(config.budgets), len(config.learners), len(config.maps))
     ran = np.zeros(shape, dtype=bool)
     evaluated = np.full(shape + (config.runs, len(spec.EVALUATIONS), len(METRICS)), np.nan)
@@ -114,7 +114,7 @@ def run(config: BudgetsConfig = BudgetsConfig(), seed: int = 0, workers=None, pr
         for b, budget in enumerate(config.budgets):
             benchmark = config.benchmark(formulation, budget)
             gridmaps = [benchmark.gridmap(name) for name in benchmark.maps]
-            arrays = sweep(benchmark, gridmaps, [seed_key(seed, name) for name in benchmark.maps], workers, progress)
+            arrays = sweep(benchmark, gridmaps, [case_names(seed, name) for name in benchmark.maps], workers, progress)
             ran[f, b], evaluated[f, b] = arrays["ran"], arrays["evaluated"]
     first = config.benchmark(config.formulations[0], config.budgets[0])
     return BudgetsResult(config=config, formulations=np.array(config.formulations),

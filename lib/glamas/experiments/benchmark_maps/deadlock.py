@@ -15,9 +15,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from glamas import seeds
 from glamas.errors import UserError
-from glamas.experiments.benchmark_maps.experiment import BenchmarkConfig, seed_key
-from glamas.experiments.scaling.experiment import SEED_STRIDES
+from glamas.experiments.benchmark_maps.experiment import BenchmarkConfig, case_names
 from glamas.gridworld import GridworldEnv
 from glamas.learners import registry, spec
 
@@ -26,13 +26,13 @@ MOVES = "NESW"
 
 
 def trained(config: BenchmarkConfig, map_name: str, seed: int = 0) -> dict:
-    """The benchmark's CQ-learning runs on ``map_name`` under ``config`` (its seed keys), trained
+    """The benchmark's CQ-learning runs on ``map_name`` under ``config`` (its seeds), trained
     again with their tables kept: ``q``, ``q_aug`` and ``marked``, runs first."""
     learner, gridmap = registry.get("cq"), config.gridmap(map_name)
     if gridmap.n_agents != 2:
         raise UserError(f"map {map_name!r} has {gridmap.n_agents} agents: the replay reads two agents' tables")
     return spec.train(learner, config.setup("cq"), gridmap, config.schedule(), config.runs,
-                      registry.master_seed(seed_key(seed, map_name), "cq", SEED_STRIDES), bounce=config.bounce,
+                      seeds.named(*case_names(seed, map_name), "cq"), bounce=config.bounce,
                       rewards=config.rewards)
 
 

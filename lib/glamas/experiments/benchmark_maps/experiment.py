@@ -11,7 +11,6 @@ the chapter's Alg. 2, where its tables fit, and an exhaustive search of joint ep
 (TunnelToGoal with 4 agents): exact on every map.
 """
 
-import zlib
 from dataclasses import dataclass, field, replace
 
 import numpy as np
@@ -137,10 +136,11 @@ def configured(formulation: str, **changes) -> BenchmarkConfig:
     return replace(BenchmarkConfig(), **{**FORMULATIONS[formulation], **changes})
 
 
-def seed_key(seed: int, map_name: str) -> int:
-    """The seed key of the runs on map ``map_name`` (:func:`glamas.learners.registry.master_seed`):
-    made from the map's name, so that a map's runs keep their streams whatever other maps run."""
-    return seed * 2 ** 16 + zlib.crc32(map_name.encode()) % 2 ** 16
+def case_names(seed: int, map_name: str) -> tuple:
+    """What names the runs on map ``map_name`` (:func:`glamas.experiments.scaling.experiment.sweep`,
+    :func:`glamas.seeds.named`): the seed, the benchmark and the map, so that a map's runs keep
+    their streams whatever other maps run, under either formulation and at every budget."""
+    return seed, "benchmark_maps", map_name
 
 
 @dataclass(frozen=True)
@@ -250,7 +250,7 @@ def run(config: BenchmarkConfig = BenchmarkConfig(), seed: int = 0, workers=None
     """Every learner on every map (:func:`glamas.experiments.scaling.experiment.sweep`), and each
     map's exact optimum (:func:`glamas.gridworld.dp.exact_optimum` at :data:`OPTIMUM_DISCOUNT`)."""
     gridmaps = [config.gridmap(name) for name in config.maps]
-    arrays = sweep(config, gridmaps, [seed_key(seed, name) for name in config.maps], workers, progress)
+    arrays = sweep(config, gridmaps, [case_names(seed, name) for name in config.maps], workers, progress)
     episodes = [dp.exact_optimum(gridmap, OPTIMUM_DISCOUNT, config.bounce) for gridmap in gridmaps]
     steps = np.full((len(gridmaps), MAX_AGENTS), -1, dtype=np.int64)
     returns = np.full((len(gridmaps), MAX_AGENTS), np.nan)

@@ -24,7 +24,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from glamas import checks, memory, parallel
+from glamas import checks, memory, parallel, seeds
 from glamas.errors import UserError
 from glamas.experiments.gridworld.experiment import check_learners
 from glamas.gridworld import GridMap, load_map
@@ -40,9 +40,6 @@ RELATED_METHODS = ("sparse_maq", "cq")
 """The related-work learners, in their N-agent forms."""
 METHODS = CHAPTER_METHODS + RELATED_METHODS
 """The study's learners by default."""
-SEED_STRIDES = {"chapter": len(CHAPTER_METHODS), "related": len(RELATED_METHODS)}
-"""Seed slots per seed key (:func:`glamas.learners.registry.master_seed`): the study reserves a
-fifth chapter slot, for the fixed-rule variant (its slot 4)."""
 METRICS = ("steps", "reward", "collisions", "coordinations", "capped", "length")
 """What the study keeps of each episode log (glamas.learners.episode.METRICS; steps and reward
 agent means, length the steps until every agent is in its goal)."""
@@ -234,10 +231,15 @@ class ScalingResult:
 
 
 def seed_of(seed: int, name: str, n_agents: int) -> int:
-    """Master seed of one (learner, N) (:func:`glamas.learners.registry.master_seed` with the key
-    ``16 seed + N`` and SEED_STRIDES): distinct for every (seed, learner, N), and a learner gets the
-    same streams at a given N whatever else is trained or registered."""
-    return registry.master_seed(seed * 16 + n_agents, name, SEED_STRIDES)
+    """Master seed of one (learner, N), named by the seed, the study, N and the learner
+    (:func:`glamas.seeds.named`): a learner gets the same streams at a given N whatever else is
+    trained or registered (the study of many agents shares them: it is this study at more agents)."""
+    return seeds.named(*case_names(seed, n_agents), name)
+
+
+def case_names(seed: int, n_agents: int) -> tuple:
+    """What names the runs of one N (:func:`sweep`): the seed, the study and N."""
+    return seed, "scaling", n_agents
 
 
 def _as_float(count: int) -> float:
@@ -257,17 +259,17 @@ def _as_int64(count: int) -> int:
 def run(config: ScalingConfig = ScalingConfig(), seed: int = 0, workers=None, progress=None) -> ScalingResult:
     """Train every learner at every N that fits the memory budget (``config.runs`` runs each), all
     runs on one pool of workers (:func:`sweep`)."""
-    arrays = sweep(config, [config.gridmap(n) for n in config.agents], [seed * 16 + n for n in config.agents],
+    arrays = sweep(config, [config.gridmap(n) for n in config.agents], [case_names(seed, n) for n in config.agents],
                    workers, progress)
     return ScalingResult(config=config, learners=np.array(config.learners),
                          agents=np.array(config.agents, dtype=np.int64), **arrays)
 
 
-def sweep(config, gridmaps: list, keys: list, workers=None, progress=None) -> dict:
+def sweep(config, gridmaps: list, cases: list, workers=None, progress=None) -> dict:
     """Every learner of ``config`` trained and evaluated on each of ``gridmaps`` (a study's cases)
-    where its tables fit ``config.memory_budget_gib``: ``config.runs`` runs each, the runs of case j
-    drawing their seeds from key ``keys[j]`` (:func:`glamas.learners.registry.master_seed`,
-    SEED_STRIDES), all on one pool of workers (:func:`glamas.parallel.run_many`). Each run's Q
+    where its tables fit ``config.memory_budget_gib``: ``config.runs`` runs each, the runs of
+    learner ``name`` on case j drawing their master seed from ``seeds.named(*cases[j], name)``
+    (:func:`glamas.seeds.named`; ``cases[j]`` names the case), all on one pool of workers (:func:`glamas.parallel.run_many`). Each run's Q
     tables stay in the worker that fills them (the study keeps learning curves, evaluations and
     table sizes), so memory holds the tables of the runs in progress only. ``config`` holds
     learners, their settings (``setup``), q, bounce, rewards, runs, the schedule (``schedule()``, ``n_bins``),
@@ -285,7 +287,7 @@ def sweep(config, gridmaps: list, keys: list, workers=None, progress=None) -> di
     budget = config.memory_budget_gib * 2 ** 30
     schedule = config.schedule()
     trainings = {}
-    for j, (gridmap, key) in enumerate(zip(gridmaps, keys)):
+    for j, (gridmap, case) in enumerate(zip(gridmaps, cases)):
         evaluation = spec.evaluation_of(config.evaluation_episodes, config.q, gridmap)
         for k, name in enumerate(config.learners):
             learner, setup = registry.get(name), config.setup(name)
@@ -295,7 +297,7 @@ def sweep(config, gridmaps: list, keys: list, workers=None, progress=None) -> di
             needed[k, j] = _as_int64(config.runs * learner.bytes_per_run(setup, gridmap))
             if needed[k, j] <= budget:
                 batch, outputs = spec.batch(learner, setup, gridmap, schedule, config.runs,
-                                            registry.master_seed(key, name, SEED_STRIDES), bounce=config.bounce,
+                                            seeds.named(*case, name), bounce=config.bounce,
                                             rewards=config.rewards, keep_q=False, evaluation=evaluation)
                 trainings[k, j] = learner, setup, gridmap, batch, outputs
     # One run per job: runs differ widely in length (some spend most episodes at the step cap),

@@ -20,12 +20,11 @@ collisions), the first episode from which ISR stays high, and which agents ever 
 while learning, the first thing to know of an agent that the greedy policy does not bring in.
 """
 
-import zlib
 from dataclasses import dataclass, field
 
 import numpy as np
 
-from glamas import checks, memory, parallel
+from glamas import checks, memory, parallel, seeds
 from glamas.errors import UserError
 from glamas.experiments.benchmark_maps.experiment import FORMULATIONS
 from glamas.experiments.gridworld.experiment import check_learners
@@ -197,16 +196,10 @@ class WarehousesResult:
         return np.arange(size, self.config.episodes + 1, size)
 
 
-EXPERIMENT_KEY = zlib.crc32(b"warehouses")
-
-
 def seed_of(seed: int, formulation: str, n: int, instance: int, learner: str) -> int:
-    """The master seed of one run: 48 bits drawn from a ``numpy.random.SeedSequence`` whose entropy
-    names the master ``seed``, this experiment, the formulation, N, the instance and the learner,
-    so that streams differ for every key without arithmetic on the key (a test enumerates the grid).
-    48 bits keep the training seeds below the evaluations' (:data:`glamas.learners.spec.EVALUATION_SEEDS`)."""
-    entropy = [seed, EXPERIMENT_KEY, zlib.crc32(formulation.encode()), n, instance, zlib.crc32(learner.encode())]
-    return int(np.random.SeedSequence(entropy).generate_state(1, np.uint64)[0] >> np.uint64(16))
+    """The master seed of one run, named by the master ``seed``, this experiment, the formulation,
+    N, the instance and the learner (:func:`glamas.seeds.named`)."""
+    return seeds.named(seed, "warehouses", formulation, n, instance, learner)
 
 
 def reduce_log(log: np.ndarray, n: int, max_steps: int, blocks: int, window: int) -> tuple:

@@ -1,0 +1,25 @@
+"""Master seeds named by what they seed.
+
+A study that trains its learners on many cases (numbers of agents, maps, instances) gives each
+(learner, case) a master seed of its own. A key made by arithmetic on the case collides as soon
+as one term outgrows the room left for it (``16 seed + N`` gives seed 1 with one agent the
+streams of seed 0 with 17). Here the names are the entropy of a ``numpy.random.SeedSequence``,
+which hashes its words together instead of adding them, so two cases share streams only if two of
+their names collide (strings are named by their CRC-32; a test enumerates each study's grid).
+"""
+
+import zlib
+
+import numpy as np
+
+from glamas.errors import UserError
+
+
+def named(*names: int | str) -> int:
+    """The master seed named by ``names`` (non-negative integers as they are, strings by their
+    CRC-32, in order): 48 bits drawn from ``numpy.random.SeedSequence(names)``, so that every
+    training seed stays below the evaluations' (:data:`glamas.learners.spec.EVALUATION_SEEDS`)."""
+    entropy = [zlib.crc32(name.encode()) if isinstance(name, str) else name for name in names]
+    if not all(isinstance(word, (int, np.integer)) and word >= 0 for word in entropy):
+        raise UserError(f"a seed is named by non-negative integers and strings, got {names!r}")
+    return int(np.random.SeedSequence([int(word) for word in entropy]).generate_state(1, np.uint64)[0] >> np.uint64(16))

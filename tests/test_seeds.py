@@ -1,0 +1,54 @@
+"""Seeds by name (glamas.seeds): every (master seed, study, case, learner) of the studies beyond
+the chapter gets streams of its own, enumerated over a grid larger than the committed runs."""
+
+import itertools
+
+import pytest
+
+from glamas import seeds
+from glamas.errors import UserError
+from glamas.experiments import benchmark_maps as bm
+from glamas.experiments import scaling as sc
+from glamas.experiments import warehouses as wh
+from glamas.learners import registry
+
+LEARNERS = tuple(registry.LEARNERS)
+MASTER_SEEDS = range(4)
+
+
+def _scaling_grid():
+    return {("scaling", seed, n, name): sc.seed_of(seed, name, n)
+            for seed, n, name in itertools.product(MASTER_SEEDS, range(1, 257), LEARNERS)}
+
+
+def _benchmark_grid():
+    maps = sorted(set(bm.BenchmarkConfig().maps) | set(bm.FIELD_MAPS))
+    return {("benchmark", seed, map_name, name): seeds.named(*bm.case_names(seed, map_name), name)
+            for seed, map_name, name in itertools.product(MASTER_SEEDS, maps, LEARNERS)}
+
+
+def _warehouses_grid():
+    return {("warehouses", *key): wh.seed_of(*key)
+            for key in itertools.product(MASTER_SEEDS, ("chapter", "field"), (8, 32, 128), range(16), LEARNERS)}
+
+
+def test_every_run_of_every_study_has_its_own_streams():
+    grid = {**_scaling_grid(), **_benchmark_grid(), **_warehouses_grid()}
+    assert len(set(grid.values())) == len(grid)
+    assert max(grid.values()) < 2 ** 48  # below the evaluations' seeds
+
+
+def test_the_arithmetic_key_collision_is_gone():
+    """16 seed + N gave seed 1 with one agent the streams of seed 0 with 17 agents."""
+    assert sc.seed_of(1, "independent", 1) != sc.seed_of(0, "independent", 17)
+
+
+def test_a_name_is_its_words_in_order():
+    assert seeds.named(0, "scaling", 8) == seeds.named(0, "scaling", 8)
+    assert seeds.named(0, "scaling", 8) != seeds.named(0, 8, "scaling")
+
+
+@pytest.mark.parametrize("names", [(-1, "scaling"), (0.5,), (None,)])
+def test_a_name_that_is_no_integer_or_string_is_refused(names):
+    with pytest.raises(UserError, match="non-negative integers and strings"):
+        seeds.named(*names)
