@@ -27,11 +27,11 @@ LEARNERS: dict[str, Learner] = {}
 """The registered learners by name."""
 SEED_OFFSETS = {"chapter": 0, "related": 2 ** 32, "other": 2 ** 33}
 """Where each family's master seeds start (:func:`master_seed`): apart from each other for every
-experiment seed below 2**24."""
+experiment seed below 2**24 (the command line's largest, :data:`glamas.cli.MAX_SEED`)."""
 SEED_STRIDES = {"chapter": 4, "related": 2}
 """Seed slots per seed key in each family (:func:`master_seed`): the chapter's four learners
-(slots 0-3) and the two related-work learners (0-1). An experiment that trains more of a family
-reserves more (the scaling study: 5 chapter slots, the fixed-rule variant in slot 4)."""
+(slots 0-3) and the two related-work learners (0-1). The studies beyond the chapter name their
+seeds instead (:func:`glamas.seeds.named`)."""
 NAME_SLOTS = 2 ** 20
 """Seed slots of the learners that draw from their name (family 'other', or a slot beyond the
 experiment's stride)."""
