@@ -269,9 +269,10 @@ def sweep(config, gridmaps: list, cases: list, workers=None, progress=None) -> d
     """Every learner of ``config`` trained and evaluated on each of ``gridmaps`` (a study's cases)
     where its tables fit ``config.memory_budget_gib``: ``config.runs`` runs each, the runs of
     learner ``name`` on case j drawing their master seed from ``seeds.named(*cases[j], name)``
-    (:func:`glamas.seeds.named`; ``cases[j]`` names the case), all on one pool of workers (:func:`glamas.parallel.run_many`). Each run's Q
-    tables stay in the worker that fills them (the study keeps learning curves, evaluations and
-    table sizes), so memory holds the tables of the runs in progress only. ``config`` holds
+    (:func:`glamas.seeds.named`; ``cases[j]`` names the case), all on one pool of workers
+    (:func:`glamas.parallel.run_many`). Each run's Q tables stay in the worker that fills them (the
+    study keeps learning curves, evaluations and table sizes), so memory holds the tables of the
+    runs in progress only. ``config`` holds
     learners, their settings (``setup``), q, bounce, rewards, runs, the schedule (``schedule()``, ``n_bins``),
     ``evaluation_episodes`` and the memory budget. Returns the arrays of a result, with a case axis
     after the learners' (:class:`ScalingResult`'s fields from ``ran`` on)."""
