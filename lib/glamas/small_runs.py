@@ -33,7 +33,8 @@ SIZES = {"single_gla": (2, 2000, {}), "state_encoding": (2, 2000, {}), "and_netw
          "benchmark_maps": (2, 100, {"evaluation_episodes": 5, "memory_budget_gib": 0.1}),
          "benchmark_maps_field": (2, 100, {"evaluation_episodes": 5, "memory_budget_gib": 0.1}),
          "benchmark_maps_budgets": (1, 100, {"evaluation_episodes": 5, "memory_budget_gib": 0.1}),
-         "warehouses": (2, 100, {"agents": (3, 8), "evaluation_episodes": 2, "max_steps": 200})}
+         "warehouses": (2, 100, {"agents": (3, 8), "evaluation_episodes": 2, "max_steps": 200}),
+         "crowd": (1, 5, {})}
 """Each experiment's small run: its ``configure(runs, iterations)`` with these fields replaced, so
 that every kernel the experiment runs (the N-agent ones included) runs, in a second or two (the
 map benchmark's budget leaves out the joint learners' tables of TunnelToGoal with 3 agents, 85 MB
