@@ -56,7 +56,7 @@ class Reference:
         if g.n_agents != 2:
             raise ValueError(f"the C reference is written for two agents, got {g.n_agents}")
         arrays = kernels.new_outputs(workload, 1)
-        world_arrays = (np.ascontiguousarray(g.next_cell, np.int64), np.ascontiguousarray(g.goal_of, np.uint8),
+        world_arrays = (np.ascontiguousarray(g.next_cell, np.int64), np.ascontiguousarray(g.goal_table(), np.uint8),
                         np.ascontiguousarray(g.starts, np.int64))
         world = _World(*(a.ctypes.data for a in world_arrays), BOUNCE_MODES[workload.bounce], g.n_cells, g.n_cols)
         double, state = ctypes.c_double, kernels.run_state(seed)

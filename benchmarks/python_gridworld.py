@@ -31,13 +31,13 @@ def below(rnd, n):
 class World:
     """A map as lists, with the rules of glamas.gridworld.rules: ``step`` for any number of
     agents (rules.step), ``step_two`` for two (rules.step_pair, the learners' two-agent path).
-    Each agent has its own goals (``goal_of[i][c]``); agents entering a goal of both together do
-    not collide."""
+    Each agent has its own goals (``goals[i]``, a set of cells); agents entering a goal of both
+    together do not collide."""
 
     def __init__(self, gridmap, bounce="previous"):
         self.gridmap = gridmap
         self.next_cell = gridmap.next_cell.tolist()
-        self.goal_of = gridmap.goal_of.tolist()
+        self.goals = [set(gridmap.goal_cells(i)) for i in range(gridmap.n_agents)]
         self.shared_goal = gridmap.shared_goal.tolist()
         self.usable = (~(gridmap.shared_goal | gridmap.blocked)).tolist()
         self.starts = gridmap.starts.tolist()
@@ -53,7 +53,7 @@ class World:
 
     def both_goal(self, i, j, cell):
         """Whether ``cell`` is a goal of agent i and of agent j: entering it together is no collision."""
-        return self.goal_of[i][cell] and self.goal_of[j][cell]
+        return cell in self.goals[i] and cell in self.goals[j]
 
     def would_collide(self, cells, done, actions, i, j):
         """Whether acting agents i and j playing ``actions`` target one cell (a goal of not both) or swap."""
@@ -83,7 +83,7 @@ class World:
             r0 += CHAPTER.collision
             r1 += CHAPTER.collision
             new0, new1 = self.bounced(cells)
-        reached = [not d0 and self.goal_of[0][new0], not d1 and self.goal_of[1][new1]]
+        reached = [not d0 and new0 in self.goals[0], not d1 and new1 in self.goals[1]]
         if reached[0]:
             r0 += CHAPTER.goal
         if reached[1]:
@@ -108,7 +108,7 @@ class World:
             new = [back[i] if collided[i] else new[i] for i in range(n)]
             found = [(i, j) for i, j in pairs if new[i] == new[j] and not self.both_goal(i, j, new[i])
                      and not (collided[i] and collided[j])]
-        reached = [not d and self.goal_of[i][m] for i, (d, m) in enumerate(zip(done, new))]
+        reached = [not d and m in self.goals[i] for i, (d, m) in enumerate(zip(done, new))]
         for i in range(n):
             if reached[i]:
                 rewards[i] += CHAPTER.goal

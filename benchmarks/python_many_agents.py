@@ -110,7 +110,7 @@ class IndexedWorld(World):
                         collide(a, b)
             first = last
         self.clear(cells, done)
-        reached = [not d and self.goal_of[i][m] for i, (d, m) in enumerate(zip(done, new))]
+        reached = [not d and m in self.goals[i] for i, (d, m) in enumerate(zip(done, new))]
         for i in range(n):
             if reached[i]:
                 rewards[i] += CHAPTER.goal

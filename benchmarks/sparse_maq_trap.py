@@ -17,7 +17,7 @@ import argparse
 import numpy as np
 
 from glamas import cli, errors, parallel
-from glamas.experiments import scaling
+from glamas.experiments import gridworld, scaling
 from glamas.learners import registry, sparse_maq
 
 LEARNERS = ("sparse_maq", "sparse_maq_pairs")
@@ -34,7 +34,7 @@ def aisle_rows(setup, gridmap, cells) -> np.ndarray:
 def measure(name: str, n: int, runs: int, episodes: int, seed: int, workers) -> dict:
     """The trap (glamas.experiments.scaling.trap) of learner ``name`` with N = ``n`` from sparse MAQ's
     master seed, and the pairs' joint values on the aisle."""
-    t = scaling.trap(name, n, runs, episodes, workers=workers, master_seed=registry.master_seed(seed, "sparse_maq"))
+    t = scaling.trap(name, n, runs, episodes, workers=workers, master_seed=gridworld.seed_of(seed, "sparse_maq"))
     gridmap = scaling.ScalingConfig().gridmap(n)
     joint = t["outputs"]["q_pairs"][:, :, aisle_rows(registry.get(name).setup(), gridmap,
                                                      scaling.aisle_cells(gridmap)), :]

@@ -559,7 +559,7 @@ def test_a_result_without_its_provenance_record_is_stale(tmp_path):
 
 @pytest.mark.parametrize("argv, message", [(["--runs", "0"], "argument --runs: must be at least 1, got 0"),
                                            (["--seed", "-1"], "argument --seed: must be 0 or more, got -1"),
-                                           (["--seed", str(2 ** 24)], "argument --seed: must be at most 16777215"),
+                                           (["--seed", str(2 ** 32)], "argument --seed: must be at most 4294967295"),
                                            (["--episodes", "5"], "error: episodes must be a whole number >= 10, got 5"),
                                            (["--episodes", "15"], "error: episodes must be a multiple of 10")])
 def test_the_trap_benchmark_refuses_bad_options_before_computing(argv, message, monkeypatch, capsys):

@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 from benchmarks import bench_many_agents, kernels, python_gridworld, python_lineworld, python_many_agents
-from glamas import parallel, rng
+from glamas import parallel, rng, seeds
 from glamas.experiments import and_network, single_gla
 from glamas.gridworld import BOUNCE_MODES, rules
 from glamas.learners import cq
@@ -132,7 +132,7 @@ def test_rules_reference_ends_with_the_compiled_totals(map_file, bounce):
 def test_experiment_1_reference_learns_the_kernels_parameters(init_scale):
     config = single_gla.SingleGLAConfig(runs=1, iterations=4000, record_points=1, init_scale=init_scale)
     result = single_gla.run(config, seed=7, workers=parallel.Threads(1))
-    total, u = python_lineworld.single_gla_run(config, KernelStream(kernels.run_state(7)))
+    total, u = python_lineworld.single_gla_run(config, KernelStream(kernels.run_state(seeds.named(7, "single_gla"))))
     np.testing.assert_array_equal(np.array(u), result.params[0])
     assert total / config.iterations == result.reward[0, 0]
 
@@ -140,6 +140,6 @@ def test_experiment_1_reference_learns_the_kernels_parameters(init_scale):
 def test_experiment_2_reference_learns_the_kernels_parameters():
     config = and_network.ANDNetworkConfig(runs=1, iterations=4000, record_points=2)
     result = and_network.run(config, seed=7, workers=parallel.Threads(1))
-    _, u = python_lineworld.and_network_run(config, KernelStream(kernels.run_state(7)))
+    _, u = python_lineworld.and_network_run(config, KernelStream(kernels.run_state(seeds.named(7, "and_network"))))
     context = len(u[0][0][0])
     np.testing.assert_array_equal(np.array(u), result.params[0, ..., :context])

@@ -14,6 +14,7 @@ from glamas import parallel, reproduce
 from glamas.experiments import gridworld_optimum, related_work, scaling
 from glamas.experiments.gridworld import plots as gridworld_plots
 from glamas.gridworld import GridMap, MapError, maps, tunnel_to_goal
+from glamas.gridworld.maps import goals_from_table, make_goals
 from glamas.learners import registry
 
 FAST = ["--backend", "threads", "--workers", "1"]
@@ -29,7 +30,7 @@ def test_the_steps_figures_draw_fewer_episodes_than_their_zoom_starts_at(tmp_pat
 
 def test_a_final_mmdp_reward_of_zero_makes_its_ratios_undecidable():
     config = related_work.scaled(1, 1)
-    result = related_work.run(config, seed=42, workers=parallel.Threads(1))  # seed 42: its one MMDP episode pays 0
+    result = related_work.run(config, seed=283, workers=parallel.Threads(1))  # seed 283: its one MMDP episode pays 0
     measured = related_work.measure(result, config)
     assert measured["reward_mmdp"] == 0.0
     assert math.isnan(measured["reward_two_observe_over_mmdp"]) and math.isnan(measured["reward_cq_over_mmdp"])
@@ -77,7 +78,10 @@ def test_an_epsilon_too_coarse_for_an_optimum_is_refused():
     (lambda g: {"starts": np.array([g.starts[0], g.starts[0]])}, "agents 1 and 2 both start at"),
     (lambda g: {"starts": np.array([g.starts[0], 99])}, "agent 2's start 99 is outside the cells 0..24"),
     (lambda g: {"starts": [1, 2]}, "starts must be an array of integer of shape (2,)"),
-    (lambda g: {"goal_of": np.zeros((2, g.n_cells), bool)}, "has no goal for agent 1"),
+    (lambda g: {"goals": goals_from_table(np.zeros((2, g.n_cells), bool))}, "has no goal for agent 1"),
+    (lambda g: {"goals": np.zeros((2, g.n_cells), bool)}, "goals must be a Goals"),
+    (lambda g: {"goals": make_goals(g.goals.shared, [[g.cell(0, 1), g.cell(0, 1)], []])}, "agent 1's own goals repeat"),
+    (lambda g: {"goals": make_goals(g.goals.shared, [[99], []])}, "an own goal lies outside the cells 0..24"),
     (lambda g: {"next_cell": g.next_cell[:5]}, "next_cell must be an array of integer of shape (25, 4)"),
 ])
 def test_a_map_built_in_python_is_checked_as_a_map_file_is(change, message):

@@ -52,7 +52,7 @@ def shortest_path(gridmap, agent):
     distance, frontier = {start: 0}, deque([start])
     while frontier:
         cell = frontier.popleft()
-        if gridmap.goal_of[agent, cell]:
+        if gridmap.is_goal_of(agent, cell):
             return distance[cell]
         for other in gridmap.open_neighbours(cell):
             if other not in distance:
@@ -97,7 +97,7 @@ def test_the_chapters_rewards_hold(name):
         cells = np.array([g.goal_cells(k)[0] if k != agent else int(g.starts[k]) for k in range(n)], np.int64)
         done = np.arange(n) != agent
         total, steps = 0.0, 0
-        while not g.goal_of[agent, cells[agent]]:
+        while not g.is_goal_of(agent, cells[agent]):
             actions = np.zeros(n, np.int64)
             actions[agent] = _towards_goal(g, agent, int(cells[agent]))
             out = [np.empty(n, np.int64), np.empty(n), *(np.empty(n, bool) for _ in range(3))]
@@ -141,9 +141,9 @@ def _two_cells_one_step_from(g, agents):
     i, j = agents
     for a in range(g.n_cells):
         for b in range(a + 1, g.n_cells):
-            if g.blocked[a] or g.blocked[b] or g.goal_of[i, a] or g.goal_of[j, b]:
+            if g.blocked[a] or g.blocked[b] or g.is_goal_of(i, a) or g.is_goal_of(j, b):
                 continue
             for c in sorted(g.open_neighbours(a) & g.open_neighbours(b)):
-                if not (g.goal_of[i, c] and g.goal_of[j, c]):
+                if not (g.is_goal_of(i, c) and g.is_goal_of(j, c)):
                     return a, b, c
     raise AssertionError("no two cells with a common neighbour")

@@ -1,6 +1,7 @@
 """Generated warehouse maps (glamas.gridworld.generate): the density held as the agents grow, every
 agent with its own start and goal, reproducible from the seed, and their text form loads back."""
 
+import math
 from collections import deque
 
 import numpy as np
@@ -9,7 +10,7 @@ import pytest
 from glamas import memory
 from glamas.errors import UserError
 from glamas.gridworld import load_map, map_text
-from glamas.gridworld.generate import free_cells, layout, warehouse
+from glamas.gridworld.generate import dimensions, free_cells, layout, map_bytes, warehouse
 
 SIZES = (2, 8, 32, 128)
 
@@ -88,6 +89,19 @@ def test_a_warehouse_that_cannot_be_laid_out_or_held_is_one_line_before_allocati
     with pytest.raises(UserError, match="no warehouse of 1 agents with shelves 100 cells long is between one and "
                                         "four times as wide as tall"):
         warehouse(1, 0, shelf_length=100)
-    with pytest.raises(UserError, match=r"a warehouse of 100000 agents has \d+ cells: its goal table .* needs "
-                                        r"14\d\.\d GiB, more than the 16.0 GiB available; choose fewer agents"):
+    monkeypatch.setattr(memory, "available_bytes", lambda: 3 * 2 ** 30 // 10)
+    with pytest.raises(UserError, match=r"a warehouse of 100000 agents has \d+ cells: making it needs about "
+                                        r"0\.4 GiB, more than the 0.3 GiB available; choose fewer agents"):
         warehouse(10 ** 5, 0)
+
+
+def test_a_warehouse_holds_memory_in_proportion_to_its_cells_plus_its_agents():
+    """Each agent's goal is its own, stored per agent (no agents x cells table): at 10^5 agents
+    the estimate is about 0.4 GiB (an agents x cells table of bools alone was 149 GiB)."""
+    g = warehouse(1024, 0)
+    goals = g.goals
+    assert goals.own.size == g.n_agents and goals.shared.size == g.n_cells and not goals.shared.any()
+    assert sum(array.nbytes for array in goals) < 16 * (g.n_cells + g.n_agents)
+    bays_across, shelf_rows = layout(10 ** 5, 0.1, 3)
+    n_cells = math.prod(dimensions(bays_across, shelf_rows, 3))
+    assert map_bytes(10 ** 5, n_cells) < 2 ** 30 < 10 ** 5 * n_cells

@@ -169,7 +169,7 @@ def exhaustive_value(gridmap, gamma, bounce="previous"):
     while best < 100.0 * gamma ** t:
         following = {}
         for cells, value in layer.items():
-            done = np.array([gridmap.goal_of[i, c] for i, c in enumerate(cells)])
+            done = np.array([gridmap.is_goal_of(i, c) for i, c in enumerate(cells)])
             for joint in range(4 ** n):
                 actions = np.array([joint // 4 ** (n - 1 - i) % 4 for i in range(n)], np.int64)
                 out = (np.empty(n, np.int64), np.empty(n), np.empty(n, bool), np.empty(n, bool), np.empty(n, bool))

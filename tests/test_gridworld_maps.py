@@ -25,7 +25,7 @@ def test_tunnel_to_goal_layout():
     assert (m.name, m.n_rows, m.n_cols, m.n_cells, m.n_agents) == ("tunnel_to_goal", 5, 5, 25, 2)
     assert m.starts.tolist() == [m.cell(0, 0), m.cell(4, 0)]
     assert np.flatnonzero(m.is_goal).tolist() == [m.cell(2, 0)]
-    assert m.goal_of.tolist() == [m.is_goal.tolist()] * 2 and np.array_equal(m.shared_goal, m.is_goal)
+    assert m.goal_table().tolist() == [m.is_goal.tolist()] * 2 and np.array_equal(m.shared_goal, m.is_goal)
     assert not m.blocked.any()
     # Walls above and below the goal row in columns 0-3; (2, 4) is the only way in.
     for col in range(4):
@@ -57,7 +57,7 @@ def test_blocked_cells_and_inner_walls():
 
 def test_arrays_are_read_only():
     m = tunnel_to_goal()
-    for array in (m.next_cell, m.goal_of, m.blocked, m.starts, m.is_goal, m.shared_goal):
+    for array in (m.next_cell, *m.goals, m.blocked, m.starts, m.is_goal, m.shared_goal):
         with pytest.raises(ValueError):
             array[0] = 3
 

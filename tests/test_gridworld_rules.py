@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from glamas.gridworld import rules, load_map, tunnel_to_goal
+from glamas.gridworld import load_map, make_goals, rules, tunnel_to_goal
 from glamas.gridworld.rewards import CHAPTER, FIELD
 from glamas.gridworld.rules import E, N, S, W
 from glamas.learners import episode
@@ -168,13 +168,13 @@ def test_chain_with_bounce_to_start_ends_on_the_starts(room):
 def test_would_collide(tunnel):
     a, b = tunnel.cell(1, 4), tunnel.cell(3, 4)
     cells, done = np.array([a, b]), np.zeros(2, bool)
-    check = lambda actions, d=done: rules.would_collide(tunnel.next_cell, tunnel.goal_of, cells, d,
+    check = lambda actions, d=done: rules.would_collide(tunnel.next_cell, tunnel.goals, cells, d,
                                                         np.array(actions), 0, 1)
     assert check([S, N])
     assert not check([S, S])
     assert not check([S, N], np.array([False, True]))
     swap = np.array([tunnel.cell(2, 3), tunnel.cell(2, 4)])
-    assert rules.would_collide(tunnel.next_cell, tunnel.goal_of, swap, done, np.array([E, W]), 0, 1)
+    assert rules.would_collide(tunnel.next_cell, tunnel.goals, swap, done, np.array([E, W]), 0, 1)
 
 
 PAYOFFS = CHAPTER.kernel_bundle()
@@ -203,8 +203,8 @@ def test_corridor_same_target_between_the_starts():
 
 
 def every_agent_goal(gridmap, n_agents):
-    """(agents, cells): ``gridmap``'s shared goal as the goal of each of ``n_agents`` agents."""
-    return np.tile(gridmap.shared_goal, (n_agents, 1))
+    """The goals of ``n_agents`` agents whose goal is ``gridmap``'s shared goal."""
+    return make_goals(gridmap.shared_goal, [[] for _ in range(n_agents)])
 
 
 def _step_outputs(step, gridmap, cells, done, actions, bounce, agents, rewards):
@@ -327,7 +327,7 @@ def _placements(g, pair, third):
     the pair acting on distinct cells (none on its own goal) or one of them done on its goal."""
     def own_goal(k):
         return g.goal_cells(k)[0]
-    acting = {k: [c for c in range(g.n_cells) if not g.goal_of[k, c]] for k in pair}
+    acting = {k: [c for c in range(g.n_cells) if not g.is_goal_of(k, c)] for k in pair}
     i, j = pair
     found = [((a, b), (False, False)) for a in acting[i] for b in acting[j] if a != b]
     found += [((own_goal(i), b), (True, False)) for b in acting[j]]
@@ -363,7 +363,7 @@ def test_in_range_table_exempts_the_goal_of_every_agent_only(own_goals):
     table = rules.in_range_table(g.next_cell, g.shared_goal)
     assert table[g.cell(0, 2), g.cell(1, 3)]  # both could enter (1, 2)
     assert table[g.cell(0, 1), g.cell(1, 2)]  # both could enter (1, 1), or (0, 2): a collision unless agents 1 and 2
-    assert rules.shared_goals(g.goal_of).tolist() == g.shared_goal.tolist()
+    assert rules.shared_goals(g.goals).tolist() == g.shared_goal.tolist()
 
 
 # --- many agents: the indexed step ------------------------------------------------------------------

@@ -128,35 +128,29 @@ def test_unknown_learners_are_refused_by_name():
         registry.get("random_walk")
 
 
-def test_a_learner_of_no_family_without_a_slot_or_with_anothers_seeds_is_refused(registered):
+def test_a_learner_of_no_family_or_of_a_bad_rank_is_refused(registered):
     with pytest.raises(ValueError, match="a learner's family must be one of"):
         registry.register(replace(RANDOM_WALK, name="walker", family="mine"))
-    with pytest.raises(ValueError, match="must declare its seed_slot"):
-        registry.register(replace(RANDOM_WALK, name="walker", family="chapter"))
-    # walker_384911 falls on random_walk's seed slot (crc32 of the name modulo NAME_SLOTS)
-    with pytest.raises(ValueError, match="would draw the seeds of 'random_walk'; choose another name"):
-        registry.register(replace(RANDOM_WALK, name="walker_384911"))
-    assert "walker" not in registry.LEARNERS and "walker_384911" not in registry.LEARNERS
+    with pytest.raises(ValueError, match="its rank must be a whole number >= 0 or None"):
+        registry.register(replace(RANDOM_WALK, name="walker", family="chapter", rank=-1))
+    assert "walker" not in registry.LEARNERS
 
 
 def test_a_second_learner_of_a_registered_name_is_refused_and_the_first_kept(registered):
     with pytest.raises(ValueError, match=r"a learner named 'independent' is registered already \(by "
                                          r"glamas\.learners\.independent\); \S*test_learner_spec must choose another name"):
-        registry.register(replace(RANDOM_WALK, name="independent", family="chapter", seed_slot=0))
+        registry.register(replace(RANDOM_WALK, name="independent", family="chapter", rank=0))
     assert registry.get("independent").kernel.__module__ == "glamas.learners.independent"
     assert registry.register(RANDOM_WALK) is RANDOM_WALK  # the same module again: replaced
 
 
-def test_library_seeds_are_the_committed_formulas(registered):
-    """Each library learner's declared slot gives the seeds of the committed results: the chapter's
-    four learners key * 4 + 0..3, the related-work learners 2**32 + key * 2 + 0..1; the scaling
-    study's are named by the seed, the study, N and the learner."""
-    assert [registry.master_seed(5, name) for name in gw.CHAPTER_LEARNERS] == [20, 21, 22, 23]
-    assert [registry.master_seed(5, name) for name in rw.RELATED_LEARNERS] == [2 ** 32 + 10, 2 ** 32 + 11]
+def test_seeds_are_named_by_the_experiment_and_the_learner(registered):
+    """The gridworld experiment's are named by the seed, the experiment and the learner (a learner
+    of one's own too); the scaling study's by the seed, the study, N and the learner."""
+    assert [gw.seed_of(5, name) for name in (*gw.CHAPTER_LEARNERS, "random_walk")] == [
+        seeds.named(5, "gridworld", name) for name in (*gw.CHAPTER_LEARNERS, "random_walk")]
     assert [sc.seed_of(2, name, 3) for name in sc.CHAPTER_METHODS] == [seeds.named(2, "scaling", 3, name)
                                                                        for name in sc.CHAPTER_METHODS]
-    assert registry.master_seed(0, "random_walk") != registry.master_seed(1, "random_walk")
-    assert registry.master_seed(5, "two_observe_rule") >= registry.SEED_OFFSETS["other"]  # beyond the stride of 4
 
 
 def test_every_compiled_function_takes_at_most_ten_parameters():
@@ -179,7 +173,7 @@ def test_a_module_placed_in_the_learners_package_is_found_by_being_there(tmp_pat
         "from dataclasses import replace\n"
         "from glamas.learners import independent\n"
         "from glamas.learners.registry import register\n"
-        "LEARNER = register(replace(independent.LEARNER, name='dropped_in', family='other', seed_slot=None))\n")
+        "LEARNER = register(replace(independent.LEARNER, name='dropped_in', family='other', rank=None))\n")
     monkeypatch.setattr(glamas.learners, "__path__", [*glamas.learners.__path__, str(tmp_path)])
     try:
         registry.discover()

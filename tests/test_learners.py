@@ -81,7 +81,7 @@ def tunnel_entrance():
 
 def _first_level(g, cells, done, choices, preferred, state):
     """The actions of Alg. 4's first level, as the kernel plays it."""
-    coming, both = first_level(g.next_cell, g.goal_of, cells, done, np.array(choices), preferred, (0, 1))
+    coming, both = first_level(g.next_cell, g.goals, cells, done, np.array(choices), preferred, (0, 1))
     actions = preferred.copy()
     if both and coming:
         yield_at_random(preferred, actions, (0, 1), state)
@@ -206,7 +206,7 @@ def test_a_wall_takes_close_agents_out_of_range():
 ])
 def test_need_before_the_move_under_each_reading(tunnel_entrance, need, preferred, expected):
     g, cells, done, _ = tunnel_entrance
-    coming = rules.would_collide(g.next_cell, g.goal_of, cells, done, np.array(preferred), 0, 1)
+    coming = rules.would_collide(g.next_cell, g.goals, cells, done, np.array(preferred), 0, 1)
     in_range = rules.in_range_table(g.next_cell, g.shared_goal)
     assert two_observe.need_before_step(two_observe.NEEDS[need], in_range, cells, 0, 1, coming) == expected
 

@@ -78,7 +78,7 @@ def _coordinate(g, cells, done, choices, preferred, state):
     group = two_observe.group_arrays(rules.world(g))
     actions = np.zeros(len(cells), np.int64)
     two_observe.index_preferred(group, g.next_cell, cells, done, preferred)
-    count = two_observe.coordinate_group(g.next_cell, g.goal_of, cells, done, np.array(choices), preferred, actions,
+    count = two_observe.coordinate_group(g.next_cell, g.goals, cells, done, np.array(choices), preferred, actions,
                                          group, state)
     two_observe.clear_preferred(group, g.next_cell, cells, done, preferred)
     assert (group.index.occupant == rules.NOBODY).all() and (group.index.claimant == rules.NOBODY).all()

@@ -32,7 +32,7 @@ def _exhaustive(gridmap, horizon: int) -> tuple[int, int]:
     for t in range(1, horizon + 1):
         following = {}
         for cells, cost in layer.items():
-            done = [bool(gridmap.goal_of[i, c]) for i, c in enumerate(cells)]
+            done = [bool(gridmap.is_goal_of(i, c)) for i, c in enumerate(cells)]
             for joint in range(4 ** n):
                 env.reset()
                 env._cells[:] = cells
@@ -43,7 +43,7 @@ def _exhaustive(gridmap, horizon: int) -> tuple[int, int]:
                 if any(info["collided"] for info in infos.values()):
                     continue
                 new, paid = tuple(env.cells.tolist()), cost + len(actions)
-                if all(gridmap.goal_of[i, c] for i, c in enumerate(new)):
+                if all(gridmap.is_goal_of(i, c) for i, c in enumerate(new)):
                     best_cost = paid if best_cost is None else min(best_cost, paid)
                     best_span = t if best_span is None else best_span
                 elif paid < following.get(new, paid + 1):

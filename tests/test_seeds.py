@@ -1,19 +1,29 @@
-"""Seeds by name (glamas.seeds): every (master seed, study, case, learner) of the studies beyond
-the chapter gets streams of its own, enumerated over a grid larger than the committed runs."""
+"""Seeds by name (glamas.seeds): every (master seed, study, case, learner) of the chapter's
+gridworld experiment and of the studies beyond the chapter gets streams of its own, enumerated over
+a grid larger than the committed runs."""
 
 import itertools
 
 import pytest
 
-from glamas import seeds
+from glamas import cli, seeds
 from glamas.errors import UserError
 from glamas.experiments import benchmark_maps as bm
+from glamas.experiments import gridworld as gw
 from glamas.experiments import scaling as sc
 from glamas.experiments import warehouses as wh
 from glamas.learners import registry
 
 LEARNERS = tuple(registry.LEARNERS)
 MASTER_SEEDS = range(4)
+
+
+def _chapter_grid():
+    """The gridworld experiment's seeds per learner, and the line world's per experiment (as
+    glamas.experiments.single_gla and and_network name them)."""
+    gridworld = {("gridworld", seed, name): gw.seed_of(seed, name) for seed, name in itertools.product(range(256), LEARNERS)}
+    return {**gridworld, **{(name, seed): seeds.named(seed, name) for seed in range(256)
+                            for name in ("single_gla", "and_network")}}
 
 
 def _scaling_grid():
@@ -33,7 +43,7 @@ def _warehouses_grid():
 
 
 def test_every_run_of_every_study_has_its_own_streams():
-    grid = {**_scaling_grid(), **_benchmark_grid(), **_warehouses_grid()}
+    grid = {**_chapter_grid(), **_scaling_grid(), **_benchmark_grid(), **_warehouses_grid()}
     assert len(set(grid.values())) == len(grid)
     assert max(grid.values()) < 2 ** 48  # below the evaluations' seeds
 
@@ -48,7 +58,14 @@ def test_a_name_is_its_words_in_order():
     assert seeds.named(0, "scaling", 8) != seeds.named(0, 8, "scaling")
 
 
-@pytest.mark.parametrize("names", [(-1, "scaling"), (0.5,), (None,)])
+def test_the_largest_seed_of_the_command_line_is_one_word():
+    """A name of 2**32 or more would be split into two 32-bit words and could spell another list."""
+    assert seeds.named(cli.MAX_SEED, "gridworld") != seeds.named(0, "gridworld")
+    with pytest.raises(UserError, match=r"integers in \[0, 2\*\*32\) and strings"):
+        seeds.named(cli.MAX_SEED + 1, "gridworld")
+
+
+@pytest.mark.parametrize("names", [(-1, "scaling"), (0.5,), (None,), (True,)])
 def test_a_name_that_is_no_integer_or_string_is_refused(names):
-    with pytest.raises(UserError, match="non-negative integers and strings"):
+    with pytest.raises(UserError, match=r"integers in \[0, 2\*\*32\) and strings"):
         seeds.named(*names)

@@ -30,9 +30,9 @@ SCRATCH_RESULTS = REPO / "out" / "results"
 directory of its settings, :func:`scratch_key`)."""
 PAPER_SCALE_OPTIONS = ("runs", "iterations", "seed", "map", "learners", "set")
 """The options that change a result: at their defaults, a run reproduces the committed outputs."""
-MAX_SEED = 2 ** 24 - 1
-"""The largest master seed: the chapter's experiments make a learner's master seed by arithmetic on
-the seed (:func:`glamas.learners.registry.master_seed`), whose families stay apart below 2**24."""
+MAX_SEED = 2 ** 32 - 1
+"""The largest master seed: one 32-bit word of the names that make each run's master seed
+(:func:`glamas.seeds.named`)."""
 WORKERS_PER_CORE = 4
 """More local workers than this per core only add start-up time and memory."""
 NO_EXPERIMENT = "not used: this figure runs no experiment"

@@ -5,7 +5,9 @@ A study that trains its learners on many cases (numbers of agents, maps, instanc
 as one term outgrows the room left for it (``16 seed + N`` gives seed 1 with one agent the
 streams of seed 0 with 17). Here the names are the entropy of a ``numpy.random.SeedSequence``,
 which hashes its words together instead of adding them, so two cases share streams only if two of
-their names collide (strings are named by their CRC-32; a test enumerates each study's grid).
+their names collide (strings are named by their CRC-32; a test enumerates each study's grid). Every
+name is one 32-bit word, so that two lists of names are two lists of words (a larger integer would
+be split into several words and could spell another list).
 """
 
 import zlib
@@ -16,10 +18,11 @@ from glamas.errors import UserError
 
 
 def named(*names: int | str) -> int:
-    """The master seed named by ``names`` (non-negative integers as they are, strings by their
+    """The master seed named by ``names`` (integers in [0, 2**32) as they are, strings by their
     CRC-32, in order): 48 bits drawn from ``numpy.random.SeedSequence(names)``, so that every
     training seed stays below the evaluations' (:data:`glamas.learners.spec.EVALUATION_SEEDS`)."""
     entropy = [zlib.crc32(name.encode()) if isinstance(name, str) else name for name in names]
-    if not all(isinstance(word, (int, np.integer)) and word >= 0 for word in entropy):
-        raise UserError(f"a seed is named by non-negative integers and strings, got {names!r}")
+    if not all(isinstance(word, (int, np.integer)) and not isinstance(word, bool) and 0 <= word < 2 ** 32
+               for word in entropy):
+        raise UserError(f"a seed is named by integers in [0, 2**32) and strings, got {names!r}")
     return int(np.random.SeedSequence([int(word) for word in entropy]).generate_state(1, np.uint64)[0] >> np.uint64(16))

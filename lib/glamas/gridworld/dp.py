@@ -147,7 +147,6 @@ def joint_mdp(gridmap: GridMap, bounce: str = "previous") -> JointMDP:
 
 @njit(cache=True)
 def _tabulate(world, blocked, next_state, reward, agent_rewards, collisions, agent_bumped, agent_reached, valid):
-    goal_of = world.goal_of
     n_cells, n = world.next_cell.shape[0], world.starts.shape[0]
     cells, done, actions = np.empty(n, np.int64), np.empty(n, np.bool_), np.empty(n, np.int64)
     new_cells, rewards = np.empty(n, np.int64), np.empty(n)
@@ -156,7 +155,7 @@ def _tabulate(world, blocked, next_state, reward, agent_rewards, collisions, age
         split_index(s, n_cells, cells)
         all_done = True
         for i in range(n):
-            done[i] = goal_of[i, cells[i]]
+            done[i] = rules.is_goal(world.goals, i, cells[i])
             all_done = all_done and done[i]
         valid[s] = _is_valid(cells, done, blocked)
         for ja in range(next_state.shape[1]):
@@ -278,7 +277,7 @@ def rollout(mdp: JointMDP, policy: np.ndarray, max_steps: int | None = None) -> 
 
 
 def _all_in_goal(gridmap: GridMap, cells) -> bool:
-    return all(gridmap.goal_of[i, c] for i, c in enumerate(cells))
+    return bool(gridmap.in_goal(np.asarray(cells)).all())
 
 
 def selfish_policy(mdp: JointMDP, gamma: float) -> np.ndarray:
@@ -286,9 +285,9 @@ def selfish_policy(mdp: JointMDP, gamma: float) -> np.ndarray:
     gridmap = mdp.gridmap
     own = []
     for i in range(gridmap.n_agents):
-        # slices keep the map's read-only arrays: a writable array would be typed apart by numba,
-        # and _tabulate compiled a second time (2 s)
-        alone = joint_mdp(replace(gridmap, starts=gridmap.starts[i:i + 1], goal_of=gridmap.goal_of[i:i + 1]), mdp.bounce)
+        # the map's arrays stay read-only: a writable array would be typed apart by numba, and
+        # _tabulate compiled a second time (2 s)
+        alone = joint_mdp(gridmap.alone(i), mdp.bounce)
         own.append(value_iteration(alone, gamma).policy)
     policy = np.empty(mdp.n_states, np.int64)
     for state in range(mdp.n_states):

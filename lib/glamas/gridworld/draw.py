@@ -36,7 +36,7 @@ def draw_map(ax, gridmap: GridMap):
             ax.add_patch(_square(c, r, "#d9f0d3"))
             ax.text(c + 0.5, r + 0.5, "G", ha="center", va="center", fontsize=14, fontweight="bold")
         elif gridmap.is_goal[cell]:
-            _draw_own_goal(ax, r, c, [int(a) for a in np.flatnonzero(gridmap.goal_of[:, cell])],
+            _draw_own_goal(ax, r, c, gridmap.goal_owners(cell),
                            under_a_start=cell in gridmap.starts)
     for wall in _walls(gridmap):
         ax.plot(*wall, color="black", linewidth=3, solid_capstyle="projecting", zorder=3)
@@ -116,7 +116,7 @@ def _number_steps(ax, gridmap, stays, agent, colour):
     dx, dy = _NUMBER_CORNERS[agent % len(_NUMBER_CORNERS)]
     for first, last, cell in stays:
         r, c = gridmap.row_col(cell)
-        once = first == last or gridmap.goal_of[agent, cell]  # an agent in its goal stays there: its entry step only
+        once = first == last or gridmap.is_goal_of(agent, cell)  # an agent in its goal stays there: its entry step only
         text = str(first) if once else f"{first}-{last}"
         ax.text(c + dx, r + dy, text, ha="center", va="center", fontsize=6, color=colour,
                 fontweight="bold", zorder=6)
@@ -124,7 +124,7 @@ def _number_steps(ax, gridmap, stays, agent, colour):
 
 def _mark_waits(ax, gridmap, stays, agent, offset, label):
     """A ring on every cell (not its goal) the agent stays in for more than one step."""
-    waits = [cell for first, last, cell in stays if last > first and not gridmap.goal_of[agent, cell]]
+    waits = [cell for first, last, cell in stays if last > first and not gridmap.is_goal_of(agent, cell)]
     for k, cell in enumerate(waits):
         r, c = gridmap.row_col(cell)
         ax.plot(c + 0.5 + offset, r + 0.5 + offset, marker="o", markersize=13, markerfacecolor="none",

@@ -22,7 +22,7 @@ class GridworldEnv:
 
     ``bounce`` is where collided agents go ('previous' cell or 'start' cell), ``rewards`` what a
     step pays (:mod:`glamas.gridworld.rewards`, the chapter's by default). An agent that enters
-    one of its goal cells (``gridmap.goal_of``; another agent's goal is an ordinary cell for it) is
+    one of its goal cells (``gridmap.goals``; another agent's goal is an ordinary cell for it) is
     terminated and takes no further actions; every agent is truncated after ``max_steps``.
     """
 

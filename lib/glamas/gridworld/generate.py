@@ -66,14 +66,25 @@ def layout(n_agents: int, density: float, shelf_length: int) -> tuple[int, int]:
     return best[1]
 
 
+BYTES_PER_CELL, BYTES_PER_AGENT = 256, 512
+"""What making a warehouse holds at its peak, per cell and per agent (its text, the parse, the
+map's tables; the goals are each agent's own, :class:`glamas.gridworld.rules.Goals`): measured at
+about 150 bytes per cell from 2,000 to 8,000 agents, with a margin."""
+
+
+def map_bytes(n_agents: int, n_cells: int) -> int:
+    """The memory making a warehouse of ``n_agents`` agents and ``n_cells`` cells needs: it grows
+    with the cells plus the agents, not their product."""
+    return BYTES_PER_CELL * n_cells + BYTES_PER_AGENT * n_agents
+
+
 def _check_memory(n_agents: int, n_cells: int) -> None:
-    """Refuse, before allocating, a map whose goal table (one bool per agent and cell,
-    :attr:`glamas.gridworld.GridMap.goal_of`) would not fit in the memory there is."""
-    needed = n_agents * n_cells
+    """Refuse, before allocating, a warehouse that would not fit in the memory there is."""
+    needed = map_bytes(n_agents, n_cells)
     if needed > memory.available_bytes():
-        raise memory.MemoryEstimateError(f"a warehouse of {n_agents} agents has {n_cells} cells: its goal table (agents x cells) "
-                        f"needs {memory.gib(needed)}, more than the {memory.gib(memory.available_bytes())} available; "
-                        "choose fewer agents")
+        raise memory.MemoryEstimateError(f"a warehouse of {n_agents} agents has {n_cells} cells: making it needs "
+                                         f"about {memory.gib(needed)}, more than the "
+                                         f"{memory.gib(memory.available_bytes())} available; choose fewer agents")
 
 
 def _fewest_bays(shelf_rows: int, shelf_length: int, wanted: int) -> int:

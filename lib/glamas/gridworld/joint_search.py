@@ -79,7 +79,7 @@ def expand(world, distances, states, values, discount, steps_left, size):
     for k in range(states.shape[0]):
         split_index(states[k], n_cells, cells)
         for i in range(n):
-            done[i] = world.goal_of[i, cells[i]]
+            done[i] = rules.is_goal(world.goals, i, cells[i])
         for joint in range(rules.N_ACTIONS ** n):
             split_index(joint, rules.N_ACTIONS, actions)
             if not _canonical(done, actions):

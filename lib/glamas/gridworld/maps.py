@@ -41,14 +41,14 @@ import hashlib
 import re
 import textwrap
 from collections import deque
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from functools import cached_property
 from pathlib import Path
 
 import numpy as np
 
 from glamas.errors import UserError
-from glamas.gridworld.rules import E, N, N_ACTIONS, S, W
+from glamas.gridworld.rules import E, N, N_ACTIONS, S, W, Goals
 from glamas.paths import MAPS
 
 FREE, GOAL, BLOCKED = ".", "G", "#"
@@ -81,9 +81,10 @@ class GridMap:
     next_cell: np.ndarray
     """int64 (n_cells, 4): the cell each action N, E, S, W leads to; the cell itself when a wall,
     the border or a blocked cell stops the move."""
-    goal_of: np.ndarray
-    """bool (n_agents, n_cells): ``goal_of[i, c]``, cell c is a goal of agent i (absorbing for it;
-    an ordinary cell for the others)."""
+    goals: Goals
+    """Each agent's goal cells (absorbing for it; ordinary cells for the others): the cells that are
+    every agent's goal and each agent's own (:class:`glamas.gridworld.rules.Goals`, :func:`make_goals`),
+    in memory that grows with the cells plus the agents' own goals."""
     blocked: np.ndarray
     """bool (n_cells,): cells no agent can enter."""
     starts: np.ndarray
@@ -104,17 +105,56 @@ class GridMap:
     def is_goal(self) -> np.ndarray:
         """bool (n_cells,): cells that are some agent's goal (drawing, and the chapter's
         experiments, whose maps have one goal shared by every agent)."""
-        return _read_only(self.goal_of.any(axis=0))
+        marked = self.goals.shared.copy()
+        marked[self.goals.own] = True
+        return _read_only(marked)
 
     @cached_property
     def shared_goal(self) -> np.ndarray:
         """bool (n_cells,): cells that are every agent's goal. No agent acts on one, and agents
         entering one together never collide: the cells any two agents treat alike."""
-        return _read_only(self.goal_of.all(axis=0))
+        owners = np.bincount(self.goals.own, minlength=self.n_cells)
+        return _read_only(self.goals.shared | (owners == self.n_agents))
+
+    def own_goals(self, agent: int) -> np.ndarray:
+        """The goal cells of agent ``agent`` (0 for agent 1) that are not every agent's by mark."""
+        return self.goals.own[self.goals.first[agent]:self.goals.first[agent + 1]]
 
     def goal_cells(self, agent: int) -> list[int]:
-        """The goal cells of agent ``agent`` (0 for agent 1)."""
-        return [int(c) for c in np.flatnonzero(self.goal_of[agent])]
+        """The goal cells of agent ``agent`` (0 for agent 1), in increasing order."""
+        return sorted(np.flatnonzero(self.goals.shared).tolist() + self.own_goals(agent).tolist())
+
+    def is_goal_of(self, agent: int, cell: int) -> bool:
+        """Whether ``cell`` is a goal of agent ``agent`` (0 for agent 1)."""
+        return bool(self.goals.shared[cell]) or bool((self.own_goals(agent) == cell).any())
+
+    def goal_owners(self, cell: int) -> list[int]:
+        """The agents (0 for agent 1) whose goal ``cell`` is, in increasing order."""
+        if self.goals.shared[cell]:
+            return list(range(self.n_agents))
+        return (np.searchsorted(self.goals.first, np.flatnonzero(self.goals.own == cell), side="right") - 1).tolist()
+
+    def in_goal(self, cells: np.ndarray) -> np.ndarray:
+        """bool, the shape of ``cells`` (..., n_agents): whether agent i's cell ``cells[..., i]`` is
+        one of its goals."""
+        cells = np.asarray(cells)
+        found = self.goals.shared[cells]
+        for agent in range(self.n_agents):
+            found[..., agent] |= np.isin(cells[..., agent], self.own_goals(agent))
+        return found
+
+    def alone(self, agent: int) -> "GridMap":
+        """This map with agent ``agent`` (0 for agent 1) as its only agent."""
+        return replace(self, starts=self.starts[agent:agent + 1],
+                       goals=make_goals(self.goals.shared, [self.own_goals(agent).tolist()]))
+
+    def goal_table(self) -> np.ndarray:
+        """bool (n_agents, n_cells): ``table[i, c]``, cell c is a goal of agent i. Agents x cells
+        values: for small maps (tests, the plain references of the benchmarks)."""
+        table = np.repeat(self.goals.shared[None, :], self.n_agents, axis=0)
+        for agent in range(self.n_agents):
+            table[agent, self.own_goals(agent)] = True
+        return table
 
     def cell(self, row: int, col: int) -> int:
         """The number of the cell at (row, col)."""
@@ -134,9 +174,10 @@ class GridMap:
 
     def same_layout(self, other: "GridMap") -> bool:
         """Whether ``other`` is this map under any name: same size, moves, blocked cells, starts and goals."""
-        return ((self.n_rows, self.n_cols) == (other.n_rows, other.n_cols)
-                and all(np.array_equal(getattr(self, f), getattr(other, f))
-                        for f in ("next_cell", "goal_of", "blocked", "starts")))
+        return ((self.n_rows, self.n_cols, self.n_agents) == (other.n_rows, other.n_cols, other.n_agents)
+                and all(np.array_equal(getattr(self, f), getattr(other, f)) for f in ("next_cell", "blocked", "starts"))
+                and np.array_equal(self.shared_goal, other.shared_goal)
+                and all(self.goal_cells(agent) == other.goal_cells(agent) for agent in range(self.n_agents)))
 
 
 def _read_only(array: np.ndarray) -> np.ndarray:
@@ -250,10 +291,10 @@ def _parse(text: str, name: str) -> GridMap:
     for kind, placement in _trailer_placements(trailer, n_rows, n_cols, blocked):
         (starts if kind == "start" else goals).append(placement)
     start_of = _starts(starts, n_cols, name)
-    goal_of = _goals(goals, start_of, [cell for cell, s in enumerate(flat) if s == GOAL], n_rows * n_cols, name)
-    gridmap = GridMap(name, n_rows, n_cols, next_cell, goal_of, blocked,
+    goal_set = _goals(goals, start_of, [cell for cell, s in enumerate(flat) if s == GOAL], n_rows * n_cols, name)
+    gridmap = GridMap(name, n_rows, n_cols, next_cell, goal_set, blocked,
                       np.array([start_of[k].cell for k in sorted(start_of)], dtype=np.int64))
-    for array in (next_cell, goal_of, blocked, gridmap.starts):
+    for array in (next_cell, *goal_set, blocked, gridmap.starts):
         array.setflags(write=False)
     return gridmap
 
@@ -334,16 +375,39 @@ def check_layout(gridmap: GridMap) -> None:
     if not all(isinstance(n, (int, np.integer)) and not isinstance(n, bool) and n >= 1 for n in (n_rows, n_cols)):
         raise MapError(f"map {name!r}: n_rows and n_cols must be whole numbers >= 1, got {n_rows!r} and {n_cols!r}")
     cells, agents = gridmap.n_rows * gridmap.n_cols, np.size(gridmap.starts)
-    for field, shape, kind in (("next_cell", (cells, N_ACTIONS), np.integer), ("goal_of", (agents, cells), np.bool_),
-                               ("blocked", (cells,), np.bool_), ("starts", (agents,), np.integer)):
-        array = getattr(gridmap, field)
+    if not isinstance(gridmap.goals, Goals):
+        raise MapError(f"map {name!r}: goals must be a Goals (glamas.gridworld.maps.make_goals), got {gridmap.goals!r}")
+    own = np.size(gridmap.goals.own)
+    for field, array, shape, kind in (("next_cell", gridmap.next_cell, (cells, N_ACTIONS), np.integer),
+                                      ("goals.shared", gridmap.goals.shared, (cells,), np.bool_),
+                                      ("goals.first", gridmap.goals.first, (agents + 1,), np.integer),
+                                      ("goals.own", gridmap.goals.own, (own,), np.integer),
+                                      ("blocked", gridmap.blocked, (cells,), np.bool_),
+                                      ("starts", gridmap.starts, (agents,), np.integer)):
         if not (isinstance(array, np.ndarray) and np.issubdtype(array.dtype, kind) and array.shape == shape):
             raise MapError(f"map {name!r}: {field} must be an array of {kind.__name__} of shape {shape} for its "
-                           f"{n_rows}x{n_cols} cells, got {array!r}")
+                           f"{n_rows}x{n_cols} cells and {agents} agents, got {array!r}")
     if ((gridmap.next_cell < 0) | (gridmap.next_cell >= cells)).any():
         raise MapError(f"map {name!r}: next_cell leads outside the cells 0..{cells - 1}")
+    _check_goal_lists(gridmap)
     _check_starts(gridmap)
     _check_goals_reachable(gridmap)
+
+
+def _check_goal_lists(gridmap: GridMap) -> None:
+    """Each agent's own goals a list of distinct cells of the map, none of them a shared one
+    (:func:`make_goals` makes them so)."""
+    goals, name = gridmap.goals, gridmap.name
+    if goals.first[0] != 0 or goals.first[-1] != goals.own.size or (np.diff(goals.first) < 0).any():
+        raise MapError(f"map {name!r}: goals.first must rise from 0 to the number of own goals ({goals.own.size}); "
+                       "build the goals with glamas.gridworld.maps.make_goals")
+    if ((goals.own < 0) | (goals.own >= gridmap.n_cells)).any():
+        raise MapError(f"map {name!r}: an own goal lies outside the cells 0..{gridmap.n_cells - 1}")
+    for agent in range(gridmap.n_agents):
+        cells = gridmap.own_goals(agent)
+        if np.unique(cells).size != cells.size or goals.shared[cells].any():
+            raise MapError(f"map {name!r}: agent {agent + 1}'s own goals repeat a cell or a shared goal; give each "
+                           "goal once (glamas.gridworld.maps.make_goals)")
 
 
 def _check_starts(gridmap: GridMap) -> None:
@@ -355,10 +419,10 @@ def _check_starts(gridmap: GridMap) -> None:
             raise MapError(f"map {gridmap.name!r}: agent {agent}'s start {start} is outside the cells "
                            f"0..{gridmap.n_cells - 1}")
         where = _cell_where(start, gridmap.n_cols)
-        if not gridmap.goal_of[agent - 1].any():
+        if not gridmap.goal_cells(agent - 1):
             raise MapError(f"map {gridmap.name!r} has no goal for agent {agent}: mark at least one cell 'G', or "
                            f"give agent {agent} its own goal")
-        if gridmap.goal_of[agent - 1, start]:
+        if gridmap.is_goal_of(agent - 1, start):
             raise MapError(f"map {gridmap.name!r}: agent {agent} starts on its own goal at {where}, where it is done "
                            "before it acts; start it on another cell")
         if gridmap.blocked[start]:
@@ -437,10 +501,11 @@ def _starts(placements, n_cols, name):
 
 
 def _goals(placements, start_of, every_goal, n_cells, name):
-    """bool (agents, cells): each agent's goals, the shared 'G' cells and its own; checked."""
+    """Each agent's goals (:func:`make_goals`), the shared 'G' cells and its own; checked."""
     n_agents = len(start_of)
-    goal_of = np.zeros((n_agents, n_cells), dtype=bool)
-    goal_of[:, every_goal] = True
+    shared = np.zeros(n_cells, dtype=bool)
+    shared[every_goal] = True
+    own = [[] for _ in range(n_agents)]
     if not every_goal and not placements:
         raise MapError(f"map {name!r} has no goal: mark at least one cell 'G' (every agent's goal), or give "
                        f"agent k its own goal with its letter ('a' for agent 1) or a line 'goal K: row R, col C'")
@@ -449,21 +514,39 @@ def _goals(placements, start_of, every_goal, n_cells, name):
         if p.agent not in start_of:
             raise MapError(f"a goal of agent {p.agent} at {p.where}, but agent {p.agent} has no start; "
                            f"the map's agents are 1..{n_agents}: give it a start or remove the goal")
-        if goal_of[p.agent - 1, p.cell]:
+        if shared[p.cell] or (p.agent, p.cell) in given:
             first = given.get((p.agent, p.cell), "a 'G' cell")
             raise MapError(f"the goal of agent {p.agent} at {p.where} is given twice (also at {first}); remove one")
-        goal_of[p.agent - 1, p.cell] = True
+        own[p.agent - 1].append(p.cell)
         given[(p.agent, p.cell)] = p.where
     for agent, start in sorted(start_of.items()):
-        if not goal_of[agent - 1].any():
+        if not (every_goal or own[agent - 1]):
             letter = f"'{GOAL_LETTERS[agent - 1]}' or " if agent <= len(GOAL_LETTERS) else ""
             raise MapError(f"agent {agent} (start at {start.where}) has no goal: mark its goal cell {letter}'G' "
                            f"(every agent's), or add a line 'goal {agent}: row R, col C' after the maze")
-        if goal_of[agent - 1, start.cell]:
+        if shared[start.cell] or (agent, start.cell) in given:
             where = given.get((agent, start.cell), "a 'G' cell")
             raise MapError(f"agent {agent} starts on its own goal (start at {start.where}, goal at {where}): "
                            "it would be done before it moves; move its start or its goal")
-    return goal_of
+    return make_goals(shared, own)
+
+
+def make_goals(shared: np.ndarray, own: list) -> Goals:
+    """The :class:`glamas.gridworld.rules.Goals` of the cells marked ``shared`` (bool, cells: every
+    agent's goal) and each agent's own goal cells ``own[i]`` (lists, agent by agent, in increasing order)."""
+    first = np.zeros(len(own) + 1, dtype=np.int64)
+    first[1:] = np.cumsum([len(cells) for cells in own])
+    cells = np.array([c for agent_cells in own for c in sorted(agent_cells)], dtype=np.int64)
+    # read-only always: numba types a writable array apart and would compile every kernel again
+    return Goals(*(_read_only(np.array(a)) for a in (np.asarray(shared, dtype=bool), first, cells)))
+
+
+def goals_from_table(table: np.ndarray) -> Goals:
+    """The goals of a table ``table[i, c]`` (bool, agents x cells: cell c is a goal of agent i):
+    the cells that are every agent's goal marked shared, the others each agent's own."""
+    table = np.asarray(table, dtype=bool)
+    shared = table.all(axis=0) if table.shape[0] else np.zeros(table.shape[1], dtype=bool)
+    return make_goals(shared, [np.flatnonzero(row & ~shared).tolist() for row in table])
 
 
 def _row_col_text(cell, n_cols):
@@ -520,7 +603,7 @@ def _cell_symbols(gridmap: GridMap, cells: list[int]) -> tuple[list[str], list[s
         else:
             starts.append(_trailer_line("start", agent, gridmap, cell))
     for cell in range(gridmap.n_cells):
-        owners = [int(a) + 1 for a in np.flatnonzero(gridmap.goal_of[:, cell])]
+        owners = [a + 1 for a in gridmap.goal_owners(cell)]
         if not owners or symbols[cell] != FREE:
             goals += [(a, _trailer_line("goal", a, gridmap, cell)) for a in owners]
         elif len(owners) == gridmap.n_agents:

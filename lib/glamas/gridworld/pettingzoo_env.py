@@ -10,7 +10,7 @@ gymnasium spaces:
   ``MultiDiscrete([n_rows, n_cols] * n_agents)``.
 
 An agent that enters its goal is terminated and leaves ``agents`` (its goal is absorbing; each
-agent's goal cells are the map's, ``gridmap.goal_of``, and another agent's goal is an ordinary cell
+agent's goal cells are the map's, ``gridmap.goals``, and another agent's goal is an ordinary cell
 for it); the live agents are truncated after ``max_steps`` steps. The game is deterministic: ``reset``'s
 seed only seeds the spaces' samplers, so a seeded run of sampled actions repeats exactly.
 """

@@ -22,7 +22,7 @@ import numpy as np
 from numba import njit
 
 from glamas.errors import UserError
-from glamas.gridworld import dp
+from glamas.gridworld import dp, rules
 from glamas.gridworld.joint import joint_index, split_index
 from glamas.gridworld.maps import GridMap
 
@@ -73,17 +73,16 @@ def _plan(gridmap: GridMap, bounce: str, by_makespan: bool) -> Plan:
                         f"({dp.tabulated_bytes(gridmap) / 2 ** 30:.0f} GiB); use plans.lower_bounds")
     mdp = dp.joint_mdp(gridmap, bounce)
     start = int(joint_index(gridmap.starts, gridmap.n_cells))
-    cost, parent = _dijkstra(mdp.next_state, mdp.collisions, mdp.valid, gridmap.goal_of, start, gridmap.n_cells,
+    cost, parent = _dijkstra(mdp.next_state, mdp.collisions, mdp.valid, gridmap.goals, start, gridmap.n_cells,
                              by_makespan)
-    every_agent = np.arange(gridmap.n_agents)
-    ends = [s for s in np.flatnonzero(parent >= 0) if gridmap.goal_of[every_agent, _cells(s, gridmap)].all()]
+    ends = [s for s in np.flatnonzero(parent >= 0) if gridmap.in_goal(_cells(s, gridmap)).all()]
     if not ends:
         raise UserError(f"map {gridmap.name!r}: no collision-free plan brings every agent to its goal")
     states = [int(min(ends, key=lambda s: cost[s]))]
     while states[-1] != start:
         states.append(int(parent[states[-1]]))
     cells = np.array([_cells(s, gridmap) for s in reversed(states)], dtype=np.int64)
-    arrived = gridmap.goal_of[every_agent, cells]  # (makespan + 1, agents)
+    arrived = gridmap.in_goal(cells)  # (makespan + 1, agents)
     return Plan(steps=np.argmax(arrived, axis=0).astype(np.int64), cells=cells)
 
 
@@ -94,11 +93,11 @@ def _cells(state: int, gridmap: GridMap) -> np.ndarray:
 
 
 @njit(cache=True)
-def _dijkstra(next_state, collisions, valid, goal_of, start, n_cells, by_makespan):
+def _dijkstra(next_state, collisions, valid, goals, start, n_cells, by_makespan):
     """Dijkstra's algorithm from ``start`` over the collision-free transitions, a step costing
     (1, agents acting) in that order of importance when ``by_makespan``, else (agents acting, 1).
     Returns each joint state's least cost and the state before it on a cheapest way (-1: unreached)."""
-    n_states, n_agents = next_state.shape[0], goal_of.shape[0]
+    n_states, n_agents = next_state.shape[0], goals.first.shape[0] - 1
     cost = np.full(n_states, np.iinfo(np.int64).max, np.int64)
     parent = np.full(n_states, -1, np.int64)
     settled = np.zeros(n_states, np.bool_)
@@ -113,7 +112,7 @@ def _dijkstra(next_state, collisions, valid, goal_of, start, n_cells, by_makespa
         split_index(s, n_cells, cells)
         acting = 0
         for i in range(n_agents):
-            acting += 0 if goal_of[i, cells[i]] else 1
+            acting += 0 if rules.is_goal(goals, i, cells[i]) else 1
         if acting == 0:  # every agent in: the plan ends here
             continue
         step = _SCALE + acting if by_makespan else acting * _SCALE + 1

@@ -60,7 +60,7 @@ def plan(gridmap: GridMap, bounce: str = "previous", seed: int = 0, restarts: in
     order = first_order(gridmap)
     for _ in range(restarts + 1):
         tried.add(order.tobytes())
-        steps, cells, failed = _plan_in_order(gridmap.next_cell, gridmap.goal_of, gridmap.starts, order)
+        steps, cells, failed = _plan_in_order(gridmap.next_cell, gridmap.goals, gridmap.starts, order)
         if failed == NOBODY:
             return Plan(steps=steps, cells=cells)
         order = np.concatenate(([failed], order[order != failed]))
@@ -79,7 +79,7 @@ def first_order(gridmap: GridMap) -> np.ndarray:
 def shortest_steps(gridmap: GridMap) -> np.ndarray:
     """int64 (agents,): each agent's shortest path alone, as :func:`glamas.gridworld.dp.shortest_steps`
     (compiled: that one takes about 40 s on a warehouse of 1024 agents)."""
-    return _shortest_steps(gridmap.next_cell, gridmap.goal_of, gridmap.starts)
+    return _shortest_steps(gridmap.next_cell, gridmap.goals, gridmap.starts)
 
 
 def lower_bounds(gridmap: GridMap) -> tuple[int, int]:
@@ -89,17 +89,21 @@ def lower_bounds(gridmap: GridMap) -> tuple[int, int]:
 
 
 @njit(cache=True)
-def _goal_distances(next_cell, goal_row, distance, queue):
-    """Fill ``distance`` with the moves from each cell to the nearest cell of ``goal_row`` (-1:
-    none reachable), breadth first from the goal cells (moves are symmetric); ``queue`` is scratch
+def _goal_distances(next_cell, goals, agent, distance, queue):
+    """Fill ``distance`` with the moves from each cell to the nearest goal cell of ``agent`` (-1:
+    none reachable), breadth first from its goal cells (moves are symmetric); ``queue`` is scratch
     of one entry per cell."""
     distance[:] = -1
     tail = 0
     for cell in range(next_cell.shape[0]):
-        if goal_row[cell]:
+        if goals.shared[cell]:
             distance[cell] = 0
             queue[tail] = cell
             tail += 1
+    for k in range(goals.first[agent], goals.first[agent + 1]):
+        distance[goals.own[k]] = 0
+        queue[tail] = goals.own[k]
+        tail += 1
     head = 0
     while head < tail:
         cell = queue[head]
@@ -113,19 +117,19 @@ def _goal_distances(next_cell, goal_row, distance, queue):
 
 
 @njit(cache=True)
-def _shortest_steps(next_cell, goal_of, starts):
+def _shortest_steps(next_cell, goals, starts):
     """Each agent's distance alone from its start to its goal cells (:func:`_goal_distances`)."""
     n_cells = next_cell.shape[0]
     distance, queue = np.empty(n_cells, np.int64), np.empty(n_cells, np.int64)
     alone = np.empty(starts.shape[0], np.int64)
     for i in range(starts.shape[0]):
-        _goal_distances(next_cell, goal_of[i], distance, queue)
+        _goal_distances(next_cell, goals, i, distance, queue)
         alone[i] = distance[starts[i]]
     return alone
 
 
 @njit(cache=True)
-def _plan_in_order(next_cell, goal_of, starts, order):
+def _plan_in_order(next_cell, goals, starts, order):
     """Plan the agents one after the other in ``order``, each against the paths before it.
     Returns (steps per agent, cells (makespan + 1, agents), NOBODY) or, when an agent finds no
     path, (empty, empty, that agent).
@@ -143,8 +147,8 @@ def _plan_in_order(next_cell, goal_of, starts, order):
     horizon = 0  # the last step anything is reserved at
     for k in range(n):
         agent = order[k]
-        _goal_distances(next_cell, goal_of[agent], distance, queue)
-        path = _space_time_astar(agent, starts[agent], next_cell, goal_of, distance, occupant, horizon,
+        _goal_distances(next_cell, goals, agent, distance, queue)
+        path = _space_time_astar(agent, starts[agent], next_cell, goals, distance, occupant, horizon,
                                  seen, came_from, k + 1)
         if path.shape[0] == 0:
             return np.empty(0, np.int64), np.empty((0, n), np.int64), agent
@@ -184,18 +188,18 @@ def _reserve(occupant, path, agent):
 
 
 @njit(cache=True)
-def _free(agent, cell, target, t, occupant, goal_of):
+def _free(agent, cell, target, t, occupant, goals):
     """Whether ``agent`` may go from ``cell`` at step t to ``target`` (itself: a bump) at t + 1:
     no reserved agent there then but one entering a goal of both, and no swap with a reserved agent."""
     other = occupant[t + 1, target]
-    if other != NOBODY and not (goal_of[agent, target] and goal_of[other, target]):
+    if other != NOBODY and not (rules.is_goal(goals, agent, target) and rules.is_goal(goals, other, target)):
         return False
     other = occupant[t, target]
     return target == cell or other == NOBODY or occupant[t + 1, cell] != other
 
 
 @njit(cache=True)
-def _space_time_astar(agent, start, next_cell, goal_of, distance, occupant, horizon, seen, came_from, stamp):
+def _space_time_astar(agent, start, next_cell, goals, distance, occupant, horizon, seen, came_from, stamp):
     """The path of fewest steps of ``agent`` from ``start`` into its goal against the reservations
     up to step ``horizon``: space-time A* (Silver 2005), its heuristic the distance alone
     (``distance``). Every way to (cell, t) costs t, so a node is final when first generated (marked
@@ -208,11 +212,11 @@ def _space_time_astar(agent, start, next_cell, goal_of, distance, occupant, hori
     while len(heap) > 0:
         node = heapq.heappop(heap)[1]
         t, cell = node // n_cells, node % n_cells
-        if goal_of[agent, cell] or t >= horizon:
+        if rules.is_goal(goals, agent, cell) or t >= horizon:
             return _path(cell, t, next_cell, distance, came_from)
         for a in range(N_ACTIONS):
             target = next_cell[cell, a]
-            if seen[t + 1, target] != stamp and _free(agent, cell, target, t, occupant, goal_of):
+            if seen[t + 1, target] != stamp and _free(agent, cell, target, t, occupant, goals):
                 seen[t + 1, target] = stamp
                 came_from[t + 1, target] = cell
                 heapq.heappush(heap, ((t + 1 + distance[target]) * _SCALE - (t + 1), (t + 1) * n_cells + target))

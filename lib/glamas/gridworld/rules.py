@@ -1,8 +1,8 @@
 """The rules of the chapter's gridworld (Section 5.3), compiled for the simulation kernels.
 
-Agents move N, E, S or W. Each agent has its own goal cells (``GridMap.goal_of``; the chapter's
-two agents share one). Entering one of its goal cells is absorbing: an agent in its goal no longer
-acts and has left the game, so no agent collides with it (another agent may walk through the
+Agents move N, E, S or W. Each agent has its own goal cells (``GridMap.goals``, :class:`Goals`;
+the chapter's two agents share one). Entering one of its goal cells is absorbing: an agent in its
+goal no longer acts and has left the game, so no agent collides with it (another agent may walk through the
 cell). Another agent's goal is an ordinary cell for an agent. A move into a wall, a blocked cell
 or the border is a bump: the agent stays. Two acting agents collide when they target the same
 cell, unless it is a goal of both (a bumped agent's target is its own cell), or swap cells; both
@@ -63,13 +63,35 @@ BOUNCE_START = 1
 BOUNCE_MODES = {"previous": BOUNCE_PREVIOUS, "start": BOUNCE_START}
 
 
+class Goals(NamedTuple):
+    """Each agent's goal cells, stored so that their memory grows with the cells plus the agents'
+    own goals, not with agents x cells: the cells that are every agent's goal (the chapter's 'G'),
+    and each agent's own goals in one list, agent after agent. :func:`is_goal` reads them."""
+
+    shared: np.ndarray
+    """bool (cells,): the cells marked as every agent's goal."""
+    first: np.ndarray
+    """int (agents + 1,): agent i's own goals are ``own[first[i]:first[i + 1]]``."""
+    own: np.ndarray
+    """int (own goals,): each agent's own goal cells (none of them a shared one), agent after agent."""
+
+
+@njit(cache=True, inline="always")
+def is_goal(goals, i, c):
+    """Whether cell c is a goal of agent i: a shared goal or one of its own."""
+    found = goals.shared[c]
+    for k in range(goals.first[i], goals.first[i + 1]):
+        found = found or goals.own[k] == c
+    return found
+
+
 class World(NamedTuple):
     """The map and the collision rule as the compiled kernels read them (:func:`world`)."""
 
     next_cell: np.ndarray
     """int (cells, 4): the cell each action leads to (the cell itself for a bump)."""
-    goal_of: np.ndarray
-    """bool (agents, cells): ``goal_of[i, c]``, cell c is a goal of agent i."""
+    goals: Goals
+    """Each agent's goal cells (:func:`is_goal`)."""
     starts: np.ndarray
     """int (agents,): each agent's start cell."""
     bounce: int
@@ -99,7 +121,7 @@ class CellIndex(NamedTuple):
 def world(gridmap, bounce: str = "previous", rewards: Rewards = CHAPTER) -> World:
     """The kernels' view of ``gridmap`` with the collision rule ``bounce`` ('previous' or 'start')
     and the reward formulation ``rewards``."""
-    return World(gridmap.next_cell, gridmap.goal_of, gridmap.starts, BOUNCE_MODES[bounce], gridmap.n_cols,
+    return World(gridmap.next_cell, gridmap.goals, gridmap.starts, BOUNCE_MODES[bounce], gridmap.n_cols,
                  rewards.kernel_bundle())
 
 
@@ -146,7 +168,7 @@ def step(world, cells, done, actions, new_cells, rewards, bumped, collided, reac
     four agents 164 against 98 ns per step (the loops are compiled without reference counting,
     glamas.learners.episode, so the two-agent paths beside it are not slowed).
     """
-    next_cell, goal_of, starts, bounce = world.next_cell, world.goal_of, world.starts, world.bounce
+    next_cell, goals, starts, bounce = world.next_cell, world.goals, world.starts, world.bounce
     payoffs = world.payoffs
     n = cells.shape[0]
     acting = 0
@@ -166,10 +188,10 @@ def step(world, cells, done, actions, new_cells, rewards, bumped, collided, reac
     n_collisions = 0
     for i in range(n if acting > 1 else 0):  # a collision takes two acting agents
         new_i, cell_i, done_i = new_cells[i], cells[i], done[i]
-        goal_i = goal_of[i, new_i]
+        goal_i = is_goal(goals, i, new_i)
         for j in range(i + 1, n):
             new_j, cell_j, done_j = new_cells[j], cells[j], done[j]
-            same_target = new_i == new_j and not (goal_i and goal_of[j, new_j])
+            same_target = new_i == new_j and not (goal_i and is_goal(goals, j, new_j))
             hit = not (done_i or done_j) and (same_target or (new_i == cell_j and new_j == cell_i))
             n_collisions += _collide_if(hit, i, j, rewards, collided, payoffs)
 
@@ -184,17 +206,17 @@ def step(world, cells, done, actions, new_cells, rewards, bumped, collided, reac
         found = 0
         for i in range(n):
             new_i, done_i = new_cells[i], done[i]
-            goal_i = goal_of[i, new_i]
+            goal_i = is_goal(goals, i, new_i)
             for j in range(i + 1, n):
                 new_j, done_j, hit_i, hit_j = new_cells[j], done[j], collided[i], collided[j]
-                shared = new_i == new_j and not (goal_i and goal_of[j, new_j])
+                shared = new_i == new_j and not (goal_i and is_goal(goals, j, new_j))
                 # both already at their (distinct) bounce cells: only a broken precondition gets there
                 again = not (done_i or done_j) and shared and not (hit_i and hit_j)
                 found += _collide_if(again, i, j, rewards, collided, payoffs)
         n_collisions += found
 
     for i in range(n):
-        arrived = not done[i] and goal_of[i, new_cells[i]]
+        arrived = not done[i] and is_goal(goals, i, new_cells[i])
         reached[i] = arrived
         rewards[i] = settle(payoffs, rewards[i], collided[i], arrived)
     return n_collisions
@@ -256,7 +278,7 @@ def step_indexed(world, index, cells, done, actions, new_cells, rewards, bumped,
     """:func:`step` through the cell index ``index`` (:func:`cell_index`; empty, and left empty):
     the same outputs and number of collisions (module docstring), with work in proportion to the
     acting agents and their collisions instead of their pairs. Same precondition as :func:`step`."""
-    next_cell, goal_of, starts, bounce = world.next_cell, world.goal_of, world.starts, world.bounce
+    next_cell, goals, starts, bounce = world.next_cell, world.goals, world.starts, world.bounce
     payoffs = world.payoffs
     penalty = payoffs.collision
     occupant, claimant, next_claimant, queue = index
@@ -281,10 +303,10 @@ def step_indexed(world, index, cells, done, actions, new_cells, rewards, bumped,
         if done[i]:
             continue
         new_i = new_cells[i]
-        goal_i = goal_of[i, new_i]
+        goal_i = is_goal(goals, i, new_i)
         j = next_claimant[i]  # the lower-numbered agents aiming at new_i
         while j != NOBODY:
-            if not (goal_i and goal_of[j, new_i]):
+            if not (goal_i and is_goal(goals, j, new_i)):
                 n_collisions += 1
                 queued = _collide_queued(i, j, rewards, collided, queue, queued, penalty)
             j = next_claimant[j]
@@ -304,10 +326,10 @@ def step_indexed(world, index, cells, done, actions, new_cells, rewards, bumped,
         for k in range(first, last):
             a = queue[k]
             cell = new_cells[a]
-            goal_a = goal_of[a, cell]
+            goal_a = is_goal(goals, a, cell)
             b = claimant[cell]
             while b != NOBODY:
-                if not collided[b] and not (goal_a and goal_of[b, cell]):
+                if not collided[b] and not (goal_a and is_goal(goals, b, cell)):
                     n_collisions += 1
                     queued = _collide_queued(a, b, rewards, collided, queue, queued, penalty)
                 b = next_claimant[b]
@@ -315,7 +337,7 @@ def step_indexed(world, index, cells, done, actions, new_cells, rewards, bumped,
 
     clear_index(index, cells, done, next_cell, actions)
     for i in range(n):
-        arrived = not done[i] and goal_of[i, new_cells[i]]
+        arrived = not done[i] and is_goal(goals, i, new_cells[i])
         reached[i] = arrived
         rewards[i] = settle(payoffs, rewards[i], collided[i], arrived)
     return n_collisions
@@ -333,7 +355,7 @@ def step_pair(world, cells, done, actions, new_cells, rewards, bumped, collided,
     Every array is read and written outside the branches, the rules applied to scalars in
     between, as in :func:`step`: the compiler keeps the scalars in registers.
     """
-    next_cell, goal_of, starts, bounce = world.next_cell, world.goal_of, world.starts, world.bounce
+    next_cell, goals, starts, bounce = world.next_cell, world.goals, world.starts, world.bounce
     payoffs = world.payoffs
     i, j = pair
     cell_i, cell_j, done_i, done_j = cells[i], cells[j], done[i], done[j]
@@ -343,7 +365,7 @@ def step_pair(world, cells, done, actions, new_cells, rewards, bumped, collided,
     new_j = cell_j if done_j else target_j
     bump_i = not done_i and new_i == cell_i
     bump_j = not done_j and new_j == cell_j
-    goal_i, goal_j = goal_of[i, new_i], goal_of[j, new_j]
+    goal_i, goal_j = is_goal(goals, i, new_i), is_goal(goals, j, new_j)
     same_target = new_i == new_j and not (goal_i and goal_j)
     hit = not done_i and not done_j and (same_target or (new_i == cell_j and new_j == cell_i))
     reward_i = 0.0 if done_i else move_reward(payoffs, bump_i)
@@ -371,7 +393,7 @@ def step_alone(world, cells, actions, new_cells, rewards, bumped, collided, reac
     cell = cells[i]
     new = world.next_cell[cell, actions[i]]
     bump = new == cell
-    arrived = world.goal_of[i, new]
+    arrived = is_goal(world.goals, i, new)
     new_cells[i] = new
     bumped[i] = bump
     collided[i] = False
@@ -381,10 +403,10 @@ def step_alone(world, cells, actions, new_cells, rewards, bumped, collided, reac
 
 
 @njit(cache=True, inline="always")
-def would_collide(next_cell, goal_of, cells, done, actions, i, j):
+def would_collide(next_cell, goals, cells, done, actions, i, j):
     """Whether agents i and j would collide playing ``actions`` (same target, a goal of not both,
     or a swap); never when one of them is done (its action, which must be one of the four, is
-    ignored). ``goal_of``: the world's (agents, cells) goals.
+    ignored). ``goals``: the world's (:class:`Goals`).
 
     Used by 2observe (Alg. 4) to check the agents' preferred actions; other agents are ignored.
     """
@@ -392,7 +414,7 @@ def would_collide(next_cell, goal_of, cells, done, actions, i, j):
     target_i, target_j = next_cell[cell_i, actions[i]], next_cell[cell_j, actions[j]]
     done_i, done_j = done[i], done[j]
     acting = not (done_i or done_j)
-    goal_i, goal_j = goal_of[i, target_i], goal_of[j, target_j]
+    goal_i, goal_j = is_goal(goals, i, target_i), is_goal(goals, j, target_j)
     same_target = target_i == target_j and not (goal_i and goal_j)
     return acting and (same_target or (target_i == cell_j and target_j == cell_i))
 
@@ -507,13 +529,16 @@ def _first_move_to(next_cell, b, action):
 
 
 @njit(cache=True)
-def shared_goals(goal_of):
-    """bool (cells,): the cells that are a goal of every agent (GridMap.shared_goal), from the
-    world's (agents, cells) goals."""
-    shared = np.ones(goal_of.shape[1], np.bool_)
-    for i in range(goal_of.shape[0]):
-        for c in range(goal_of.shape[1]):
-            shared[c] = shared[c] and goal_of[i, c]
+def shared_goals(goals):
+    """bool (cells,): the cells that are a goal of every agent (GridMap.shared_goal): the shared
+    ones, and a cell every agent has among its own."""
+    shared = goals.shared.copy()
+    n_agents = goals.first.shape[0] - 1
+    owners = np.zeros(shared.shape[0], np.int64)
+    for k in range(goals.own.shape[0]):
+        owners[goals.own[k]] += 1
+    for c in range(shared.shape[0]):
+        shared[c] = shared[c] or owners[c] == n_agents
     return shared
 
 

@@ -552,6 +552,6 @@ def episodes(world, learning, detection, schedule, learned, log, state, arrays):
 LEARNER = Learner(name="cq", label="CQ-learning", n_agent_label="CQ-learning (every other agent)",
                   kernel=run, table_shape=table_shape, inputs=detection, freeze=freeze, outputs=outputs,
                   joint_room=joint_room, reward_samples=reward_samples, extra_bytes=window_bytes,
-                  joint_learned=joint_learned, defaults=Settings(), family="related", seed_slot=1)
+                  joint_learned=joint_learned, defaults=Settings(), family="related", rank=1)
 
 register(LEARNER)

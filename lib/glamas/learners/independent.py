@@ -94,6 +94,6 @@ def episodes(world, learning, schedule, q, log, state, buffers, index):
 
 
 LEARNER = Learner(name="independent", label="independent Q-learners", kernel=run, table_shape=table_shape,
-                  family="chapter", seed_slot=0)
+                  family="chapter", rank=0)
 
 register(LEARNER)

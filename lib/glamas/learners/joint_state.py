@@ -58,6 +58,6 @@ def episodes(world, learning, schedule, q, log, state, buffers):
 
 
 LEARNER = Learner(name="joint_state", label="joint-state learners", kernel=run, table_shape=table_shape,
-                  joint_tables=True, family="chapter", seed_slot=1)
+                  joint_tables=True, family="chapter", rank=1)
 
 register(LEARNER)

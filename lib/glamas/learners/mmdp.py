@@ -71,6 +71,6 @@ def episodes(world, learning, schedule, q, log, state, buffers):
 
 
 LEARNER = Learner(name="mmdp", label="MMDP learner", kernel=run, table_shape=table_shape, joint_tables=True,
-                  family="chapter", seed_slot=2)
+                  family="chapter", rank=2)
 
 register(LEARNER)

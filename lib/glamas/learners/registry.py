@@ -9,33 +9,23 @@ GLAMAS_LEARNERS names it (:data:`LEARNER_MODULES`). A registered learner can the
 in every experiment that trains learners, with settings of its own (its spec's ``defaults``) that
 configs hold by its name.
 
-Seeds: each learner's runs draw from a master seed of its own (:func:`master_seed`), made from the
-experiment's seed key, its family and the seed slot its spec declares, so that the order in which
-learners are registered or listed never decides anyone's streams.
+Seeds: each experiment names the master seed of a learner's runs by the master seed, the
+experiment, its case and the learner's name (:func:`glamas.seeds.named`), so that the order in
+which learners are registered or listed never decides anyone's streams.
 """
 
 import importlib
 import os
 import pkgutil
 import sys
-import zlib
 
 from glamas.errors import UserError
 from glamas.learners.spec import Learner
 
 LEARNERS: dict[str, Learner] = {}
 """The registered learners by name."""
-SEED_OFFSETS = {"chapter": 0, "related": 2 ** 32, "other": 2 ** 33}
-"""Where each family's master seeds start (:func:`master_seed`): apart from each other for every
-experiment seed below 2**24 (the command line's largest, :data:`glamas.cli.MAX_SEED`)."""
-SEED_STRIDES = {"chapter": 4, "related": 2}
-"""Seed slots per seed key in each family (:func:`master_seed`): the chapter's four learners
-(slots 0-3) and the two related-work learners (0-1). The studies beyond the chapter name their
-seeds instead (:func:`glamas.seeds.named`)."""
-NAME_SLOTS = 2 ** 20
-"""Seed slots of the learners that draw from their name (family 'other', or a slot beyond the
-experiment's stride)."""
 FAMILIES = ("chapter", "related", "other")
+"""Where a learner comes from: the chapter's, the related work's, or another's."""
 
 
 def _module(learner: Learner) -> str:
@@ -52,14 +42,8 @@ def register(learner: Learner) -> Learner:
                         f"{_module(learner)} must choose another name")
     if learner.family not in FAMILIES:
         raise UserError(f"a learner's family must be one of {FAMILIES}, got {learner.family!r}")
-    if learner.family != "other" and not (isinstance(learner.seed_slot, int) and learner.seed_slot >= 0):
-        raise UserError(f"learner {learner.name!r} of family {learner.family!r} must declare its seed_slot, "
-                         "a whole number >= 0")
-    taken = {_name_slot(other.name): other.name for other in LEARNERS.values()
-             if other.family == "other" and other.name != learner.name}
-    if learner.family == "other" and _name_slot(learner.name) in taken:
-        raise UserError(f"learner {learner.name!r} would draw the seeds of {taken[_name_slot(learner.name)]!r}; "
-                         "choose another name")
+    if learner.rank is not None and not (isinstance(learner.rank, int) and learner.rank >= 0):
+        raise UserError(f"learner {learner.name!r}: its rank must be a whole number >= 0 or None, got {learner.rank!r}")
     LEARNERS[learner.name] = learner
     ordered = sorted(LEARNERS.values(), key=_order)
     LEARNERS.clear()
@@ -69,9 +53,8 @@ def register(learner: Learner) -> Learner:
 
 def _order(learner: Learner) -> tuple:
     """Where a learner stands in LEARNERS, whatever the order the modules were imported in: by
-    family, then seed slot, then name."""
-    slot = learner.seed_slot if learner.seed_slot is not None else NAME_SLOTS
-    return FAMILIES.index(learner.family), slot, learner.name
+    family, then rank (the unranked after), then name."""
+    return FAMILIES.index(learner.family), learner.rank is None, learner.rank or 0, learner.name
 
 
 LEARNER_MODULES = "GLAMAS_LEARNERS"
@@ -115,26 +98,6 @@ def label(name: str) -> str:
 
 
 def family(name: str) -> tuple:
-    """The names of the learners of family ``name`` ('chapter', 'related' or 'other'), by seed
-    slot (then name)."""
-    members = [learner for learner in LEARNERS.values() if learner.family == name]
-    return tuple(learner.name for learner in sorted(members, key=lambda x: (x.seed_slot or 0, x.name)))
-
-
-def master_seed(key: int, name: str, strides: dict = SEED_STRIDES) -> int:
-    """The master seed of the runs of learner ``name`` for the seed key ``key`` (the experiment's
-    seed, or a number made from it): its family's offset + key * the family's stride + its
-    declared seed slot. A learner of family 'other', or whose slot is not below its family's stride
-    in ``strides``, draws from a slot made from its name instead (the offset of 'other' + key *
-    NAME_SLOTS + that slot). Distinct for every (key, learner), and the same whichever other
-    learners are registered, listed or trained."""
-    learner = get(name)
-    stride = strides.get(learner.family, 0)
-    if learner.family != "other" and learner.seed_slot < stride:
-        return SEED_OFFSETS[learner.family] + key * stride + learner.seed_slot
-    return SEED_OFFSETS["other"] + key * NAME_SLOTS + _name_slot(name)
-
-
-def _name_slot(name: str) -> int:
-    return zlib.crc32(name.encode()) % NAME_SLOTS
-
+    """The names of the learners of family ``name`` ('chapter', 'related' or 'other'), in the
+    order of LEARNERS (by rank, then name)."""
+    return tuple(learner.name for learner in LEARNERS.values() if learner.family == name)

@@ -374,10 +374,10 @@ def episodes(world, learning, coordination, schedule, q, q_pairs, log, state, bu
 LEARNER = Learner(name="sparse_maq", label="sparse tabular MAQ", n_agent_label="sparse MAQ (graph)",
                   kernel=run, table_shape=table_shape,
                   defaults=Settings(), inputs=coordination, outputs=outputs, joint_room=joint_room,
-                  joint_learned=joint_learned, family="related", seed_slot=0)
+                  joint_learned=joint_learned, family="related", rank=0)
 """The coordination-graph learner; its seeds are the sparse MAQ's of before (related slot 0)."""
 PAIRS = replace(LEARNER, name="sparse_maq_pairs", label="sparse tabular MAQ, pairs", n_agent_label="sparse MAQ (pairs)",
-                defaults=Settings(coordination="pairs"), seed_slot=2)
+                defaults=Settings(coordination="pairs"), rank=2)
 """The pairwise variant (the N-agent learner before the coordination graph); slot 2 is beyond the
 related family's stride of 2, so it draws from its name's slot and leaves every other learner's
 seeds alone."""

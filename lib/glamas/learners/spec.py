@@ -112,11 +112,10 @@ class Learner:
     """(outputs, setup, gridmap) -> per run, the joint values it actually learned beyond its Q
     tables (the room it allocated, unless it learns only some of it)."""
     family: str = "other"
-    """Its seeds' family: 'chapter', 'related' or 'other' (:func:`glamas.learners.registry.master_seed`)."""
-    seed_slot: int | None = None
-    """Its place among its family's seeds for one seed key, fixed here so that registering or
-    reordering learners never changes its streams (:func:`glamas.learners.registry.master_seed`);
-    None: a slot made from its name."""
+    """Where it comes from: 'chapter', 'related' or 'other' (:func:`glamas.learners.registry.family`)."""
+    rank: int | None = None
+    """Its place among its family's learners in listings (tables, legends), fixed here so that the
+    order in which modules register never reorders them; None: after the ranked ones, by name."""
 
     def kernel_for(self, n_agents: int) -> Callable:
         """The run kernel for ``n_agents`` agents. Chosen here rather than inside a compiled kernel,

@@ -278,7 +278,7 @@ def yield_at_random(preferred, actions, pair, state):
 
 
 @njit(cache=True, inline="always")
-def first_level(next_cell, goal_of, cells, done, choices, preferred, pair):
+def first_level(next_cell, goals, cells, done, choices, preferred, pair):
     """Alg. 4's if-condition for the agents ``pair = (i, j)``, their GLA ``choices`` and
     Q-preferred actions ``preferred``: (collision coming, both coordinated). When both hold, one
     agent yields (:func:`yield_at_random`).
@@ -287,7 +287,7 @@ def first_level(next_cell, goal_of, cells, done, choices, preferred, pair):
     5.2's check, made only when both chose to coordinate.
     """
     i, j = pair
-    coming = rules.would_collide(next_cell, goal_of, cells, done, preferred, i, j)
+    coming = rules.would_collide(next_cell, goals, cells, done, preferred, i, j)
     choice_i, choice_j = choices[i], choices[j]  # both read: arrays outside branches (glamas.learners.episode)
     return coming, choice_i == COORDINATE and choice_j == COORDINATE
 
@@ -445,7 +445,7 @@ def nearest_other(rings, cells, acting, n_acting, i):
 
 
 @njit(cache=True)
-def conflict(next_cell, goal_of, cells, done, preferred, index, i, among):
+def conflict(next_cell, goals, cells, done, preferred, index, i, among):
     """Whether agent i's preferred action would collide (rules.would_collide) with the preferred
     action of an agent j with ``among[j]``. Only the agents that can collide with it are tried:
     the agents aiming at i's target and the agent on it, from ``index`` (rules.index_agents with
@@ -454,11 +454,11 @@ def conflict(next_cell, goal_of, cells, done, preferred, index, i, among):
     target = unsigned(next_cell[cells[i], preferred[i]])
     j = index.claimant[target]
     while j != NOBODY:
-        if j != i and among[unsigned(j)] and rules.would_collide(next_cell, goal_of, cells, done, preferred, i, j):
+        if j != i and among[unsigned(j)] and rules.would_collide(next_cell, goals, cells, done, preferred, i, j):
             return True
         j = index.next_claimant[unsigned(j)]
     j = index.occupant[target]
-    return j != NOBODY and j != i and among[j] and rules.would_collide(next_cell, goal_of, cells, done, preferred, i, j)
+    return j != NOBODY and j != i and among[j] and rules.would_collide(next_cell, goals, cells, done, preferred, i, j)
 
 
 @njit(cache=True, inline="always")
@@ -477,7 +477,7 @@ def in_range_of_any(group, cells, i):
 
 
 @njit(cache=True, inline="always")
-def coordinate_group(next_cell, goal_of, cells, done, choices, preferred, actions, group, state):
+def coordinate_group(next_cell, goals, cells, done, choices, preferred, actions, group, state):
     """Section 5.2's coordination for a group (module docstring): fill ``actions`` from the
     ``preferred`` ones; return how many coordinating agents were in a coming collision.
 
@@ -498,11 +498,11 @@ def coordinate_group(next_cell, goal_of, cells, done, choices, preferred, action
     for k in range(n_coordinating):
         i = order[k]
         order[count] = i  # then those of them in a coming collision
-        count += conflict(next_cell, goal_of, cells, done, preferred, index, i, coordinating)
+        count += conflict(next_cell, goals, cells, done, preferred, index, i, coordinating)
     random_order(order, count, state)
     for k in range(count):
         i = order[k]
-        keep = not conflict(next_cell, goal_of, cells, done, preferred, index, i, kept)
+        keep = not conflict(next_cell, goals, cells, done, preferred, index, i, kept)
         kept[i] = keep
         if not keep:
             other = rng.integer(state, 3)
@@ -530,7 +530,7 @@ def per_run(world):
     rules.would_collide reads it), GLA probabilities and GLA input."""
     n = world.starts.shape[0]
     agents = (np.empty(n, np.int64), np.zeros(n, np.int64), np.empty((n, 2)), np.ones((n, N_GLA_INPUTS)))
-    return rules.in_range_table(world.next_cell, rules.shared_goals(world.goal_of)), ep.buffers(n), agents
+    return rules.in_range_table(world.next_cell, rules.shared_goals(world.goals)), ep.buffers(n), agents
 
 
 class Group(NamedTuple):
@@ -574,7 +574,7 @@ def group_arrays(world):
     """:func:`group_step`'s per-run arrays (:class:`Group`), which :func:`episodes` adds to
     :func:`per_run`'s."""
     n = world.starts.shape[0]
-    first, near = rules.in_range_lists(world.next_cell, rules.shared_goals(world.goal_of))
+    first, near = rules.in_range_lists(world.next_cell, rules.shared_goals(world.goals))
     around = rings(world)
     reach = 0
     for a in range(first.shape[0] - 1):
@@ -610,7 +610,7 @@ def pair_step(world, learning, automata, q, u, need_counts, pair, state, arrays)
     The GLAs see ``[delta * gla_delta_scale, 1]``. ``rule_distance`` >= 0 replaces the GLAs by the
     fixed rule "coordinate when delta < rule_distance" (a diagnostic).
     """
-    next_cell, goal_of, n_agents = world.next_cell, world.goal_of, world.starts.shape[0]
+    next_cell, goals, n_agents = world.next_cell, world.goals, world.starts.shape[0]
     alpha, gamma, exploit = learning.q_learning_rate, learning.discount, learning.exploit_prob
     temperature, L, bounding = automata.gla_temperature, automata.gla_L, automata.gla_bounding
     need, rule_distance, feedback = automata.gla_need, automata.rule_distance, automata.gla_feedback
@@ -629,7 +629,7 @@ def pair_step(world, learning, automata, q, u, need_counts, pair, state, arrays)
         choices[i] = choices[j] = COORDINATE if delta < rule_distance else ACT_ALONE
     preferred[i] = epsilon_greedy(q[i, cells[i]], exploit, state)
     preferred[j] = epsilon_greedy(q[j, cells[j]], exploit, state)
-    coming, both = first_level(next_cell, goal_of, cells, done, choices, preferred, pair)
+    coming, both = first_level(next_cell, goals, cells, done, choices, preferred, pair)
     actions[i], actions[j] = preferred[i], preferred[j]
     if both and coming:
         yield_at_random(preferred, actions, pair, state)
@@ -658,7 +658,7 @@ def group_step(world, learning, automata, q, u, need_counts, state, arrays):
     ``group`` (:class:`Group`). Each agent's lookups go through the group's index of the cells
     (module docstring): a step costs in proportion to its acting agents."""
     _, buffers, agents, group = arrays  # the in-range table: the group's index answers instead
-    next_cell, goal_of, n_agents = world.next_cell, world.goal_of, world.starts.shape[0]
+    next_cell, goals, n_agents = world.next_cell, world.goals, world.starts.shape[0]
     alpha, gamma = learning.q_learning_rate, learning.discount
     learn_first_level = automata.rule_distance < 0
     cells, done, actions, new_cells, rewards, bumped, collided, reached, acc = buffers
@@ -694,8 +694,8 @@ def group_step(world, learning, automata, q, u, need_counts, state, arrays):
     if automata.gla_need == NEED_SAMPLED:  # read by that reading only
         for i in range(n_agents):
             coming[i] = (not done[i] and deltas[i] <= group.reach
-                         and conflict(next_cell, goal_of, cells, done, preferred, group.index, i, group.everyone))
-    coordinate_group(next_cell, goal_of, cells, done, choices, preferred, actions, group, state)
+                         and conflict(next_cell, goals, cells, done, preferred, group.index, i, group.everyone))
+    coordinate_group(next_cell, goals, cells, done, choices, preferred, actions, group, state)
     paired = 0
     for i in range(n_agents):
         if nearest[i] != NOBODY:
@@ -773,9 +773,9 @@ LEARNER = Learner(name="two_observe", label="2observe", n_agent_label="2observe 
                   kernel=run, two_agent_kernel=run_two, table_shape=table_shape, inputs=automata,
                   defaults=GLASettings(), freeze=freeze, outputs=outputs, counters=("need_counts",),
                   gla_parameters=gla_parameters, family="chapter",
-                  seed_slot=3)
+                  rank=3)
 RULE = replace(LEARNER, name="two_observe_rule", label="2observe, fixed rule", n_agent_label="",
-               defaults=GLASettings(rule_distance=3), seed_slot=4)
+               defaults=GLASettings(rule_distance=3), rank=4)
 """A diagnostic outside the chapter: 2observe with its GLAs replaced by the fixed rule "coordinate
 when delta < 3" (delta at most 2, where every collision of two agents comes from)."""
 

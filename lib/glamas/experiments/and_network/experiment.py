@@ -14,7 +14,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 from numba import njit
 
-from glamas import checks, gla, lineworld, memory, parallel
+from glamas import checks, gla, lineworld, memory, parallel, seeds
 from glamas.learners import and_network as learner
 from glamas.learners.and_network import CONTEXT_LENGTH, NETWORK, left_probability
 from glamas.errors import UserError
@@ -129,11 +129,12 @@ def run(config: ANDNetworkConfig, seed: int = 0, workers=None,
 
 def batch(config: ANDNetworkConfig, seed: int) -> parallel.Batch:
     """The runs of ``config`` ready to run (:func:`glamas.parallel.run_many`): their outputs probes,
-    unit parameters and Fig. 7b's curve."""
+    unit parameters and Fig. 7b's curve; their master seed named by ``seed`` and the experiment
+    (:func:`glamas.seeds.named`), the same for every region II reward of the sweep."""
     c = config
     shape = (c.runs, 2, NETWORK.n_units, max(NETWORK.unit_actions), NETWORK.n_inputs)
     outputs = (np.zeros((c.runs, c.probe_points, 2)), np.zeros(shape), np.zeros((c.runs, c.record_points, 2)))
-    return parallel.Batch(learner.learn, learner.kernel_inputs(config), outputs, seed)
+    return parallel.Batch(learner.learn, learner.kernel_inputs(config), outputs, seeds.named(seed, "and_network"))
 
 
 def result_of(config: ANDNetworkConfig, work: parallel.Batch) -> ANDNetworkResult:

@@ -105,15 +105,14 @@ def greedy_episodes(study: WarehousesConfig, formulation: str, name: str, gridma
     evaluation = spec.Evaluation(study.evaluation_episodes, (1.0,), per_episode=True)
     (greedy,) = spec.evaluations(learner, setup, gridmap, evaluation, study.max_steps, master_seed, study.bounce,
                                  study.rewards(formulation))
-    world, learning, automata, schedule = greedy.inputs
+    world, learning, automata, schedule = greedy.inputs  # automata frozen: the replay draws no GLA parameters
     if coordination == "off":
         automata = automata._replace(rule_distance=0)
     log = np.zeros((study.evaluation_episodes, ep.n_columns(n)))
     trace = np.empty((study.evaluation_episodes, study.max_steps + 1, n), np.int32)
     yields = np.zeros(study.evaluation_episodes, np.int64)
-    replay(world, learning, automata, schedule, *(learned[key][0].copy() for key in ("q", "u", "u_initial",
-                                                                                       "need_counts")),
-           log, rng.chunk_states(greedy.seed, 0, 1)[0], trace, yields)
+    replay(world, learning, automata, schedule, *(learned[key][0].copy() for key in ("q", "u", "need_counts")),
+           log, rng.chunk_states(greedy.seed, 0, 1)[0], (trace, yields))
     rows = greedy_rows(log, n, study.max_steps)
     length = rows[:, 3].astype(np.int64)
     return np.stack([rows[:, 0], rows[:, 1], rows[:, 3], rows[:, 4],

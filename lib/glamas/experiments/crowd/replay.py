@@ -20,18 +20,14 @@ GONE = -1
 
 
 @njit(cache=True)
-def replay(world, learning, automata, schedule, q, u, u_initial, need_counts, log, state, trace, yields):
-    """:func:`glamas.learners.two_observe.run` with each episode's joint states in ``trace``
-    (episodes, max_steps + 1, agents): row t holds every agent's cell after t steps (GONE once in
-    its goal); and the coordination's replaced actions per episode in ``yields`` (episodes,)."""
-    two_observe.init_glas(u, u_initial, automata.gla_init_range, state)
-    _episodes(world, learning, automata, schedule, q, u, need_counts, log, state,
-              (*two_observe.per_run(world), two_observe.group_arrays(world)), trace, yields)
-
-
-@njit(cache=True)
-def _episodes(world, learning, automata, schedule, q, u, need_counts, log, state, arrays, trace, yields):
-    """two_observe.episodes, step for step, with the joint states and the yields kept."""
+def replay(world, learning, automata, schedule, q, u, need_counts, log, state, kept):
+    """:func:`glamas.learners.two_observe.run` with its GLAs frozen (:func:`two_observe.freeze`:
+    the run draws no parameters), step for step as :func:`two_observe.episodes` plays it, keeping
+    ``kept = (trace, yields)``: each episode's joint states in ``trace`` (episodes, max_steps + 1,
+    agents), row t every agent's cell after t steps (GONE once in its goal), and the coordination's
+    replaced actions per episode in ``yields`` (episodes,)."""
+    trace, yields = kept
+    arrays = (*two_observe.per_run(world), two_observe.group_arrays(world))
     cells, done, actions, new_cells, rewards, bumped, collided, reached, acc = arrays[1]
     preferred = arrays[2][1]
     for episode in range(schedule.episodes):

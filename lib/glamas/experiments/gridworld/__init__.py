@@ -12,7 +12,7 @@ from glamas.experiments.gridworld.analysis import (claim_rows, convergence_compa
                                                    state_action_table, stuck_by_start, summary_table, with_learner,
                                                    zero_collisions_table)
 from glamas.experiments.gridworld.experiment import (CHAPTER_LEARNERS, GridworldConfig, GridworldResult, learner_bytes,
-                                                     result_of, run, scaled, trainings)
+                                                     result_of, run, scaled, seed_of, trainings)
 from glamas.experiments.registry import Experiment, register
 from glamas.paths import RESULTS
 
@@ -24,7 +24,7 @@ __getattr__ = plots_on_first_use(__name__, PLOTS)
 __all__ = ["CHAPTER_LEARNERS", "EXPERIMENT", "GridworldConfig", "GridworldResult", "claim_rows", "convergence_comparison",
            "convergence_report", "convergence_spread", "coordination_probability", "evaluation_table", "in_range_share",
            "learner_bytes", "load", "measure", "need_probability", "optimum", "result_of",
-           "run", "state_action_spaces", "state_action_table", "stuck_by_start", "summary_table", "trainings",
+           "run", "seed_of", "state_action_spaces", "state_action_table", "stuck_by_start", "summary_table", "trainings",
            "with_learner", "zero_collisions_table", *PLOTS]
 
 EXPERIMENT = register(Experiment("gridworld", GridworldConfig, run, scaled, GridworldConfig.runs,

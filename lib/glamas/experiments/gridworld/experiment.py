@@ -7,7 +7,7 @@ from dataclasses import dataclass, field, fields
 
 import numpy as np
 
-from glamas import checks, memory, parallel
+from glamas import checks, memory, parallel, seeds
 from glamas.errors import UserError
 from glamas.gridworld import BOUNCE_MODES, GridMap, load_map
 from glamas.learners import episode as ep
@@ -199,8 +199,7 @@ def run(config: GridworldConfig = GridworldConfig(), seed: int = 0, workers=None
     """Train every learner of ``config`` in ``config.runs`` runs, all learners' runs on one pool of
     workers (:func:`glamas.parallel.run_many`).
 
-    Each learner draws its runs' streams from its own master seed
-    (:func:`glamas.learners.registry.master_seed`, from its declared seed slot): every (seed,
+    Each learner draws its runs' streams from its own master seed (:func:`seed_of`): every (seed,
     learner) pair has its own streams, whichever other learners are trained or registered.
     """
     work = trainings(config, seed)
@@ -213,8 +212,15 @@ def trainings(config: GridworldConfig, seed: int = 0) -> list:
     gridmap, schedule = config.gridmap(), config.schedule()
     evaluation = config.evaluation()
     return [spec.batch(registry.get(name), config.setup(name), gridmap, schedule, config.runs,
-                       registry.master_seed(seed, name), bounce=config.bounce, evaluation=evaluation)
+                       seed_of(seed, name), bounce=config.bounce, evaluation=evaluation)
             for name in config.learners]
+
+
+def seed_of(seed: int, learner: str) -> int:
+    """The master seed of the runs of ``learner``, named by the master ``seed``, this experiment
+    and the learner (:func:`glamas.seeds.named`). The related work and the readings of Fig. 10
+    train on the same seeds, so that the chapter's learners give the same runs in each."""
+    return seeds.named(seed, "gridworld", learner)
 
 
 def result_of(config: GridworldConfig, outputs: list) -> GridworldResult:

@@ -8,7 +8,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from glamas import checks, gla, lineworld, memory, parallel
+from glamas import checks, gla, lineworld, memory, parallel, seeds
 from glamas.learners import single_gla as learner
 from glamas.errors import UserError
 
@@ -100,14 +100,15 @@ def run(config: SingleGLAConfig, seed: int = 0, workers=None, progress: str | No
         checkpoint_at: np.ndarray = learner.NO_CHECKPOINTS) -> SingleGLAResult:
     """All runs of experiment 1 for ``config``; identical for any number of workers. The
     parameters are also recorded after each of ``checkpoint_at`` iterations, which changes
-    nothing else."""
+    nothing else. The runs' master seed is named by ``seed`` and the experiment
+    (:func:`glamas.seeds.named`); Fig. 6 runs it under each encoding on the same streams."""
     memory.check(config)
     n_inputs = lineworld.CONTEXT_LENGTH[lineworld.encoding_code(config.context)]
     params = np.zeros((config.runs, 2, 2, n_inputs))
     reward = np.zeros((config.runs, config.record_points))
     checkpoints = np.zeros((config.runs, len(checkpoint_at), 2, 2, n_inputs))
     parallel.run_batches(learner.learn, learner.kernel_inputs(config, checkpoint_at), (params, reward, checkpoints),
-                         seed, workers=workers, progress=progress)
+                         seeds.named(seed, "single_gla"), workers=workers, progress=progress)
     points = np.arange(1, config.record_points + 1)
     return SingleGLAResult(config, points * config.iterations // config.record_points, reward, params,
                            np.asarray(checkpoint_at, dtype=np.int64), checkpoints)
