@@ -3,8 +3,6 @@ reach with the coordination on and off, how often the crowd comes back to a join
 often the coordination makes an agent yield. Every number is first a mean per instance (over its
 greedy episodes), then the mean over instances with a 95 % interval (instances resampled)."""
 
-import numpy as np
-
 from glamas.experiments.crowd.experiment import COORDINATION, MEASURES, CrowdResult
 from glamas.experiments.warehouses.analysis import interval
 from glamas.learners import registry
@@ -67,5 +65,5 @@ def effects_table(result: CrowdResult) -> str:
 
 
 def _points(value: tuple) -> str:
-    mean, low, high, _ = (100 * np.asarray(value[:3])).tolist() + [value[3]]
+    mean, low, high = (100 * v for v in value[:3])
     return f"{mean:+.1f} [{low:+.1f}, {high:+.1f}]"

@@ -21,7 +21,8 @@ import numpy as np
 from glamas import memory, parallel, rng
 from glamas.errors import UserError
 from glamas.experiments.crowd.replay import replay, revisits
-from glamas.experiments.warehouses.experiment import WarehousesConfig, greedy_rows, scaled as warehouses_scaled, seed_of
+from glamas.experiments.warehouses.experiment import (GREEDY, WarehousesConfig, greedy_rows, scaled as warehouses_scaled,
+                                                      seed_of)
 from glamas.gridworld import GridMap
 from glamas.learners import episode as ep
 from glamas.learners import registry, spec, two_observe
@@ -113,10 +114,11 @@ def greedy_episodes(study: WarehousesConfig, formulation: str, name: str, gridma
     yields = np.zeros(study.evaluation_episodes, np.int64)
     replay(world, learning, automata, schedule, *(learned[key][0].copy() for key in ("q", "u", "need_counts")),
            log, rng.chunk_states(greedy.seed, 0, 1)[0], (trace, yields))
-    rows = greedy_rows(log, n, study.max_steps)
-    length = rows[:, 3].astype(np.int64)
-    return np.stack([rows[:, 0], rows[:, 1], rows[:, 3], rows[:, 4],
-                     [revisits(trace[e], length[e]) for e in range(length.size)], yields / rows[:, 2]], axis=-1)
+    column = dict(zip(GREEDY, greedy_rows(log, n, study.max_steps).T))
+    length = column["makespan"].astype(np.int64)  # the episode's length
+    return np.stack([column["completed"], column["in_goal"], column["makespan"], column["collisions"],
+                     [revisits(trace[e], length[e]) for e in range(length.size)],
+                     yields / column["sum_of_costs"]], axis=-1)  # acting agent-steps
 
 
 def run(config: CrowdConfig = CrowdConfig(), seed: int = 0, workers=None, progress=None) -> CrowdResult:
@@ -134,12 +136,11 @@ def run(config: CrowdConfig = CrowdConfig(), seed: int = 0, workers=None, progre
                    for f, formulation in enumerate(study.formulations) for k, name in enumerate(study.learners)
                    for instance, gridmap in enumerate(gridmaps)}
         parallel.run_many([work for work, _ in batches.values()], workers=workers, progress=progress, chunk=1)
-        for (f, k, instance), (_, learned) in batches.items():
+        for (f, k, instance), (work, learned) in batches.items():
             formulation, name = study.formulations[f], study.learners[k]
             for c, coordination in enumerate(COORDINATION):
                 greedy[f, a, k, c, instance] = greedy_episodes(study, formulation, name, gridmaps[instance],
-                                                               seed_of(seed, formulation, n, instance, name),
-                                                               learned, coordination)
+                                                               work.seed, learned, coordination)
     return CrowdResult(config=config, formulations=np.array(study.formulations),
                        agents=np.array(study.agents, dtype=np.int64), learners=np.array(study.learners),
                        greedy=greedy)
