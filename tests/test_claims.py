@@ -46,12 +46,12 @@ def test_verdicts_are_three_valued():
     claim = claims.Claim(**CLAIM)
     rows = claims.verdicts([claim], {"x": 2.0})
     assert rows[0]["holds"] and rows[0]["verdict"] == "reproduced"
-    assert "[reproduced] c" in claims.table(rows)
+    assert claims.markdown(rows).endswith("| the chapter | 2.00 (needs > 1) | reproduced |")
     rows = claims.verdicts([claim], {"x": 0.5})
-    assert not rows[0]["holds"] and "[NOT reproduced] c" in claims.table(rows)
+    assert not rows[0]["holds"] and claims.markdown(rows).endswith("| **NOT reproduced** |")
     rows = claims.verdicts([claim], {"x": math.nan, "x:why_undecidable": "no runs"})
     assert not rows[0]["holds"] and rows[0]["verdict"] == "undecidable"
-    assert "[undecidable] c" in claims.table(rows) and "undecidable: no runs" in claims.table(rows)
+    assert claims.markdown(rows).endswith("| NaN (needs > 1) | **undecidable (no runs)** |")
     with pytest.raises(UserError, match=r"no measurement for the claims c \(x\)"):
         claims.verdicts([claim], {"y": 1.0})
     with pytest.raises(UserError, match="no claims for experiment 'nonexistent'"):
@@ -315,3 +315,28 @@ def test_every_section4_claim_has_a_wrong_result():
                                                    "higher_region_II_reward_traps_runs",
                                                    "outcome_depends_on_initialisation"}
     assert {claim.id for name in SECTION4 for claim in claims.load(name)} == covered
+
+
+def test_a_verdict_that_changes_under_a_documented_reading_is_marked_fragile():
+    claim = claims.Claim(**CLAIM)
+    rows = claims.verdicts([claim], {"x": 2.0}, readings={"one": {"x": 0.5}, "two": {"x": 3.0}, "three": {"x": 0.0}})
+    assert rows[0]["verdict"] == "reproduced"
+    assert claims.fragility(rows[0]) == "fragile: not under 2 of 4 readings (one, three)"
+    assert "**reproduced (fragile: not under 2 of 4 readings (one, three))**" in claims.markdown(rows)
+    steady = claims.verdicts([claim], {"x": 2.0}, readings={"one": {"x": 3.0}})
+    assert claims.fragility(steady[0]) == "" and "| reproduced |" in claims.markdown(steady)
+
+
+@pytest.mark.parametrize("kind, source, label", [("chapter", "", "the chapter"), ("inferred", "", "inferred by us"),
+                                                 ("inferred", "Kok and Vlassis 2004", "inferred by us from Kok and Vlassis 2004"),
+                                                 ("field", "ICAART 2011", "ICAART 2011")])
+def test_a_claim_is_labelled_by_its_source(kind, source, label):
+    assert claims.Claim(**{**CLAIM, "kind": kind, "source": source}).label == label
+
+
+@pytest.mark.parametrize("change, message", [({"kind": "field"}, "its source must name the paper"),
+                                             ({"source": "Kok and Vlassis 2004"}, "empty for the chapter's own")])
+def test_the_loader_refuses_a_claim_without_its_source_or_the_chapter_with_one(monkeypatch, tmp_path, change, message):
+    _write_claims(monkeypatch, tmp_path, [{**CLAIM, **change}])
+    with pytest.raises(ValueError, match=message):
+        claims.load("t")

@@ -1,6 +1,7 @@
 """The claim ledger: docs/ledger.md and README.md's count of verdicts match the committed results,
 and --check/--write work."""
 
+import math
 import subprocess
 import sys
 
@@ -9,22 +10,63 @@ import pytest
 from glamas import claims, ledger
 
 README = f"# title\n\n{ledger.START}\nold count\n{ledger.END}\n\n## next\n"
-HEADER = "| experiment | claim | verdict |\n|---|---|---|"
-TABLE = "\n".join([HEADER, "| a | `x` | reproduced |", "| a | `y` | **NOT reproduced** |",
-                   "| b | `z` | **undecidable** (the interval \\| contains 1) |", "| b | `w` | reproduced |"])
 
 
-def test_the_ledger_and_the_readme_count_match_the_committed_results():
+def _claim(id, kind="chapter", where="Sec. 5.3, Fig. 11a", source=""):
+    return claims.Claim(id=id, where=where, chapter=f"{id} holds (ours)", kind=kind, why="w", metric=id,
+                        op=">", threshold=0.0, source=source)
+
+
+def _rows():
+    """Ledger rows of every verdict and every source, one fragile."""
+    chapter = [_claim("x"), _claim("y"), _claim("z"), _claim("f", where="Sec. 4.2, Fig. 6")]
+    inferred = [_claim("i", kind="inferred"), _claim("r", kind="inferred", source="Kok and Vlassis 2004")]
+    field = [_claim("p", kind="field", where="ICAART 2011", source="ICAART 2011")]
+    measured = {"x": 1.0, "y": -1.0, "z": math.nan, "f": 1.0, "i": 1.0, "r": 1.0, "p": -1.0}
+    rows = claims.verdicts(chapter + inferred + field, measured, readings={"other": {"f": -1.0}})
+    return [("gridworld" if row["claim"].id != "f" else "state_encoding", row) for row in rows]
+
+
+ROWS = _rows()
+TABLE = ledger.table(ROWS)
+
+
+def test_the_ledger_and_the_readme_summary_match_the_committed_results():
     done = subprocess.run([sys.executable, "-m", "glamas.ledger", "--check"], capture_output=True, text=True)
     assert done.returncode == 0, done.stdout + done.stderr
 
 
-def test_the_count_gives_every_verdict_and_links_the_ledger():
-    assert ledger.verdict_count(TABLE) == ("4 claims: 2 reproduced, 1 not reproduced, 1 undecidable — "
-                                           "see [the claim ledger](docs/ledger.md).")
-    assert ledger.verdict_count(HEADER).startswith("0 claims: 0 reproduced, 0 not reproduced, 0 undecidable")
-    with pytest.raises(ValueError, match="has no verdict"):
-        ledger.verdict_count(HEADER + "\n| a | `x` | maybe |")
+def test_the_summary_counts_by_source_and_names_the_chapter_claims_that_fail():
+    text = ledger.summary(ROWS)
+    assert "- the chapter's own: 4; 2 reproduced (1 of them not under every reading the notes document), " \
+           "1 not reproduced, 1 undecidable" in text
+    assert "- inferred by us: 2; 2 reproduced, 0 not reproduced, 0 undecidable" in text
+    assert "- from the field's papers: 1; 0 reproduced, 1 not reproduced, 0 undecidable" in text
+    named = [line for line in text.splitlines() if line.startswith("- ") and "holds" in line]
+    assert [line.split(" holds")[0] for line in named] == ["- y", "- z", "- f"]
+    assert "fragile: not under 1 of 2 readings (other)" in text
+    assert "[the claim ledger](docs/ledger.md)" in text
+
+
+def test_the_figure_table_judges_each_figure_on_its_own_claims():
+    text = ledger.summary(ROWS)
+    fig11 = next(line for line in text.splitlines() if line.startswith("| Fig. 11 "))
+    assert "| 1 of 3 chapter; 1 of 1 inferred |" in fig11  # r reads another source: not counted here
+    fig6 = next(line for line in text.splitlines() if line.startswith("| Fig. 6 "))
+    assert "| 1 of 1 chapter (1 fragile) |" in fig6
+
+
+def test_every_chapter_claim_tests_exactly_one_of_the_figures():
+    rows = [(experiment, {"claim": claim}) for experiment in ledger.with_claims()
+            for claim in claims.load(experiment) if claim.kind == "chapter"]
+    for experiment, row in rows:
+        on = [figure.name for figure in ledger.FIGURES if row in ledger.on_figure(figure, [(experiment, row)])]
+        assert len(on) == 1, (row["claim"].id, on)
+
+
+def test_the_ledger_labels_each_claim_by_its_source():
+    assert "| the chapter |" in TABLE and "| inferred by us |" in TABLE
+    assert "| inferred by us from Kok and Vlassis 2004 |" in TABLE and "| ICAART 2011 |" in TABLE
 
 
 def test_the_ledger_page_is_a_title_a_sentence_and_the_table():
@@ -41,7 +83,7 @@ def files(monkeypatch, tmp_path):
     readme.write_text(README)
     monkeypatch.setattr(ledger, "README", readme)
     monkeypatch.setattr(ledger, "LEDGER", page)
-    monkeypatch.setattr(ledger, "markdown", lambda *experiments: TABLE)
+    monkeypatch.setattr(ledger, "rows", lambda *experiments: ROWS)
     return readme, page
 
 
@@ -49,7 +91,7 @@ def test_write_writes_the_page_and_the_count_and_check_then_passes(files):
     readme, page = files
     assert ledger.main(["--write"]) == 0
     assert page.read_text() == ledger.page(TABLE)
-    assert readme.read_text() == README.replace("old count", ledger.verdict_count(TABLE))
+    assert readme.read_text() == README.replace("old count", ledger.summary(ROWS))
     assert ledger.main(["--check"]) == 0
 
 

@@ -45,6 +45,19 @@ class Claim:
     """The value the measurement is compared with."""
     digits: int = 2
     """Decimals the experiment can resolve; the table rounds to them."""
+    source: str = ""
+    """The work a claim of another source comes from (a 'field' claim's paper, or the paper an
+    'inferred' claim about a related method reads); empty for the chapter's own."""
+
+    @property
+    def label(self) -> str:
+        """Who makes the claim, as a reader should see it: 'the chapter', 'inferred by us' (from a
+        source, where it reads one) or the field's paper."""
+        if self.kind == "chapter":
+            return "the chapter"
+        if self.kind == "field":
+            return self.source
+        return f"inferred by us from {self.source}" if self.source else "inferred by us"
 
     def holds(self, value: float) -> bool:
         return bool(_OPS[self.op](value, self.threshold))
@@ -56,7 +69,7 @@ class Claim:
         return REPRODUCED if self.holds(value) else NOT_REPRODUCED
 
 
-_REQUIRED = [f.name for f in fields(Claim) if f.name != "digits"]
+_REQUIRED = [f.name for f in fields(Claim) if f.name not in ("digits", "source")]
 
 
 def load(experiment: str) -> list[Claim]:
@@ -81,6 +94,11 @@ def _claim(entry, experiment: str) -> Claim:
         raise UserError(f"{where}: claim {name!r} of {experiment}: op must be one of {sorted(_OPS)}, got {claim.op!r}")
     if claim.kind not in KINDS:
         raise UserError(f"{where}: claim {name!r} of {experiment}: kind must be one of {list(KINDS)}, got {claim.kind!r}")
+    if claim.kind == "field" and not claim.source:
+        raise UserError(f"{where}: claim {name!r} of {experiment} is of kind 'field': its source must name the paper")
+    if not isinstance(claim.source, str) or (claim.kind == "chapter" and claim.source):
+        raise UserError(f"{where}: claim {name!r} of {experiment}: source must be a text, and empty for the "
+                        "chapter's own claims")
     for key in ("id", "metric", "where", "chapter", "why"):
         if not isinstance(getattr(claim, key), str) or not getattr(claim, key).strip():
             raise UserError(f"{where}: claim {name!r} of {experiment}: {key} must be a non-empty text")
@@ -140,9 +158,13 @@ def chapter_section_entry(kind: str, experiment: str):
     return found[experiment]
 
 
-def verdicts(claims: list[Claim], measured: dict) -> list[dict]:
+def verdicts(claims: list[Claim], measured: dict, readings: dict | None = None) -> list[dict]:
     """One row per claim: the claim, the measured value, whether it holds and the verdict
-    (with the reason a NaN measurement is undecidable, when the measurements give one)."""
+    (with the reason a NaN measurement is undecidable, when the measurements give one).
+
+    ``readings`` maps the name of each documented alternative reading of the chapter to its
+    measurements; a claim measured under them also gets ``readings`` (name -> verdict), and is
+    *fragile* when its verdict there is not the default reading's (:func:`fragility`)."""
     missing = [f"{c.id} ({c.metric})" for c in claims if c.metric not in measured]
     if missing:
         raise UserError(f"no measurement for the claims {', '.join(missing)}: a claim's metric must be one the "
@@ -151,18 +173,52 @@ def verdicts(claims: list[Claim], measured: dict) -> list[dict]:
     for c in claims:
         value = float(measured[c.metric])
         verdict = c.verdict(value)
+        under = {name: c.verdict(float(other[c.metric])) for name, other in (readings or {}).items()
+                 if c.metric in other}
         rows.append({"claim": c, "value": value, "holds": verdict == REPRODUCED, "verdict": verdict,
-                     "why_undecidable": measured.get(c.metric + WHY_UNDECIDABLE, "")})
+                     "why_undecidable": measured.get(c.metric + WHY_UNDECIDABLE, ""), "readings": under})
     return rows
 
 
-def table(rows: list[dict]) -> str:
-    """A plain-text claim table: claim, chapter's words, measured vs threshold, verdict."""
-    lines = []
+def fragility(row: dict) -> str:
+    """'' when a row's verdict is the same under every documented reading it was measured under,
+    else e.g. 'fragile: not under 2 of 3 readings (name, name)'."""
+    under = row.get("readings") or {}
+    differ = [name for name, verdict in under.items() if verdict != row["verdict"]]
+    if not differ:
+        return ""
+    return f"fragile: not under {len(differ)} of {len(under) + 1} readings ({', '.join(differ)})"
+
+
+def verdict_text(row: dict) -> str:
+    """The verdict as the tables print it: the verdict, its fragility, why it is undecidable."""
+    notes = [note for note in (fragility(row), row.get("why_undecidable", "") if row["verdict"] == UNDECIDABLE
+                               else "") if note]
+    return row["verdict"] + (f" ({'; '.join(notes)})" if notes else "")
+
+
+def measured_text(row: dict) -> str:
+    """The measured value rounded to the claim's digits, beside what the claim needs."""
+    c = row["claim"]
+    value = "NaN" if math.isnan(row["value"]) else f"{row['value']:.{c.digits}f}"
+    return f"{value} (needs {c.op} {c.threshold:g})"
+
+
+def markdown(rows: list[dict]) -> str:
+    """A Markdown claim table for a reader: the claim paraphrased with its place, who makes it, the
+    measured value against the claim's threshold, the verdict."""
+    lines = ["| claim | source | measured | verdict |", "|---|---|---|---|"]
     for row in rows:
         c = row["claim"]
-        lines.append(f"[{row['verdict']}] {c.id} ({c.where})\n    chapter:  {c.chapter}\n"
-                     f"    measured: {c.metric} = {row['value']:.{c.digits}f}  (claim: {c.op} {c.threshold:g})")
-        if row["verdict"] == UNDECIDABLE and row.get("why_undecidable"):
-            lines.append(f"    undecidable: {row['why_undecidable']}")
+        verdict = verdict_text(row)
+        if row["verdict"] != REPRODUCED or fragility(row):
+            verdict = f"**{verdict}**"
+        cells = [f"{c.chapter} ({c.where})", c.label, measured_text(row), verdict]
+        lines.append("| " + " | ".join(cell.replace("|", "\\|") for cell in cells) + " |")
     return "\n".join(lines)
+
+
+def show(rows: list[dict]):
+    """:func:`markdown` as a notebook displays it (an IPython Markdown object: the table rendered)."""
+    from IPython.display import Markdown  # only where a notebook shows it
+    return Markdown(markdown(rows))

@@ -1,13 +1,16 @@
 """One ledger of every claim of every experiment, computed from the committed results.
 
 ``python -m glamas.ledger`` prints it as Markdown; ``--write`` writes it whole to docs/ledger.md
-and its count of verdicts into README.md between the verdict markers; ``--check`` exits 1 when
-either is stale. Each registered experiment with claims (:mod:`glamas.experiments.registry`)
-gives its rows from the result file the figure scripts wrote (its configuration checked).
+and its summary into README.md between the verdict markers (the counts by the claims' source, the
+chapter's claims that do not reproduce, and the table of the chapter's figures with their
+verdicts); ``--check`` exits 1 when either is stale. Each registered experiment with claims
+(:mod:`glamas.experiments.registry`) gives its rows from the result file the figure scripts wrote
+(its configuration checked).
 """
 
 import argparse
-import math
+import re
+from dataclasses import dataclass
 from pathlib import Path
 
 from glamas import claims, errors
@@ -19,13 +22,62 @@ from glamas.paths import REPO, RESULTS
 SEED = 0
 """The master seed of the committed results (the figure scripts' default)."""
 README = REPO / "README.md"
-"""Holds the count of verdicts (:func:`verdict_count`) between START and END."""
+"""Holds the summary of verdicts (:func:`summary`) between START and END."""
 START, END = "<!-- verdicts:start -->", "<!-- verdicts:end -->"
 LEDGER = REPO / "docs" / "ledger.md"
 """The ledger's page, generated whole (:func:`page`)."""
 LEDGER_LINK = LEDGER.relative_to(README.parent).as_posix()
 """The ledger's page as README.md links to it."""
 VERDICTS = (claims.REPRODUCED, claims.NOT_REPRODUCED, claims.UNDECIDABLE)
+SOURCES = {"chapter": "the chapter's own", "inferred": "inferred by us", "field": "from the field's papers"}
+"""How the summary names the claims of each kind (:data:`glamas.claims.KINDS`)."""
+
+
+@dataclass(frozen=True)
+class Figure:
+    """One of the chapter's figures (or a result it states in its text) as the README's table
+    lists it, with the claims that test it."""
+
+    name: str
+    """The chapter's name for it, e.g. 'Fig. 11'."""
+    says: str
+    """What the chapter says it shows, paraphrased."""
+    experiment: str
+    """The experiment whose claims test it."""
+    where: str
+    """A pattern of the claims' ``where`` that places a claim on this figure."""
+    images: tuple
+    """The figure scripts that draw it (their PNG in paper_figures/output)."""
+    notebook: str
+    """The notebook that reads it."""
+
+
+FIGURES = (
+    Figure("Fig. 5", "one GLA per agent learns lines that split the line world into regions, and "
+           "each region's most probable joint action is its rewarded one", "single_gla", r"Fig\. 5",
+           ("fig5",), "01_single_gla"),
+    Figure("Fig. 6", "the context matters: the deictic distance does best, the absolute distance clearly "
+           "worst", "state_encoding", r"Fig\. 6", ("fig6",), "02_state_encoding"),
+    Figure("Fig. 7", "two GLAs joined by AND per agent approximate the inside of a parabola",
+           "and_network", r"Fig\. 7", ("fig7a", "fig7b"), "03_and_network_parabola"),
+    Figure("Sec. 4.2 (text)", "a higher reward outside the parabola traps runs in 'R everywhere', and the "
+           "outcome depends on the initialisation", "and_network_sweep", r"Sec\. 4\.2", ("fig7_sweep",),
+           "03_and_network_parabola"),
+    Figure("Fig. 9", "selfish shortest paths collide at the tunnel's entrance", "gridworld_optimum",
+           r"Fig\. 9", ("fig9", "fig9_optimum"), "04a_gridworld_optimum"),
+    Figure("Alg. 4, Fig. 10", "2observe's GLAs learn to coordinate only where the agents could collide",
+           "gridworld", r"5\.1", ("fig10",), "04_gridworld_2observe"),
+    Figure("Fig. 11", "2observe needs fewer steps than the independent and MMDP learners, converges faster, "
+           "earns almost the MMDP's reward", "gridworld",
+           r"Fig\. 11", ("fig11a", "fig11b"), "04_gridworld_2observe"),
+    Figure("Fig. 12", "MMDP and 2observe reach zero collisions fast, independent learners about 3 per "
+           "episode; 2observe coordinates about 4 times per episode", "gridworld", r"Fig\. 12",
+           ("fig12a", "fig12b"), "04_gridworld_2observe"),
+    Figure("Table 1", "tables grow linearly with the agents for independent learners, exponentially for the "
+           "MMDP; 2observe's are the size of the independent learners'", "scaling", r"Table 1|Sec\. 3\.1",
+           ("scaling_sizes",), "05_scaling"),
+)
+"""The chapter's figures in the README's table, in the chapter's order."""
 
 
 def paper_result(experiment: Experiment, results_dir: Path = RESULTS):
@@ -39,12 +91,8 @@ def with_claims() -> dict:
     return {experiment.name: experiment for experiment in registry.experiments() if experiment.claim_rows}
 
 
-_HEADER = ("| experiment | claim | where | the chapter (paraphrased) | kind | metric, threshold | measured | verdict |\n"
-           "|---|---|---|---|---|---|---|---|")
-
-
-def markdown(*experiments: str, results_dir: Path = RESULTS) -> str:
-    """The ledger as a Markdown table: the given experiments' part, or all of it."""
+def rows(*experiments: str, results_dir: Path = RESULTS) -> list[tuple[str, dict]]:
+    """(experiment, verdict row) of every claim of the given experiments, or of all."""
     known = with_claims()
     names = list(experiments or known)
     unknown = [name for name in names if name not in known]
@@ -53,20 +101,37 @@ def markdown(*experiments: str, results_dir: Path = RESULTS) -> str:
     # Every result read before any claim is judged: a missing, stale or damaged file stops the
     # ledger at once, not after the judging of the experiments before it.
     read = [(name, paper_result(known[name], results_dir)) for name in names]
-    lines = [_HEADER]
-    for name, result in read:
-        lines.extend(_row(name, row) for row in known[name].claim_rows(result, known[name].paper_scale()))
-    return "\n".join(lines)
+    return [(name, row) for name, result in read
+            for row in known[name].claim_rows(result, known[name].paper_scale())]
+
+
+def show(*experiments: str, results_dir: Path = RESULTS):
+    """The given experiments' claims as a notebook shows them: a rendered table of claim, source,
+    measured value and verdict (:func:`glamas.claims.show`)."""
+    return claims.show([row for _, row in rows(*experiments, results_dir=results_dir)])
+
+
+_HEADER = ("| experiment | claim | where | the claim (paraphrased) | source | metric, threshold | measured | verdict |\n"
+           "|---|---|---|---|---|---|---|---|")
+
+
+def markdown(*experiments: str, results_dir: Path = RESULTS) -> str:
+    """The ledger as a Markdown table: the given experiments' part, or all of it."""
+    return table(rows(*experiments, results_dir=results_dir))
+
+
+def table(ledger_rows: list[tuple[str, dict]]) -> str:
+    """The ledger's Markdown table of ``ledger_rows`` (:func:`rows`)."""
+    return "\n".join([_HEADER] + [_row(experiment, row) for experiment, row in ledger_rows])
 
 
 def _row(experiment: str, row: dict) -> str:
     c = row["claim"]
-    value = "NaN" if math.isnan(row["value"]) else f"{row['value']:.{c.digits}f}"
-    verdict = row["verdict"] if row["verdict"] == "reproduced" else f"**{row['verdict']}**"
-    if row.get("why_undecidable"):
-        verdict += f" ({row['why_undecidable']})"
-    cells = [experiment, f"`{c.id}`", c.where, c.chapter, c.kind, f"`{c.metric}` {c.op} {c.threshold:g}",
-             value, verdict]
+    verdict = claims.verdict_text(row)
+    if row["verdict"] != claims.REPRODUCED or claims.fragility(row):
+        verdict = f"**{verdict}**"
+    cells = [experiment, f"`{c.id}`", c.where, c.chapter, c.label, f"`{c.metric}` {c.op} {c.threshold:g}",
+             claims.measured_text(row).split(" (")[0], verdict]
     return "| " + " | ".join(cell.replace("|", "\\|") for cell in cells) + " |"
 
 
@@ -79,23 +144,65 @@ def page(ledger: str) -> str:
             f"{ledger}\n")
 
 
-def verdict_count(ledger: str) -> str:
-    """One line: how many claims the table ``ledger`` holds and how many have each verdict, with
-    a link to the ledger's page."""
-    rows = [line for line in ledger.splitlines()[2:] if line.startswith("| ")]
-    last = [row.removesuffix(" |").rsplit(" | ", 1)[-1].removeprefix("**") for row in rows]
-    counts = {verdict: sum(cell.startswith(verdict) for cell in last) for verdict in VERDICTS}
-    if sum(counts.values()) != len(rows):
-        raise ValueError("a row of the ledger has no verdict of " + ", ".join(VERDICTS))
-    parts = ", ".join(f"{n} {verdict.lower()}" for verdict, n in counts.items())
-    return f"{len(rows)} claims: {parts} — see [the claim ledger]({LEDGER_LINK})."
+def _count(kind_rows: list[dict]) -> str:
+    """'26 reproduced, 2 not reproduced, 1 undecidable' (with how many reproduce only under some readings)."""
+    n = {verdict: sum(row["verdict"] == verdict for row in kind_rows) for verdict in VERDICTS}
+    fragile = sum(bool(claims.fragility(row)) for row in kind_rows if row["verdict"] == claims.REPRODUCED)
+    text = f"{n[claims.REPRODUCED]} reproduced"
+    if fragile:
+        text += f" ({fragile} of them not under every reading the notes document)"
+    return f"{text}, {n[claims.NOT_REPRODUCED]} not reproduced, {n[claims.UNDECIDABLE]} undecidable"
 
 
-def readme_with(count: str, text: str) -> str:
-    """``text`` (README.md) with the part between the verdict markers replaced by ``count``."""
+def summary(ledger_rows: list[tuple[str, dict]]) -> str:
+    """README.md's verdicts: the counts by source, the chapter's claims that do not reproduce (or
+    are undecidable or fragile) named, and the table of the chapter's figures (:data:`FIGURES`)."""
+    by_kind = {kind: [row for _, row in ledger_rows if row["claim"].kind == kind] for kind in claims.KINDS}
+    lines = [f"**{len(ledger_rows)} claims**, by who makes them ([the claim ledger]({LEDGER_LINK}) has each "
+             "with its metric and threshold):", ""]
+    lines += [f"- {SOURCES[kind]}: {len(kind_rows)}; {_count(kind_rows)}" for kind, kind_rows in by_kind.items()
+              if kind_rows]
+    lines.append("")
+    notable = [row for row in by_kind["chapter"] if row["verdict"] != claims.REPRODUCED or claims.fragility(row)]
+    if notable:
+        lines.append("The chapter's claims that do not simply reproduce:")
+        lines += [f"- {row['claim'].chapter.split(' (')[0]} ({row['claim'].where}): {claims.verdict_text(row)}, "
+                  f"measured {claims.measured_text(row)}." for row in notable]
+        lines.append("")
+    lines += ["| figure | the chapter says (paraphrased) | verdict of its claims | notebook |", "|---|---|---|---|"]
+    lines += [_figure_row(figure, ledger_rows) for figure in FIGURES]
+    return "\n".join(lines)
+
+
+def on_figure(figure: Figure, ledger_rows: list[tuple[str, dict]]) -> list[dict]:
+    """The rows of the chapter's own and our inferred claims (not those read from another
+    source) that test ``figure``."""
+    return [row for experiment, row in ledger_rows
+            if experiment == figure.experiment and not row["claim"].source
+            and re.search(figure.where, row["claim"].where)]
+
+
+def _figure_row(figure: Figure, ledger_rows: list[tuple[str, dict]]) -> str:
+    tested = on_figure(figure, ledger_rows)
+    parts = []
+    for kind in ("chapter", "inferred"):
+        kind_rows = [row for row in tested if row["claim"].kind == kind]
+        if kind_rows:
+            held = sum(row["verdict"] == claims.REPRODUCED for row in kind_rows)
+            fragile = sum(bool(claims.fragility(row)) for row in kind_rows if row["verdict"] == claims.REPRODUCED)
+            note = f" ({fragile} fragile)" if fragile else ""
+            parts.append(f"{held} of {len(kind_rows)} {'chapter' if kind == 'chapter' else 'inferred'}{note}")
+    verdict = "; ".join(parts) if parts else "no claim"
+    images = ", ".join(f"[{image}](paper_figures/output/{image}.png)" for image in figure.images)
+    return (f"| {figure.name} ({images}) | {figure.says} | {verdict} | "
+            f"[{figure.notebook[:3].rstrip('_')}](notebooks/{figure.notebook}.ipynb) |")
+
+
+def readme_with(block: str, text: str) -> str:
+    """``text`` (README.md) with the part between the verdict markers replaced by ``block``."""
     check_markers(text)
     head, rest = text.split(START)
-    return f"{head}{START}\n{count}\n{END}{rest.split(END, 1)[1]}"
+    return f"{head}{START}\n{block}\n{END}{rest.split(END, 1)[1]}"
 
 
 def check_markers(text: str) -> None:
@@ -108,16 +215,16 @@ def check_markers(text: str) -> None:
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(prog="python -m glamas.ledger", description=__doc__.splitlines()[0])
     mode = parser.add_mutually_exclusive_group()
-    mode.add_argument("--write", action="store_true", help="write docs/ledger.md and README.md's count of verdicts")
-    mode.add_argument("--check", action="store_true", help="exit 1 if docs/ledger.md or README.md's count is stale")
+    mode.add_argument("--write", action="store_true", help="write docs/ledger.md and README.md's summary of verdicts")
+    mode.add_argument("--check", action="store_true", help="exit 1 if docs/ledger.md or README.md's summary is stale")
     args = parser.parse_args(argv)
     if not (args.write or args.check):
         print(markdown())
         return 0
     text = README.read_text()
     check_markers(text)  # before the seconds of reading every result and judging every claim
-    ledger = markdown()
-    wanted = {LEDGER: page(ledger), README: readme_with(verdict_count(ledger), text)}
+    ledger_rows = rows()
+    wanted = {LEDGER: page(table(ledger_rows)), README: readme_with(summary(ledger_rows), text)}
     if args.check:
         stale = [path for path, content in wanted.items() if not path.is_file() or path.read_text() != content]
         if stale:
