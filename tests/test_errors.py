@@ -139,14 +139,14 @@ def test_ledger_names_the_script_of_a_damaged_committed_result_and_git_checkout(
     damaged.write_bytes(damaged.read_bytes()[:5000])
     line = _one_error_line(_command(clone, "-m", "glamas.ledger", "--check"))
     assert "gridworld.npz is not a readable glamas result file" in line
-    assert line.endswith("recompute it with `python paper_figures/fig11a.py --rerun`, or restore the committed "
+    assert line.endswith("recompute it with `.venv/bin/python paper_figures/fig11a.py --rerun`, or restore the committed "
                          "one with `git checkout -- data/results/gridworld.npz`")
 
 
 def test_ledger_names_the_script_of_a_missing_committed_result(clone):
     (clone / "data" / "results" / "state_encoding.npz").unlink()
     line = _one_error_line(_command(clone, "-m", "glamas.ledger"))
-    assert "no result file at" in line and "`python paper_figures/fig6.py --rerun`" in line
+    assert "no result file at" in line and "`.venv/bin/python paper_figures/fig6.py --rerun`" in line
 
 
 def test_verify_usage_errors_are_one_line_on_stderr():
@@ -170,12 +170,12 @@ def test_advice_is_for_committed_files_only(tmp_path):
     registry.experiments()
     assert committed.advice(tmp_path / "gridworld.npz") is None
     assert committed.advice(REPO / "data" / "results" / "scaling.npz", "--force").startswith(
-        "give the run another --results directory (for example `python paper_figures/scaling_performance.py "
+        "give the run another --results directory (for example `.venv/bin/python paper_figures/scaling_performance.py "
         "--results out/results` at the paper scale), or restore the committed one")
     assert committed.advice(REPO / "data" / "results" / "scaling.npz").startswith(
-        "recompute it with `python paper_figures/scaling_performance.py --rerun`")
+        "recompute it with `.venv/bin/python paper_figures/scaling_performance.py --rerun`")
     assert committed.advice(REPO / "paper_figures" / "output" / "fig9.png") == (
-        "draw it again with `python paper_figures/fig9.py`, or restore the committed one with "
+        "draw it again with `.venv/bin/python paper_figures/fig9.py`, or restore the committed one with "
         "`git checkout -- paper_figures/output/fig9.png`")
 
 
@@ -220,7 +220,7 @@ def test_make_figures_computes_nothing_and_names_the_script_of_a_missing_result(
     done = _command(clone, "-m", "glamas.reproduce", "--all")
     assert _one_error_line(done) == (
         f"error: no result file at {clone / 'data' / 'results' / 'single_gla.npz'}; recompute it with "
-        "`python paper_figures/fig5.py --rerun`, or restore the committed one with "
+        "`.venv/bin/python paper_figures/fig5.py --rerun`, or restore the committed one with "
         "`git checkout -- data/results/single_gla.npz`")
     assert sorted(path.name for path in (clone / "data" / "results").iterdir()) == before
 

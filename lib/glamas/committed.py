@@ -14,6 +14,9 @@ SCRIPTS_OF: dict = {}
 """Result file name (``gridworld.npz``) -> the figure scripts of its experiment, in order: filled
 by :func:`glamas.experiments.registry.register` as each experiment registers, so that this module,
 which result files use, stands below the experiments."""
+PYTHON = ".venv/bin/python"
+"""The interpreter a message's command names: the one ``make`` installs, so that the command runs as
+written from the repository root."""
 RUNS_ITS_EXPERIMENT = "figures.figure("
 """What the source of a figure script that runs its experiment calls (the others call
 figures.fixed_figure: a map, a table of settings)."""
@@ -40,16 +43,25 @@ def result_advice(name: str, option: str = "--rerun") -> str:
     if script is None:
         return restore
     if option == "--force":
-        return (f"give the run another --results directory (for example `python {shown(SCRIPTS / script)}.py "
+        return (f"give the run another --results directory (for example `{PYTHON} {shown(SCRIPTS / script)}.py "
                 f"--results out/results` at the paper scale), or {restore}")
-    return f"recompute it with `python {shown(SCRIPTS / script)}.py {option}`, or {restore}"
+    return f"recompute it with `{PYTHON} {shown(SCRIPTS / script)}.py {option}`, or {restore}"
 
 
 def figure_advice(name: str) -> str:
     """How to make the committed figure ``name`` (``fig11a.png``) again: its script, or git checkout."""
     restore = f"restore the committed one with `git checkout -- {shown(FIGURES / name)}`"
     script = SCRIPTS / f"{Path(name).stem}.py"
-    return f"draw it again with `python {shown(script)}`, or {restore}" if script.is_file() else restore
+    return f"draw it again with `{PYTHON} {shown(script)}`, or {restore}" if script.is_file() else restore
+
+
+def stale_advice(name: str) -> str:
+    """How to make the committed result file ``name``, stale after a change of code, current again:
+    re-recorded when the change kept its behaviour (:mod:`glamas.small_runs`), else recomputed."""
+    script = computing_script(name)
+    recompute = f"`{PYTHON} {shown(SCRIPTS / script)}.py --rerun`" if script else "its experiment run again"
+    return (f"if the change kept what it computes, `{PYTHON} -m glamas.small_runs --adopt {Path(name).stem}` records "
+            f"it with this code in seconds (it checks its small run); otherwise recompute it with {recompute}")
 
 
 def computing_script(result_file: str) -> str | None:

@@ -112,6 +112,28 @@ def load(path, config, *, seed: int | None = None) -> dict:
     return arrays
 
 
+def stored_config(path) -> str:
+    """The configuration's JSON text that ``path`` records (:func:`config_json`)."""
+    return _read_text(Path(path), _CONFIG_KEY)
+
+
+def load_unchecked_code(path, config) -> dict:
+    """The arrays of ``path``, its configuration and its arrays' digests checked, but not the code
+    that computed it: for re-recording a result whose code changed without a change of behaviour
+    (:mod:`glamas.small_runs`)."""
+    path = Path(path)
+    if json.loads(stored_config(path))["type"] != type(config).__name__:
+        raise ResultFileError(f"{path} is not a result of {type(config).__name__}")
+    try:
+        stored = json.loads(_read_text(path, _PROVENANCE_KEY))
+        with np.load(path, allow_pickle=False) as archive:
+            arrays = {key: archive[key] for key in archive.files if key not in _RESERVED}
+    except (_UNREADABLE + (json.JSONDecodeError,)) as error:
+        raise _unreadable(path, error) from None
+    _check_arrays(path, stored.get("arrays") if isinstance(stored, dict) else None, arrays)
+    return arrays
+
+
 def _check_provenance(path: Path, config) -> dict:
     """The provenance record of ``path``, after checking it against the current one."""
     try:
@@ -121,7 +143,10 @@ def _check_provenance(path: Path, config) -> dict:
                                "with (an older glamas made it); " + _advice(path, _REFRESH)) from None
     changed = provenance.mismatch(stored, provenance.record(config))
     if changed:
-        raise StaleResultError(f"{path} is stale: {changed}; " + _advice(path, _REFRESH))
+        code_only = provenance.mismatch({**stored, "code": provenance.code_record(config)}, provenance.record(config))
+        advice = (committed.stale_advice(path.name) if code_only is None and committed.advice(path) is not None
+                  else _advice(path, _REFRESH))
+        raise StaleResultError(f"{path} is stale: {changed}; " + advice)
     return stored
 
 

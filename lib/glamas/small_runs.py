@@ -9,6 +9,17 @@ in ten minutes; these small runs take seconds, so that ``make test`` finds a pro
 or a change of code that gives other bits: its compile step checks them (``python -m
 glamas.precompile --check``), and ``tests/test_portable_results.py`` does where pytest runs alone.
 
+They also decide, by behaviour rather than by syntax, whether a committed result is still what
+the code computes. A result records the code that computed it (:mod:`glamas.provenance`), and so
+does each small run's digest here. After a change of code, ``--adopt`` recomputes the small run
+of every experiment whose committed result the change made stale: where the result and the digest
+were recorded with the same code and the small run still gives the committed digest bit for bit,
+the change kept the experiment's behaviour, and the result (its arrays untouched) and the digest
+are recorded again with the code as it is; where the small run differs, the result stays stale and
+the command says how to recompute it. Its limit: a change that shows only at paper scale passes
+here, which is what ``make verify`` is for. ``--status`` lists every committed result with what
+would make it current and what that costs.
+
 ``python -m glamas.small_runs --write`` recomputes them and rewrites the file (after a change that
 alters what an experiment computes, with its committed results); ``--check`` compares.
 """
@@ -20,9 +31,11 @@ import json
 
 import numpy as np
 
-from glamas import errors
+from glamas import errors, provenance, results
+from glamas.committed import PYTHON, shown
+from glamas.errors import UserError
 from glamas.experiments import registry
-from glamas.paths import DATA
+from glamas.paths import DATA, RESULTS
 
 DIGESTS = DATA / "small_runs.json"
 SIZES = {"single_gla": (2, 2000, {}), "state_encoding": (2, 2000, {}), "and_network": (2, 2000, {}),
@@ -45,6 +58,12 @@ formulation and its budget axis run the same kernels on a two-agent map and on T
 only: the exact plans of TunnelToGoal 3, which the benchmark's own small run computes, took
 most of their time."""
 SEED = 0
+RECOMPUTE_MINUTES = {"single_gla": 0.5, "state_encoding": 1, "and_network": 0.5, "and_network_sweep": 1,
+                     "gridworld": 1, "fig10_readings": 1, "related_work": 1, "scaling": 2, "many_agents": 1,
+                     "benchmark_maps": 1, "benchmark_maps_field": 0.5, "benchmark_maps_budgets": 14,
+                     "warehouses": 24, "crowd": 11}
+"""About how long each experiment's paper-scale recomputation takes on 2 cores (measured), for
+``--status``."""
 
 
 def digest(arrays: dict) -> str:
@@ -70,17 +89,130 @@ def committed() -> dict:
     return json.loads(DIGESTS.read_text())["digests"]
 
 
+def committed_code() -> dict:
+    """The record of the code each committed digest was computed with, by experiment name."""
+    return json.loads(DIGESTS.read_text()).get("code", {})
+
+
+def experiment_named(name: str) -> registry.Experiment:
+    return next(e for e in registry.experiments() if e.name == name)
+
+
+def current_code(name: str) -> dict:
+    """The record of the code that computes experiment ``name`` now (:func:`glamas.provenance.code_record`)."""
+    return provenance.code_record(experiment_named(name).paper_scale())
+
+
+def write(found: dict) -> None:
+    """Rewrite the digests file with the digests ``found`` and the code that computes each now."""
+    sizes = {name: {"runs": runs, "iterations": iterations, **fields} for name, (runs, iterations, fields) in SIZES.items()}
+    code = {name: current_code(name) for name in found}
+    DIGESTS.write_text(json.dumps({"seed": SEED, "sizes": sizes, "digests": found, "code": code}, indent=1) + "\n")
+
+
+def stored_record(name: str) -> dict:
+    """The provenance record the committed result of ``name`` holds (unchecked)."""
+    path = experiment_named(name).file(RESULTS)
+    try:
+        with np.load(path, allow_pickle=False) as archive:
+            return json.loads(str(archive["__provenance__"]))
+    except (OSError, ValueError, KeyError, EOFError, json.JSONDecodeError) as error:
+        raise UserError(f"{shown(path)} cannot be read ({type(error).__name__}); restore it with "
+                        f"`git checkout -- {shown(path)}`") from None
+
+
+def recompute_command(name: str) -> str:
+    return (f"`{PYTHON} -m glamas.reproduce --experiment {name} --fresh out/{name}` (about "
+            f"{RECOMPUTE_MINUTES[name]:g} min on 2 cores), then `{PYTHON} -m glamas.verify out/{name} --adopt`")
+
+
+def status(name: str) -> tuple[str, str]:
+    """('current' | 're-record' | 'recompute', why and what to run) of ``name``'s committed result."""
+    experiment = experiment_named(name)
+    stored = stored_record(name)
+    changed = provenance.mismatch(stored, provenance.record(experiment.paper_scale()))
+    if changed is None:
+        return "current", "nothing to do"
+    same_but_code = provenance.mismatch({**stored, "code": current_code(name)}, provenance.record(experiment.paper_scale()))
+    if same_but_code is not None or stored.get("code") != committed_code().get(name):
+        return "recompute", f"{changed}: recompute it with {recompute_command(name)}"
+    return "re-record", (f"{changed}: if its small run still gives the committed bits, `{PYTHON} -m "
+                         f"glamas.small_runs --adopt {name}` records it with this code (seconds); else recompute it with "
+                         f"{recompute_command(name)}")
+
+
+def adopt(names) -> int:
+    """Re-record the committed result and small-run digest of each experiment of ``names`` whose
+    small run gives the committed bits with the code as it is (see the module's text); print one
+    line per experiment; returns 1 if any is left stale, else 0."""
+    digests, code, left = committed(), committed_code(), 0
+    for name in names:
+        state, why = status(name)
+        if state == "recompute":
+            print(f"{name}: stale, not re-recorded: {why}")
+            left += 1
+            continue
+        if state == "current":
+            print(f"{name}: current")
+            continue
+        if small_digest(name) != digests[name]:
+            modules = sorted(m for m in set(code[name]) | set(current_code(name))
+                             if code[name].get(m) != current_code(name).get(m))
+            print(f"{name}: stale, its small run gives other bits with the changed code "
+                  f"({', '.join('glamas/' + m for m in modules[:3])}): recompute it with {recompute_command(name)}")
+            left += 1
+            continue
+        _rerecord(name)
+        code[name] = current_code(name)
+        print(f"{name}: re-recorded (its small run gives the committed bits)")
+    write_code(code)
+    return 1 if left else 0
+
+
+def _rerecord(name: str) -> None:
+    """Save the committed result of ``name`` again, the same arrays (their digests checked) with the
+    record of the code as it is."""
+    experiment = experiment_named(name)
+    path, config = experiment.file(RESULTS), experiment.paper_scale()
+    stored = results.stored_config(path)
+    seed = json.loads(stored)["fields"].get("seed")
+    if stored != results.config_json(config, seed):
+        raise UserError(f"{shown(path)} is not the paper-scale result of {name}: recompute it with "
+                        f"{recompute_command(name)}")
+    results.save(path, config, results.load_unchecked_code(path, config), seed=seed, overwrite=True)
+
+
+def write_code(code: dict) -> None:
+    """Rewrite the digests file's records of code, its digests unchanged."""
+    content = json.loads(DIGESTS.read_text())
+    content["code"] = code
+    DIGESTS.write_text(json.dumps(content, indent=1) + "\n")
+
+
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(prog="python -m glamas.small_runs",
                                      description=" ".join(__doc__.split("\n\n")[0].split()))
     action = parser.add_mutually_exclusive_group(required=True)
     action.add_argument("--write", action="store_true", help=f"recompute every small run and rewrite {DIGESTS.name}")
     action.add_argument("--check", action="store_true", help=f"recompute every small run and compare with {DIGESTS.name}")
+    action.add_argument("--status", action="store_true", help="list every committed result: current, or what "
+                        "makes it current and what that costs")
+    action.add_argument("--adopt", nargs="*", metavar="EXPERIMENT", help="re-record the committed results the code "
+                        "change left stale whose small runs still give the committed bits (all, or those named)")
     args = parser.parse_args(argv)
+    if args.status:
+        for name in SIZES:
+            state, why = status(name)
+            print(f"{name}: {state}" + ("" if state == "current" else f": {why}"))
+        return 0
+    if args.adopt is not None:
+        unknown = sorted(set(args.adopt) - set(SIZES))
+        if unknown:
+            raise UserError(f"no stored experiment named {', '.join(unknown)}; the experiments: {', '.join(SIZES)}")
+        return adopt(args.adopt or list(SIZES))
     found = {name: small_digest(name) for name in SIZES}
     if args.write:
-        sizes = {name: {"runs": runs, "iterations": iterations, **fields} for name, (runs, iterations, fields) in SIZES.items()}
-        DIGESTS.write_text(json.dumps({"seed": SEED, "sizes": sizes, "digests": found}, indent=1) + "\n")
+        write(found)
         print(f"wrote {len(found)} digests to {DIGESTS}")
         return 0
     return report(found)

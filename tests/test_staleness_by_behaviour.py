@@ -1,0 +1,81 @@
+"""Staleness by behaviour (glamas.small_runs --adopt): after a change of the code, a committed
+result whose experiment's small run still gives the committed bits is recorded again with the code
+as it is, its arrays untouched; one whose small run gives other bits stays stale."""
+
+import json
+import shutil
+
+import numpy as np
+import pytest
+
+from glamas import committed, provenance, results, small_runs
+from glamas.paths import RESULTS
+
+NAME = "single_gla"  # the cheapest small run
+
+
+@pytest.fixture
+def edited(monkeypatch, tmp_path):
+    """Copies of the committed results and digests, and the code record of a change of one kernel
+    module (gridworld/rules.py) that the records see, whatever it does."""
+    shutil.copytree(RESULTS, tmp_path / "results")
+    shutil.copy(small_runs.DIGESTS, tmp_path / "small_runs.json")
+    monkeypatch.setattr(small_runs, "RESULTS", tmp_path / "results")
+    monkeypatch.setattr(committed, "RESULTS", tmp_path / "results")
+    monkeypatch.setattr(small_runs, "DIGESTS", tmp_path / "small_runs.json")
+    real = provenance.code_record
+    monkeypatch.setattr(provenance, "code_record", lambda config: {**real(config), "gridworld/rules.py": "edited"})
+    return tmp_path
+
+
+def _load(directory):
+    experiment = small_runs.experiment_named(NAME)
+    return results.load(experiment.file(directory), experiment.paper_scale(), seed=0)
+
+
+def test_a_change_that_keeps_the_behaviour_is_re_recorded_and_the_result_loads(edited, capsys):
+    with pytest.raises(results.StaleResultError, match="small_runs --adopt"):
+        _load(edited / "results")
+    assert small_runs.status(NAME)[0] == "re-record"
+    before = np.load(RESULTS / f"{NAME}.npz")
+    assert small_runs.main(["--adopt", NAME]) == 0
+    assert capsys.readouterr().out.strip() == f"{NAME}: re-recorded (its small run gives the committed bits)"
+    after = _load(edited / "results")
+    assert set(after) == {key for key in before.files if not key.startswith("__")}
+    assert all(np.array_equal(after[key], before[key], equal_nan=True) for key in after)
+    assert small_runs.committed_code()[NAME]["gridworld/rules.py"] == "edited"
+    assert small_runs.status(NAME)[0] == "current" and small_runs.status("gridworld")[0] == "re-record"
+
+
+def test_a_change_of_behaviour_leaves_the_result_stale_naming_the_recomputation(edited, monkeypatch, capsys):
+    monkeypatch.setattr(small_runs, "small_digest", lambda name, workers=None: "other bits")
+    committed = (edited / "results" / f"{NAME}.npz").read_bytes()
+    assert small_runs.main(["--adopt", NAME]) == 1
+    out = capsys.readouterr().out.strip()
+    assert out.count("\n") == 0 and out.startswith(f"{NAME}: stale, its small run gives other bits")
+    assert f"glamas.reproduce --experiment {NAME} --fresh out/{NAME}" in out and "glamas/gridworld/rules.py" in out
+    assert (edited / "results" / f"{NAME}.npz").read_bytes() == committed
+    with pytest.raises(results.StaleResultError):
+        _load(edited / "results")
+
+
+def test_a_result_recorded_with_other_code_than_its_digest_is_not_re_recorded(edited, capsys):
+    digests = json.loads((edited / "small_runs.json").read_text())
+    digests["code"][NAME] = {**digests["code"][NAME], "gla.py": "other"}
+    (edited / "small_runs.json").write_text(json.dumps(digests))
+    state, why = small_runs.status(NAME)
+    assert state == "recompute" and "about 0.5 min on 2 cores" in why
+    assert small_runs.main(["--adopt", NAME]) == 1
+    assert capsys.readouterr().out.startswith(f"{NAME}: stale, not re-recorded")
+
+
+def test_status_lists_every_committed_result(capsys):
+    assert small_runs.main(["--status"]) == 0
+    lines = capsys.readouterr().out.splitlines()
+    assert lines == [f"{name}: current" for name in small_runs.SIZES]
+
+
+def test_an_unknown_experiment_is_one_line(capsys):
+    from glamas.errors import UserError
+    with pytest.raises(UserError, match="no stored experiment named nonexistent"):
+        small_runs.main(["--adopt", "nonexistent"])
