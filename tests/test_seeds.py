@@ -54,8 +54,15 @@ def test_the_arithmetic_key_collision_is_gone():
 
 
 def test_a_name_is_its_words_in_order():
-    assert seeds.named(0, "scaling", 8) == seeds.named(0, "scaling", 8)
-    assert seeds.named(0, "scaling", 8) != seeds.named(0, 8, "scaling")
+    assert seeds.named(0, "scaling", 8, "mmdp") == seeds.named(0, "scaling", 8, "mmdp")
+    assert seeds.named(0, "scaling", 8, "mmdp") != seeds.named(0, 8, "scaling", "mmdp")
+
+
+def test_names_that_differ_by_trailing_zeros_cannot_be_given():
+    """SeedSequence pads with zeros: (7,) and (7, 0) would name one seed; a list ends with a string."""
+    for names in ((7,), (7, 0), ()):
+        with pytest.raises(UserError, match="must end with a string"):
+            seeds.named(*names)
 
 
 def test_the_largest_seed_of_the_command_line_is_one_word():
@@ -65,7 +72,7 @@ def test_the_largest_seed_of_the_command_line_is_one_word():
         seeds.named(cli.MAX_SEED + 1, "gridworld")
 
 
-@pytest.mark.parametrize("names", [(-1, "scaling"), (0.5,), (None,), (True,)])
+@pytest.mark.parametrize("names", [(-1, "scaling"), (0.5, "scaling"), (None, "scaling"), (True, "scaling")])
 def test_a_name_that_is_no_integer_or_string_is_refused(names):
     with pytest.raises(UserError, match=r"integers in \[0, 2\*\*32\) and strings"):
         seeds.named(*names)

@@ -121,5 +121,42 @@ def test_a_module_glamas_learners_cannot_import_is_one_warning_and_its_learners_
     lines = done.stderr.strip().splitlines()
     assert done.returncode == 2 and "Traceback" not in done.stderr
     assert lines[0] == ("warning: GLAMAS_LEARNERS names the module 'no_such_module', which cannot be imported (No "
-                        "module named 'no_such_module'); put its directory on PYTHONPATH or correct the name")
+                        "module named 'no_such_module'); put its directory on PYTHONPATH or correct the name; its learners are unknown")
     assert "error: --learners toy_walk: learners must be distinct names of registered learners" in lines[-1]
+
+
+@pytest.mark.parametrize("source, fault", [
+    ("def broken(:\n", "which has a syntax error (invalid syntax, "),
+    ("raise RuntimeError('no licence for this learner')\n",
+     "which fails on import (RuntimeError: no licence for this learner); correct it"),
+    (TOY.replace('name="toy_walk"', 'name="independent"'),
+     "which fails on import (UserError: a learner named 'independent' is registered already"),
+])
+def test_a_module_of_ones_own_that_fails_on_import_is_one_warning(tmp_path, source, fault):
+    (tmp_path / "mine.py").write_text(textwrap.dedent(source))
+    env = {"PYTHONPATH": str(tmp_path), "GLAMAS_LEARNERS": "mine", "PATH": "/usr/bin:/bin"}
+    done = subprocess.run([sys.executable, "-c", "import glamas.learners.registry as r; print(sorted(r.LEARNERS)[:1])"],
+                          capture_output=True, text=True, env=env, timeout=120)
+    assert done.returncode == 0 and "Traceback" not in done.stderr, done.stderr
+    warning, = done.stderr.strip().splitlines()
+    assert warning.startswith("warning: GLAMAS_LEARNERS names the module 'mine', " + fault)
+    assert warning.endswith("; its learners are unknown")
+
+
+def test_a_result_records_the_code_of_a_learner_of_ones_own(toy):
+    """An edit of one's own learner makes its results stale, as an edit of the package's does."""
+    from glamas import provenance
+    directory, _ = toy
+    config = gw.GridworldConfig(runs=2, episodes=40, learners=("independent", "toy_walk"))
+    recorded = provenance.code_record(config)
+    assert "toy_walk (a learner of one's own)" in recorded
+    assert "toy_walk (a learner of one's own)" not in provenance.code_record(gw.GridworldConfig())
+    module = directory / "toy_walk.py"
+    original = module.read_text()
+    try:
+        module.write_text(original.replace("rate: float = 0.5", "rate: float = 0.25"))
+        assert provenance.mismatch({"maps": {}, "code": recorded, "version": "x"},
+                                   {"maps": {}, "code": provenance.code_record(config), "version": "x"}) \
+            == "the code that computes it changed since it was made (toy_walk (a learner of one's own))"
+    finally:
+        module.write_text(original)

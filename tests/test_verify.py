@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 
 from glamas import verify
+from glamas.errors import UserError
 from glamas.paths import RESULTS
 
 
@@ -150,7 +151,7 @@ def test_adopt_takes_the_recomputed_results_only_when_nothing_differs(tmp_path, 
         (side / "figures").mkdir()
     np.savez(committed / "results" / "single_gla.npz", __config__=np.array(results.config_json(config, 0)),
              __provenance__=np.array('{"version": "0.6.0", "maps": {}}'), x=np.arange(3.0))
-    shutil.copy(committed / "results" / "single_gla.npz", out / "results")
+    results.save(out / "results" / "single_gla.npz", config, {"x": np.arange(3.0)}, seed=0)
     monkeypatch.setattr(verify, "RESULTS", committed / "results")
     monkeypatch.setattr(verify, "FIGURES", committed / "figures")
     with pytest.raises(results.StaleResultError, match="records not the code that computed it"):
@@ -164,3 +165,26 @@ def test_adopt_takes_the_recomputed_results_only_when_nothing_differs(tmp_path, 
     assert verify.main([str(out), "--adopt"]) == 1
     assert "adopted nothing" in capsys.readouterr().out
     assert (committed / "results" / "single_gla.npz").read_bytes() == before
+
+
+def test_adopt_refuses_files_their_own_record_says_the_current_code_did_not_compute(tmp_path, monkeypatch, capsys):
+    """A copy of the committed files is no recomputation: after an edit of a kernel (seen here as
+    a changed record of the code), adopting it must take nothing, and leave the committed files."""
+    from glamas import provenance
+    shutil.copytree(RESULTS, tmp_path / "copy" / "results")
+    shutil.copytree(verify.FIGURES, tmp_path / "copy" / "figures")
+    real = provenance.code_record
+    monkeypatch.setattr(provenance, "code_record", lambda config: {**real(config), "learners/independent.py": "edited"})
+    before = {path.name: path.read_bytes() for path in RESULTS.glob("*.npz")}
+    with pytest.raises(UserError, match=r"was not computed by the code as it is \(the code that computes it changed "
+                                        r"since it was made \(glamas/learners/independent.py\)\).*adopted nothing"):
+        verify.main([str(tmp_path / "copy"), "--adopt"])
+    assert {path.name: path.read_bytes() for path in RESULTS.glob("*.npz")} == before
+
+
+def test_arrays_of_another_dtype_differ(twins, capsys):
+    out, committed_results, _ = twins
+    _save(committed_results / "fig5.npz", curve=np.array([1, 2], dtype=np.int64))
+    _save(out / "results" / "fig5.npz", curve=np.array([1.0, 2.0]))
+    status, printed = _verified(out, capsys)
+    assert status == 1 and "curve" in printed[0]

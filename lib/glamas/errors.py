@@ -12,9 +12,11 @@ Every entry point (the figure scripts, ``python -m glamas.reproduce``, ``glamas.
 """
 
 import contextlib
+import re
 import shlex
 import sys
 import traceback
+from pathlib import Path
 
 EXIT_USER_ERROR = 2
 """Exit status of a user error (argparse's for a bad option)."""
@@ -59,11 +61,41 @@ def run(main) -> None:
     try:
         with reported():
             status = main()
-    except Exception:
+    except Exception as error:
+        module = outside_fault(error)
+        if module is not None:  # a learner of one's own, say: its fix lies in that module
+            print(f"error: {module} fails ({type(error).__name__}: {_first_line(error)}): the fault is in that module, "
+                  "not in glamas; correct it", file=sys.stderr)
+            sys.exit(EXIT_USER_ERROR)
         traceback.print_exc()
         print(bug_report(), file=sys.stderr)
         sys.exit(EXIT_BUG)
     sys.exit(status)
+
+
+def outside_fault(error: BaseException) -> str | None:
+    """The Python file of the user's where ``error`` arose, outside glamas, the repository and the
+    Python installation: the innermost frame of its traceback that is not in the installation (numba,
+    numpy), or else the source a numba typing error names; None when that is glamas's."""
+    from glamas.paths import REPO  # the repository's scripts, tests and benchmarks are glamas's
+
+    installed = {Path(sys.prefix).resolve(), Path(sys.base_prefix).resolve()}
+
+    def inside(name: str, places) -> bool:
+        return name.startswith("<") or any(Path(name).resolve().is_relative_to(place) for place in places)
+
+    frames = [frame.filename for frame in traceback.extract_tb(error.__traceback__)
+              if not inside(frame.filename, installed)]
+    named = [name for name in re.findall(r'File "([^"]+\.py)"', str(error)) if not inside(name, installed)]
+    for name in frames[-1:] + named[-1:]:
+        if not inside(name, (REPO,)):
+            return name
+    return None
+
+
+def _first_line(error: BaseException) -> str:
+    lines = [line.strip() for line in str(error).splitlines() if line.strip()]
+    return lines[0] if lines else type(error).__name__
 
 
 def bug_report() -> str:

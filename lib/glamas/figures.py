@@ -46,7 +46,9 @@ def parse(description: str, experiment: Experiment, argv=None, min_runs: int = 1
     ``description`` is the script's docstring; its first paragraph is the --help text."""
     parser = cli.figure_parser(_summary(description), runs=experiment.runs, iterations=experiment.iterations,
                                maps=experiment.map_field is not None,
-                               settings=overrides.settable(experiment.paper_scale()), counts=experiment.counts)
+                               settings=[entry for entry in overrides.settable(experiment.paper_scale())
+                                         if entry.partition("=")[0] not in overrides.OWN_OPTIONS],
+                               counts=experiment.counts)
     args = cli.parse(parser, argv)
     if args.runs < min_runs:
         parser.error(f"--runs must be at least {min_runs}: the figure shows {min_runs} runs")
@@ -57,6 +59,7 @@ def parse(description: str, experiment: Experiment, argv=None, min_runs: int = 1
         if args.learners is not None:
             config = overrides.with_learners(config, args.learners)
         for assignment in args.set or ():
+            overrides.check_not_own(assignment)
             config = overrides.with_setting(config, assignment)
     except UserError as error:
         parser.error(str(error))

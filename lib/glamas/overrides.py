@@ -15,15 +15,22 @@ import math
 from glamas.errors import UserError
 
 _TRUE, _FALSE = ("true", "yes", "1"), ("false", "no", "0")
+OWN_OPTIONS = ("runs", "iterations", "episodes")
+"""Settings a figure script sets with an option of its own (``--runs``, ``--episodes``): its --set
+refuses them (:func:`check_not_own`), so that the two cannot disagree."""
 
 
 def with_learners(config, names: str):
-    """``config`` training the learners ``names`` (comma-separated registered names)."""
-    if not _has_field(config, "learners"):
+    """``config`` training the learners ``names`` (comma-separated registered names): its field
+    ``learners``, or that of the one configuration inside it that has one (the crowd's ``study``)."""
+    chosen = tuple(name.strip() for name in names.split(",") if name.strip())
+    if _has_field(config, "learners"):
+        return _replaced(config, "learners", chosen, f"--learners {names}")
+    inside = [f.name for f in dataclasses.fields(config) if _has_field(getattr(config, f.name), "learners")]
+    if len(inside) != 1:
         raise UserError(f"--learners: this experiment's configuration ({type(config).__name__}) trains no "
                         "choice of learners")
-    chosen = tuple(name.strip() for name in names.split(",") if name.strip())
-    return _replaced(config, "learners", chosen, f"--learners {names}")
+    return _replaced(config, inside[0], with_learners(getattr(config, inside[0]), names), f"--learners {names}")
 
 
 def with_setting(config, assignment: str):
@@ -31,9 +38,17 @@ def with_setting(config, assignment: str):
     by dots down to one, a learner's settings by the learner's name)."""
     path, equals, text = assignment.partition("=")
     if not equals or not path:
-        example = next((entry for entry in settable(config) if "." in entry), "runs=2")
+        example = next((entry for entry in settable(config) if "." in entry), "max_steps=100")
         raise UserError(f"--set {assignment}: expected NAME.FIELD=VALUE, e.g. --set {example} (--help lists them)")
     return _set(config, path.split("."), text, f"--set {assignment}")
+
+
+def check_not_own(assignment: str) -> None:
+    """Refuse a command line's ``--set`` of a setting that has an option of its own (OWN_OPTIONS)."""
+    path, _, text = assignment.partition("=")
+    if path in OWN_OPTIONS:
+        raise UserError(f"--set {assignment}: {path} has an option of its own, which would disagree with it: "
+                        f"give --{path} {text} instead")
 
 
 def settable(config) -> list[str]:
@@ -55,6 +70,10 @@ def _set(node, names: list, text: str, where: str):
         if isinstance(child, dict) and head in child:  # a learner's settings by its name
             return _replaced(node, "settings", _set(child, names, text, where), where)
         fields = [f.name for f in dataclasses.fields(node)] + sorted(child or ())
+        if isinstance(child, dict) and _is_learner(head) and _has_field(node, "learners"):
+            trained = ",".join(node.learners)
+            raise UserError(f"{where}: the learner {head!r} is not trained here ({trained}); train it too with "
+                            f"--learners {trained},{head}")
         raise UserError(f"{where}: {type(node).__name__} has no setting {head!r}; it has {', '.join(fields)}")
     current = getattr(node, head)
     if not rest and (dataclasses.is_dataclass(current) or isinstance(current, dict)):
@@ -127,6 +146,12 @@ def _leaves(node, prefix: str):
         elif value is None or isinstance(value, (bool, int, float, str)) or (
                 isinstance(value, tuple) and value and isinstance(value[0], (int, float, str))):
             yield f"{prefix}{f.name}", value
+
+
+def _is_learner(name: str) -> bool:
+    from glamas.learners import registry  # the registry imports every learner: only when asked
+
+    return name in registry.LEARNERS
 
 
 def _has_field(node, name: str) -> bool:

@@ -14,6 +14,7 @@ loading, so that a damaged or edited array is found before anything is drawn fro
 
 import dataclasses
 import inspect
+import sys
 from pathlib import Path
 
 import glamas
@@ -61,8 +62,41 @@ def computes(path: Path) -> bool:
 
 
 def code_record(config) -> dict:
-    """{module's path in the package: :func:`glamas.sources.code_digest`} of :func:`code_files`."""
-    return {path.relative_to(sources.PACKAGE).as_posix(): sources.code_digest(path) for path in code_files(config)}
+    """{module's path in the package: :func:`glamas.sources.code_digest`} of :func:`code_files`, and
+    the digest of the module of every learner of one's own (outside the package) that ``config``
+    trains, by its module's name (:func:`own_learner_files`)."""
+    record = {path.relative_to(sources.PACKAGE).as_posix(): sources.code_digest(path) for path in code_files(config)}
+    record.update({f"{module} (a learner of one's own)": sources.code_digest(path)
+                   for module, path in own_learner_files(config)})
+    return record
+
+
+def trained_learners(config) -> set:
+    """The learner names of every ``learners`` field of ``config`` and of the configs inside it."""
+    if not dataclasses.is_dataclass(config):
+        return set()
+    names = set()
+    for field in dataclasses.fields(config):
+        value = getattr(config, field.name)
+        if field.name == "learners" and isinstance(value, (tuple, list)):
+            names |= {name for name in value if isinstance(name, str)}
+        names |= trained_learners(value)
+    return names
+
+
+def own_learner_files(config) -> list[tuple[str, Path]]:
+    """(module name, file) of each learner ``config`` trains whose kernel is defined outside the
+    package: a learner of one's own, whose edit must make its results stale as the package's do."""
+    from glamas.learners import registry  # the registry imports the learners, which keep results
+
+    found = set()
+    for name in trained_learners(config):
+        learner = registry.LEARNERS.get(name)
+        module = sys.modules.get(getattr(getattr(learner, "kernel", None), "__module__", ""), None)
+        path = Path(getattr(module, "__file__", "") or "")
+        if path.suffix == ".py" and not path.resolve().is_relative_to(sources.PACKAGE):
+            found.add((module.__name__, path.resolve()))
+    return sorted(found)
 
 
 def array_digests(arrays: dict) -> dict:
@@ -109,7 +143,7 @@ def mismatch(stored: dict, current: dict) -> str | None:
     changed_code = sorted(module for module in set(stored["code"]) | set(current["code"])
                           if stored["code"].get(module) != current["code"].get(module))
     if changed_code:
-        shown = ", ".join(f"glamas/{module}" for module in changed_code[:3])
+        shown = ", ".join(module if module.endswith("own)") else f"glamas/{module}" for module in changed_code[:3])
         more = f" and {len(changed_code) - 3} more" if len(changed_code) > 3 else ""
         return f"the code that computes it changed since it was made ({shown}{more})"
     if stored.get("version") != current["version"]:

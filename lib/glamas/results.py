@@ -79,7 +79,7 @@ def check_writable(path, config, *, seed: int | None = None, replace_unreadable:
     if not path.exists():
         return
     try:
-        existing = _read_text(path, _CONFIG_KEY, kept=True)
+        existing = stored_config(path, kept=True)
     except UnreadableResultError:
         if replace_unreadable:
             return
@@ -96,7 +96,7 @@ def load(path, config, *, seed: int | None = None) -> dict:
     path = Path(path)
     if not path.exists():
         raise ResultFileError(f"no result file at {path}; " + _advice(path, "run the experiment to create it"))
-    stored = _read_text(path, _CONFIG_KEY)
+    stored = stored_config(path)
     expected = config_json(config, seed)
     if stored != expected:
         raise ResultFileError(f"{path} is stale: it was made by another configuration "
@@ -112,9 +112,38 @@ def load(path, config, *, seed: int | None = None) -> dict:
     return arrays
 
 
-def stored_config(path) -> str:
-    """The configuration's JSON text that ``path`` records (:func:`config_json`)."""
-    return _read_text(Path(path), _CONFIG_KEY)
+def stored_config(path, kept: bool = False) -> str:
+    """The configuration's JSON text that ``path`` records (:func:`config_json`), checked to be an
+    object of its type, format and fields (one line naming the file otherwise)."""
+    path = Path(path)
+    text = _read_text(path, _CONFIG_KEY, kept)
+    try:
+        header = json.loads(text)
+    except json.JSONDecodeError:
+        header = None
+    if not (isinstance(header, dict) and isinstance(header.get("fields"), dict) and "type" in header):
+        raise UnreadableResultError(f"{path} is damaged: its configuration is not one glamas writes, and it was "
+                                    "kept; " + _advice(path, "run again with --rerun or --force to replace it"))
+    return text
+
+
+def stored_seed(path):
+    """The master seed ``path`` records with its configuration."""
+    return json.loads(stored_config(path))["fields"].get("seed")
+
+
+def stored_provenance(path, text: str | None = None) -> dict:
+    """The record of what made ``path`` (:mod:`glamas.provenance`; its ``text`` when read already),
+    checked to be a JSON object."""
+    path = Path(path)
+    try:
+        stored = json.loads(_read_text(path, _PROVENANCE_KEY) if text is None else text)
+    except json.JSONDecodeError:
+        stored = None
+    if not isinstance(stored, dict):
+        raise UnreadableResultError(f"{path} is damaged: its record of what made it is not one glamas writes, and "
+                                    "it was kept; " + _advice(path, "run again with --rerun or --force to replace it"))
+    return stored
 
 
 def load_unchecked_code(path, config) -> dict:
@@ -124,23 +153,24 @@ def load_unchecked_code(path, config) -> dict:
     path = Path(path)
     if json.loads(stored_config(path))["type"] != type(config).__name__:
         raise ResultFileError(f"{path} is not a result of {type(config).__name__}")
+    stored = stored_provenance(path)
     try:
-        stored = json.loads(_read_text(path, _PROVENANCE_KEY))
         with np.load(path, allow_pickle=False) as archive:
             arrays = {key: archive[key] for key in archive.files if key not in _RESERVED}
-    except (_UNREADABLE + (json.JSONDecodeError,)) as error:
+    except _UNREADABLE as error:
         raise _unreadable(path, error) from None
-    _check_arrays(path, stored.get("arrays") if isinstance(stored, dict) else None, arrays)
+    _check_arrays(path, stored.get("arrays"), arrays)
     return arrays
 
 
 def _check_provenance(path: Path, config) -> dict:
     """The provenance record of ``path``, after checking it against the current one."""
     try:
-        stored = json.loads(_read_text(path, _PROVENANCE_KEY))
+        text = _read_text(path, _PROVENANCE_KEY)
     except ResultFileError:
         raise StaleResultError(f"{path} records neither the maps nor the glamas version it was made "
                                "with (an older glamas made it); " + _advice(path, _REFRESH)) from None
+    stored = stored_provenance(path, text)
     changed = provenance.mismatch(stored, provenance.record(config))
     if changed:
         code_only = provenance.mismatch({**stored, "code": provenance.code_record(config)}, provenance.record(config))

@@ -20,7 +20,13 @@ from glamas.errors import UserError
 def named(*names: int | str) -> int:
     """The master seed named by ``names`` (integers in [0, 2**32) as they are, strings by their
     CRC-32, in order): 48 bits drawn from ``numpy.random.SeedSequence(names)``, so that every
-    training seed stays below the evaluations' (:data:`glamas.learners.spec.EVALUATION_SEEDS`)."""
+    training seed stays below the evaluations' (:data:`glamas.learners.spec.EVALUATION_SEEDS`).
+
+    The last name must be a string (the study's or the learner's): SeedSequence pads its entropy
+    with zeros, so two lists of names that differ only by trailing zeros (``(7,)`` and ``(7, 0)``)
+    would name one seed; a list ending in a name cannot be another's with zeros added."""
+    if not names or not isinstance(names[-1], str):
+        raise UserError(f"a seed's names must end with a string (the study's or the learner's name), got {names!r}")
     entropy = [zlib.crc32(name.encode()) if isinstance(name, str) else name for name in names]
     if not all(isinstance(word, (int, np.integer)) and not isinstance(word, bool) and 0 <= word < 2 ** 32
                for word in entropy):

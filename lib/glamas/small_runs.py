@@ -111,14 +111,8 @@ def write(found: dict) -> None:
 
 
 def stored_record(name: str) -> dict:
-    """The provenance record the committed result of ``name`` holds (unchecked)."""
-    path = experiment_named(name).file(RESULTS)
-    try:
-        with np.load(path, allow_pickle=False) as archive:
-            return json.loads(str(archive["__provenance__"]))
-    except (OSError, ValueError, KeyError, EOFError, json.JSONDecodeError) as error:
-        raise UserError(f"{shown(path)} cannot be read ({type(error).__name__}); restore it with "
-                        f"`git checkout -- {shown(path)}`") from None
+    """The provenance record the committed result of ``name`` holds (unchecked against the code)."""
+    return results.stored_provenance(experiment_named(name).file(RESULTS))
 
 
 def recompute_command(name: str) -> str:

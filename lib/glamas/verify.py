@@ -140,8 +140,9 @@ def _fix(path: Path, side: str) -> str:
 
 
 def _equal(x: np.ndarray, y: np.ndarray) -> bool:
-    """Equal arrays; NaN equals NaN in float arrays (the scaling study marks skipped runs with it)."""
-    return np.array_equal(x, y, equal_nan=x.dtype.kind in "fc" and y.dtype.kind in "fc")
+    """Equal arrays of one dtype; NaN equals NaN in float arrays (the scaling study marks skipped
+    runs with it)."""
+    return x.dtype == y.dtype and np.array_equal(x, y, equal_nan=x.dtype.kind in "fc")
 
 
 def main(argv=None) -> int:
@@ -178,25 +179,33 @@ def main(argv=None) -> int:
 def adopt(recomputed: Path) -> int:
     """Save the arrays of every result file of ``recomputed`` as its committed twin, with the record
     of the code as it is now (:func:`glamas.results.save`); returns how many. Each is the
-    paper-scale result of its experiment (its configuration checked against the file's)."""
-    from glamas import results
+    paper-scale result of its experiment (its configuration checked against the file's), and its
+    own record must say that the code as it is now computed it: a file is trusted by its record,
+    never by its place (a copy of the committed files is not a recomputation). Nothing is adopted
+    unless every file passes."""
+    from glamas import provenance, results
     from glamas.experiments import registry
 
     experiments = {experiment.name: experiment for experiment in registry.experiments()}
     files = sorted(recomputed.glob("*.npz"))
+    taken = []
     for path in files:
         experiment = experiments.get(path.stem)
         if experiment is None:
-            raise errors.UserError(f"{shown(path)} is the result of no registered experiment; adopted nothing more")
+            raise errors.UserError(f"{shown(path)} is the result of no registered experiment; adopted nothing")
         config = experiment.paper_scale()
-        with np.load(path, allow_pickle=False) as archive:
-            stored = str(archive[_CONFIG])
-            arrays = {key: archive[key] for key in archive.files if not key.startswith("__")}
-        seed = json.loads(stored)["fields"]["seed"]
+        stored = results.stored_config(path)
+        seed = results.stored_seed(path)
         if stored != results.config_json(config, seed):
-            raise errors.UserError(f"{shown(path)} is not the paper-scale result of {path.stem}; adopted nothing more")
-        results.save(RESULTS / path.name, config, arrays, seed=seed, overwrite=True)
-    return len(files)
+            raise errors.UserError(f"{shown(path)} is not the paper-scale result of {path.stem}; adopted nothing")
+        changed = provenance.mismatch(results.stored_provenance(path), provenance.record(config))
+        if changed:
+            raise errors.UserError(f"{shown(path)} was not computed by the code as it is ({changed}): recompute it "
+                                   "(make verify) before adopting it; adopted nothing")
+        taken.append((path, config, seed))
+    for path, config, seed in taken:
+        results.save(RESULTS / path.name, config, results.load(path, config, seed=seed), seed=seed, overwrite=True)
+    return len(taken)
 
 
 if __name__ == "__main__":

@@ -105,22 +105,33 @@ class Experiment:
     def load(self, directory, config, seed: int):
         """The result of ``config`` and master ``seed`` in ``directory``, its configuration and
         provenance checked (:func:`glamas.results.load`); computed when it is not :attr:`stored`."""
+        if not isinstance(config, self.config):
+            held = " (a result file's path goes in results_dir: its directory)" if isinstance(config, (str, Path)) else ""
+            raise UserError(f"loading a result of {self.name} takes its configuration, a {self.config.__name__}, and "
+                            f"the directory of its file {self.name}.npz as results_dir{held}; got {config!r}")
         if not self.stored:
             return self.run(config, seed=seed)
         return self.result_of(config, results.load(self.file(directory), config, seed=seed))
 
 
 def register(experiment: Experiment) -> Experiment:
-    """Make ``experiment`` known by its name. Another module's experiment of the same name is
-    refused; the same module registering it again (a reload) replaces it."""
+    """Make ``experiment`` known by its name. Another experiment of the same name is refused; the
+    same module registering the same experiment again (a reload) replaces it."""
     known = REGISTRY.get(experiment.name)
-    if known is not None and known.run.__module__ != experiment.run.__module__:
+    if known is not None and _identity(known) != _identity(experiment):
         raise UserError(f"an experiment named {experiment.name!r} is registered already (by {known.run.__module__}); "
                         f"{experiment.run.__module__} must choose another name")
     REGISTRY[experiment.name] = experiment
     if experiment.stored:
         committed.SCRIPTS_OF[experiment.file(".").name] = experiment.figures
     return experiment
+
+
+def _identity(experiment: Experiment) -> tuple:
+    """What stays the same when a module registers its experiment again (a reload): the module of
+    its run, its configuration's class by name, its figures."""
+    return (experiment.run.__module__, experiment.config.__module__, experiment.config.__qualname__,
+            tuple(experiment.figures))
 
 
 def experiments() -> tuple:

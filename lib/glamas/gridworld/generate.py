@@ -28,6 +28,7 @@ def warehouse(n_agents: int, seed: int, density: float = 0.1, shelf_length: int 
     free cell (at most 0.5: starts and goals are 2N distinct cells), each agent with its own start
     and goal drawn from ``numpy.random.default_rng(seed)``; named ``warehouse_N_seed_S``."""
     check_arguments(n_agents, seed, density, shelf_length)
+    check_fits(n_agents, density)
     bays_across, shelf_rows = layout(n_agents, density, shelf_length)
     _check_memory(n_agents, math.prod(dimensions(bays_across, shelf_rows, shelf_length)))
     blocked = shelves(bays_across, shelf_rows, shelf_length)
@@ -78,12 +79,18 @@ def map_bytes(n_agents: int, n_cells: int) -> int:
     return BYTES_PER_CELL * n_cells + BYTES_PER_AGENT * n_agents
 
 
-def _check_memory(n_agents: int, n_cells: int) -> None:
+def check_fits(n_agents: int, density: float = 0.1) -> None:
+    """Refuse, before the layout is searched (seconds to minutes for millions of agents), a warehouse
+    whose free cells alone, at least ``n_agents / density``, would not fit in the memory there is."""
+    _check_memory(n_agents, math.ceil(n_agents / density), "at least ")
+
+
+def _check_memory(n_agents: int, n_cells: int, bound: str = "") -> None:
     """Refuse, before allocating, a warehouse that would not fit in the memory there is."""
     needed = map_bytes(n_agents, n_cells)
     if needed > memory.available_bytes():
-        raise memory.MemoryEstimateError(f"a warehouse of {n_agents} agents has {n_cells} cells: making it needs "
-                                         f"about {memory.gib(needed)}, more than the "
+        raise memory.MemoryEstimateError(f"a warehouse of {n_agents} agents has {bound}{n_cells} cells: making it needs "
+                                         f"{'at least ' if bound else 'about '}{memory.gib(needed)}, more than the "
                                          f"{memory.gib(memory.available_bytes())} available; choose fewer agents")
 
 

@@ -37,6 +37,11 @@ class Payoffs(NamedTuple):
     collision_replaces_move: bool
 
 
+LARGEST = 1e12
+"""The largest size of a reward: summed over every step of every agent of a long run (about 1e11
+agent-steps) and bootstrapped into Q-values, it stays far from the float64 overflow at 1.8e308."""
+
+
 @dataclass(frozen=True)
 class Rewards:
     """The rewards of one step of an agent; the chapter's (Section 5.3) as defaults."""
@@ -60,8 +65,9 @@ class Rewards:
             raise UserError(f"Rewards.collision_replaces_move must be True or False, got "
                             f"{self.collision_replaces_move!r}")
         for name in ("goal", "move", "bump", "collision"):
-            if not math.isfinite(getattr(self, name)):
-                raise UserError(f"Rewards.{name} must be a finite number, got {getattr(self, name)!r}")
+            if not (math.isfinite(getattr(self, name)) and abs(getattr(self, name)) <= LARGEST):
+                raise UserError(f"Rewards.{name} must be a number from {-LARGEST:g} to {LARGEST:g} (sums over a "
+                                f"run's steps and the Q-values must stay finite), got {getattr(self, name)!r}")
 
     def kernel_bundle(self) -> Payoffs:
         """These rewards as the kernels read them."""

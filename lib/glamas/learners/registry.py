@@ -71,13 +71,27 @@ def discover() -> None:
     for module in pkgutil.iter_modules(package.__path__, f"{package.__name__}."):
         if module.name != __name__:
             importlib.import_module(module.name)
-    for name in (name.strip() for name in os.environ.get(LEARNER_MODULES, "").split(",")):
-        try:
-            if name:
-                importlib.import_module(name)
-        except ImportError as error:
-            print(f"warning: {LEARNER_MODULES} names the module {name!r}, which cannot be imported ({error}); put "
-                  "its directory on PYTHONPATH or correct the name", file=sys.stderr)
+    for name in filter(None, (name.strip() for name in os.environ.get(LEARNER_MODULES, "").split(","))):
+        import_own(name)
+
+
+def import_own(name: str) -> None:
+    """Import the module of one's own ``name`` (:data:`LEARNER_MODULES`); whatever its import raises
+    (it cannot be found, has a syntax error, raises, registers a taken name) is one warning line
+    naming the module and the fault: its learners are then unknown, and a config naming them says so."""
+    try:
+        importlib.import_module(name)
+    except ImportError as error:
+        _warn(name, f"which cannot be imported ({error}); put its directory on PYTHONPATH or correct the name")
+    except SyntaxError as error:
+        _warn(name, f"which has a syntax error ({error.msg}, {error.filename} line {error.lineno}); correct it")
+    except Exception as error:  # a user's module may raise anything on import
+        reason = " ".join((str(error) or type(error).__name__).split())
+        _warn(name, f"which fails on import ({type(error).__name__}: {reason}); correct it")
+
+
+def _warn(name: str, what: str) -> None:
+    print(f"warning: {LEARNER_MODULES} names the module {name!r}, {what}; its learners are unknown", file=sys.stderr)
 
 
 def unregister(name: str) -> None:
