@@ -53,7 +53,7 @@ def test_a_change_of_behaviour_leaves_the_result_stale_naming_the_recomputation(
     assert small_runs.main(["--adopt", NAME]) == 1
     out = capsys.readouterr().out.strip()
     assert out.count("\n") == 0 and out.startswith(f"{NAME}: stale, its small run gives other bits")
-    assert f"glamas.reproduce --experiment {NAME} --fresh out/{NAME}" in out and "glamas/gridworld/rules.py" in out
+    assert "paper_figures/fig5.py --rerun" in out and "glamas/gridworld/rules.py" in out
     assert (edited / "results" / f"{NAME}.npz").read_bytes() == committed
     with pytest.raises(results.StaleResultError):
         _load(edited / "results")

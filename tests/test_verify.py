@@ -188,3 +188,26 @@ def test_arrays_of_another_dtype_differ(twins, capsys):
     _save(out / "results" / "fig5.npz", curve=np.array([1.0, 2.0]))
     status, printed = _verified(out, capsys)
     assert status == 1 and "curve" in printed[0]
+
+
+def test_one_experiment_is_compared_and_adopted_alone(tmp_path, monkeypatch, capsys):
+    from glamas import results
+    from glamas.experiments import single_gla
+    config = single_gla.FIG5.paper_scale()
+    committed, out = tmp_path / "committed", tmp_path / "out"
+    for side in (committed, out):
+        (side / "results").mkdir(parents=True)
+        (side / "figures").mkdir()
+    np.savez(committed / "results" / "single_gla.npz", __config__=np.array(results.config_json(config, 0)),
+             __provenance__=np.array('{"version": "0.6.0", "maps": {}}'), x=np.arange(3.0))
+    np.savez(committed / "results" / "gridworld.npz", x=np.arange(2.0))  # another experiment, not recomputed
+    results.save(out / "results" / "single_gla.npz", config, {"x": np.arange(3.0)}, seed=0)
+    monkeypatch.setattr(verify, "RESULTS", committed / "results")
+    monkeypatch.setattr(verify, "FIGURES", committed / "figures")
+    assert verify.main([str(out), "--adopt"]) == 1  # the whole comparison misses gridworld.npz
+    capsys.readouterr()
+    assert verify.main([str(out), "--adopt", "--experiment", "single_gla"]) == 0
+    assert "adopted 1 recomputed result file" in capsys.readouterr().out
+    assert np.array_equal(results.load(committed / "results" / "single_gla.npz", config, seed=0)["x"], np.arange(3.0))
+    with pytest.raises(UserError, match="--experiment nonexistent: no stored experiment of that name"):
+        verify.main([str(out), "--experiment", "nonexistent"])

@@ -32,7 +32,7 @@ import json
 import numpy as np
 
 from glamas import errors, provenance, results
-from glamas.committed import PYTHON, shown
+from glamas.committed import PYTHON, computing_script, shown
 from glamas.errors import UserError
 from glamas.experiments import registry
 from glamas.paths import DATA, RESULTS
@@ -116,8 +116,11 @@ def stored_record(name: str) -> dict:
 
 
 def recompute_command(name: str) -> str:
-    return (f"`{PYTHON} -m glamas.reproduce --experiment {name} --fresh out/{name}` (about "
-            f"{RECOMPUTE_MINUTES[name]:g} min on 2 cores), then `{PYTHON} -m glamas.verify out/{name} --adopt`")
+    """The commands that recompute ``name``'s committed result with the code as it is and record
+    its small run's new digest, with their cost."""
+    script = computing_script(experiment_named(name).file(".").name)
+    return (f"`{PYTHON} paper_figures/{script}.py --rerun` (about {RECOMPUTE_MINUTES[name]:g} min on 2 cores), "
+            f"then `{PYTHON} -m glamas.small_runs --write`")
 
 
 def status(name: str) -> tuple[str, str]:

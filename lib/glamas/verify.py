@@ -52,11 +52,27 @@ class Finding(NamedTuple):
     """True for a difference; False for a figure that is the same within the tolerance only."""
 
 
-def findings(directory: Path) -> list[Finding]:
+def findings(directory: Path, experiment: str | None = None) -> list[Finding]:
     """Everything :func:`main` reports of ``directory``'s recomputation against the committed files,
-    both ways: the differences, and the figures equal within the PDF tolerance only."""
-    return (_compare(Path(directory) / "results", RESULTS, result_differences)
-            + _compare(Path(directory) / "figures", FIGURES, figure_findings))
+    both ways: the differences, and the figures equal within the PDF tolerance only; of every file,
+    or of one ``experiment``'s result file and figures only."""
+    results, figures = _files_of(experiment)
+    return (_compare(Path(directory) / "results", RESULTS, result_differences, results)
+            + _compare(Path(directory) / "figures", FIGURES, figure_findings, figures))
+
+
+def _files_of(experiment: str | None) -> tuple:
+    """(result file names, figure file names) of ``experiment``; (None, None) for every file."""
+    if experiment is None:
+        return None, None
+    from glamas.experiments import registry
+
+    known = {e.name: e for e in registry.experiments() if e.stored}
+    if experiment not in known:
+        raise errors.UserError(f"--experiment {experiment}: no stored experiment of that name; those: "
+                               f"{', '.join(known)}")
+    figures = {f"{name}{suffix}" for name in known[experiment].figures for suffix in (".png", ".pdf")}
+    return {known[experiment].file(".").name}, figures
 
 
 def differences(directory: Path) -> list[str]:
@@ -64,11 +80,13 @@ def differences(directory: Path) -> list[str]:
     return [found.text for found in findings(directory) if found.difference]
 
 
-def _compare(recomputed: Path, committed: Path, compare) -> list[Finding]:
-    """The findings of two directories: a name in one only, or twins that
-    ``compare(recomputed_file, committed_file)`` finds different (or the same within a tolerance
-    only), or cannot read."""
+def _compare(recomputed: Path, committed: Path, compare, only: set | None = None) -> list[Finding]:
+    """The findings of two directories (of the names ``only``, or all): a name in one only, or
+    twins that ``compare(recomputed_file, committed_file)`` finds different (or the same within a
+    tolerance only), or cannot read."""
     ours, theirs = _names(recomputed), _names(committed)
+    if only is not None:
+        ours, theirs = ours & only, theirs & only
     found = []
     for name in sorted(ours | theirs):
         label = f"{recomputed.name}/{name}"
@@ -153,12 +171,14 @@ def main(argv=None) -> int:
     parser.add_argument("--adopt", action="store_true",
                         help="when nothing differs, copy the recomputed result files over the committed ones "
                              "(their records of the code that computed them are the new code's)")
+    parser.add_argument("--experiment", metavar="NAME", help="compare (and adopt) one experiment's result file and "
+                        "figures only, e.g. after python -m glamas.reproduce --experiment NAME --fresh DIR")
     args = parser.parse_args(argv)
     missing = [f"{name}/" for name in ("results", "figures") if not (args.directory / name).is_dir()]
     if missing:
         parser.error(f"{args.directory} holds no {' and no '.join(missing)}: give the directory "
                      "`make verify` recomputed into")
-    found = findings(args.directory)
+    found = findings(args.directory, args.experiment)
     real = [line.text for line in found if line.difference]
     close = [line.text for line in found if not line.difference]
     for line in real + close:
@@ -168,7 +188,7 @@ def main(argv=None) -> int:
     print(f"{len(real)} difference{'s' * (len(real) != 1)} from the committed results and figures{within}" if real else
           f"every committed result and figure is what the code computes{within}, and nothing else was computed")
     if args.adopt and not real:
-        adopted = adopt(args.directory / "results")
+        adopted = adopt(args.directory / "results", _files_of(args.experiment)[0])
         print(f"adopted {adopted} recomputed result file{'s' * (adopted != 1)} in {shown(RESULTS)}: the same arrays, "
               "recorded with the code that computed them now")
     elif args.adopt:
@@ -176,9 +196,10 @@ def main(argv=None) -> int:
     return 1 if real else 0
 
 
-def adopt(recomputed: Path) -> int:
+def adopt(recomputed: Path, only: set | None = None) -> int:
     """Save the arrays of every result file of ``recomputed`` as its committed twin, with the record
-    of the code as it is now (:func:`glamas.results.save`); returns how many. Each is the
+    of the code as it is now (:func:`glamas.results.save`), of those named ``only`` (or every one);
+    returns how many. Each is the
     paper-scale result of its experiment (its configuration checked against the file's), and its
     own record must say that the code as it is now computed it: a file is trusted by its record,
     never by its place (a copy of the committed files is not a recomputation). Nothing is adopted
@@ -187,7 +208,7 @@ def adopt(recomputed: Path) -> int:
     from glamas.experiments import registry
 
     experiments = {experiment.name: experiment for experiment in registry.experiments()}
-    files = sorted(recomputed.glob("*.npz"))
+    files = sorted(path for path in recomputed.glob("*.npz") if only is None or path.name in only)
     taken = []
     for path in files:
         experiment = experiments.get(path.stem)
