@@ -166,12 +166,17 @@ def summary(ledger_rows: list[tuple[str, dict]]) -> str:
     notable = [row for row in by_kind["chapter"] if row["verdict"] != claims.REPRODUCED or claims.fragility(row)]
     if notable:
         lines.append("The chapter's claims that do not simply reproduce:")
-        lines += [f"- {row['claim'].chapter.split(' (')[0]} ({row['claim'].where}): {claims.verdict_text(row)}, "
+        lines += [f"- {_without_closing_remark(row['claim'].chapter)} ({row['claim'].where}): {claims.verdict_text(row)}, "
                   f"measured {claims.measured_text(row)}." for row in notable]
         lines.append("")
     lines += ["| figure | the chapter says (paraphrased) | verdict of its claims | notebook |", "|---|---|---|---|"]
     lines += [_figure_row(figure, ledger_rows) for figure in FIGURES]
     return "\n".join(lines)
+
+
+def _without_closing_remark(text: str) -> str:
+    """``text`` without a parenthesis that closes it (a claim's threshold, said in the ledger)."""
+    return re.sub(r"\s*\([^()]*\)$", "", text)
 
 
 def on_figure(figure: Figure, ledger_rows: list[tuple[str, dict]]) -> list[dict]:

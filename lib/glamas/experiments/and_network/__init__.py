@@ -3,8 +3,9 @@ parabola, and the sweep in which raising region II's reward traps runs in 'R eve
 configures and runs both, :mod:`.analysis` measures them and :mod:`.plots` draws them; this face hands
 their names on (the plots' on first use) and registers both."""
 
-from glamas.experiments.and_network.analysis import (claim_rows, init_dependence, measure, measure_sweep,
-                                                     stuck_runs, sweep_claim_rows, typical_runs)
+from glamas.experiments.and_network.analysis import (PARABOLA_READINGS, claim_rows, init_dependence, measure,
+                                                     measure_sweep, other_parabolas, stuck_runs, sweep_claim_rows,
+                                                     typical_runs)
 from glamas.experiments.and_network.experiment import (DEFAULT_SWEEP, RERUN_STREAM, ANDNetworkConfig,
                                                        ANDNetworkResult, SweepResult, final_left_by_region, left_map,
                                                        run, scaled, sweep)
@@ -20,11 +21,12 @@ __getattr__ = plots_on_first_use(__name__, PLOTS)
 
 __all__ = ["DEFAULT_SWEEP", "FIG7", "FIG7_SWEEP", "RERUN_STREAM", "ANDNetworkConfig", "ANDNetworkResult",
            "SweepResult", "claim_rows", "final_left_by_region", "init_dependence", "left_map", "measure",
-           "load_sweep", "measure_sweep", "run", "stuck_runs", "sweep", "sweep_claim_rows", "typical_runs", *PLOTS]
+           "load_sweep", "measure_sweep", "other_parabolas", "PARABOLA_READINGS", "run", "stuck_runs", "sweep", "sweep_claim_rows", "typical_runs", *PLOTS]
 
 FIG7 = register(Experiment("and_network", ANDNetworkConfig, run, scaled, ANDNetworkConfig.runs,
                            ANDNetworkConfig.iterations, ANDNetworkResult,
-                           claim_rows=lambda result, config: claim_rows(result), figures=("fig7a", "fig7b")))
+                           claim_rows=lambda result, config: claim_rows(result, other_parabolas(config)),
+                           figures=("fig7a", "fig7b")))
 """Fig. 7a and 7b's experiment (one run for both)."""
 FIG7_SWEEP = register(Experiment("and_network_sweep", ANDNetworkConfig, sweep, scaled, ANDNetworkConfig.runs,
                                  ANDNetworkConfig.iterations, SweepResult,

@@ -45,9 +45,28 @@ def _agreement(p_left: np.ndarray, config: ANDNetworkConfig) -> np.ndarray:
     return (agreement - trivial) / (1.0 - trivial)
 
 
-def claim_rows(result: ANDNetworkResult) -> list[dict]:
-    """The Fig. 7 claims (data/chapter/section4.json) with verdicts computed from ``result``."""
-    return claims.verdicts(claims.load("and_network"), measure(result))
+PARABOLA_READINGS = {"x2 >= x1^2 - 0.5": (1.0, -0.5), "x2 >= 2 x1^2 - 1": (2.0, -1.0), "x2 >= x1^2": (1.0, 0.0)}
+"""The parabolas the reproduction notes give for region I, the chapter not stating its equation:
+name -> (curvature, offset). The first is the default."""
+
+
+def claim_rows(result: ANDNetworkResult, readings: dict | None = None) -> list[dict]:
+    """The Fig. 7 claims (data/chapter/section4.json) with verdicts computed from ``result``, each
+    also judged under the results of the other parabolas (``readings``: name -> result)."""
+    other = {name: measure(found) for name, found in (readings or {}).items()}
+    return claims.verdicts(claims.load("and_network"), measure(result), readings=other)
+
+
+def other_parabolas(config: ANDNetworkConfig, seed: int = 0) -> dict:
+    """The results of Fig. 7 under the documented parabolas other than ``config``'s
+    (:data:`PARABOLA_READINGS`), computed at its scale from the same seed (seconds)."""
+    from dataclasses import replace
+
+    from glamas.experiments.and_network.experiment import run
+
+    own = (config.parabola_curvature, config.parabola_offset)
+    return {name: run(replace(config, parabola_curvature=a, parabola_offset=b), seed=seed)
+            for name, (a, b) in PARABOLA_READINGS.items() if (a, b) != own}
 
 
 def stuck_runs(result: ANDNetworkResult) -> np.ndarray:
@@ -97,13 +116,22 @@ def init_dependence(first: np.ndarray, rerun: np.ndarray, draws: int = BOOTSTRAP
     same, other = _agreements(pairs[None])
     shares = _init_share(*_agreements(pairs[:, boot].transpose(1, 0, 2)))
     low, high = np.nanpercentile(shares, [2.5, 97.5]) if np.isfinite(shares).any() else (np.nan, np.nan)
-    measured = {"init_agreement_same": same[0], "init_agreement_other": other[0],
-                "init_share_of_outcome": _init_share(same, other)[0],
-                "init_share_of_outcome_low": low, "init_share_of_outcome_high": high}
-    if np.isnan(measured["init_share_of_outcome"]):
-        measured["init_share_of_outcome" + claims.WHY_UNDECIDABLE] = (
+    share = _init_share(same, other)[0]
+    measured = {"init_agreement_same": same[0], "init_agreement_other": other[0], "init_share_of_outcome": share,
+                "init_share_of_outcome_low": low, "init_share_of_outcome_high": high,
+                "init_share_of_outcome_decided": share if not low <= DECIDES <= high else np.nan}
+    if np.isnan(share):
+        measured["init_share_of_outcome_decided" + claims.WHY_UNDECIDABLE] = (
             "every run ends alike on both streams: no disagreement for the initialisation to explain")
+    elif np.isnan(measured["init_share_of_outcome_decided"]):
+        measured["init_share_of_outcome_decided" + claims.WHY_UNDECIDABLE] = (
+            f"share {share:.2f}, but its 95 % interval [{low:.2f}, {high:.2f}] reaches both sides of {DECIDES:g}")
     return measured
+
+
+DECIDES = 0.5
+"""The initialisation's share of the outcome above which it decides the outcome more than the
+stream does: the claim's threshold, which its interval must clear to decide."""
 
 
 def _agreements(pairs: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

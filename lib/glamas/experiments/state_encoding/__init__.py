@@ -6,8 +6,8 @@ from glamas.experiments.faces import plots_on_first_use
 from glamas.experiments.registry import Experiment, register
 from glamas.experiments.single_gla.experiment import SingleGLAConfig
 from glamas.experiments.state_encoding.analysis import (curve_mean, encoding_claim_rows, expected_curves,
-                                                        measure_encodings, paired_curve, reach_iteration,
-                                                        speed_comparison)
+                                                        measure_encodings, other_box_readings, paired_curve,
+                                                        plotted_span, reach_iteration, speed_comparison)
 from glamas.experiments.state_encoding.experiment import (BOX_READINGS, ENCODING_NAMES, EncodingConfig, box_L,
                                                           compare_encodings, encoding_arrays, encodings_from_arrays,
                                                           scaled_encodings)
@@ -18,10 +18,10 @@ __getattr__ = plots_on_first_use(__name__, PLOTS)
 
 __all__ = ["BOX_READINGS", "ENCODING_NAMES", "EncodingConfig", "FIG6", "box_L", "compare_encodings", "curve_mean",
            "encoding_arrays", "encoding_claim_rows", "encodings_from_arrays", "expected_curves",
-           "measure_encodings", "paired_curve", "reach_iteration", "scaled_encodings", "speed_comparison", *PLOTS]
+           "measure_encodings", "other_box_readings", "paired_curve", "plotted_span", "reach_iteration", "scaled_encodings", "speed_comparison", *PLOTS]
 
 FIG6 = register(Experiment(
     "state_encoding", EncodingConfig, compare_encodings, scaled_encodings, SingleGLAConfig.runs,
-    SingleGLAConfig.iterations, claim_rows=lambda results, config: encoding_claim_rows(results), figures=("fig6",),
+    SingleGLAConfig.iterations, claim_rows=lambda results, config: encoding_claim_rows(results, other_box_readings(config)), figures=("fig6",),
     copies=len(ENCODING_NAMES), to_arrays=encoding_arrays, from_arrays=encodings_from_arrays))
 """Fig. 6's experiment: experiment 1 with each context, in Fig. 6's default box."""

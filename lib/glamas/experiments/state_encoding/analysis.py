@@ -134,6 +134,12 @@ def measure_encodings(results: dict, tolerance: float = REACH_TOLERANCE) -> dict
     for key in ("mean", "final"):
         measured[f"absolute_worst_{key}_effect"] = min(measured[f"joint_minus_absolute_{key}_effect"],
                                                        measured[f"deictic_minus_absolute_{key}_effect"])
+    span = plotted_span(curves)
+    measured["plotted_span"] = span
+    for better, worse in COMPARISONS:
+        measured[f"{better}_minus_{worse}_mean_visible"] = measured[f"{better}_minus_{worse}_mean"] / span
+    measured["absolute_worst_mean_visible"] = min(measured["joint_minus_absolute_mean_visible"],
+                                                  measured["deictic_minus_absolute_mean_visible"])
     iteration = results["deictic"].checkpoint
     measured.update(speed_comparison(reach_iteration(curves["deictic"], iteration, tolerance),
                                      reach_iteration(curves["joint"], iteration, tolerance)))
@@ -142,6 +148,14 @@ def measure_encodings(results: dict, tolerance: float = REACH_TOLERANCE) -> dict
                                                   "(fewer than two runs, identical ones, or a curve at its "
                                                   "final value from the start)")
     return measured
+
+
+def plotted_span(curves: dict) -> float:
+    """The height of Fig. 6's plot: from the lowest to the highest point of the encodings' mean
+    curves (mean over runs at every checkpoint), the range a reader's axis spans. A gap between two
+    curves is read against it: what share of the plot's height separates them."""
+    means = np.array([curve.mean(axis=0) for curve in curves.values()])
+    return float(means.max() - means.min())
 
 
 def paired_interval(better: np.ndarray, worse: np.ndarray) -> tuple[float, float, float]:
@@ -185,6 +199,18 @@ def paired_curve(results: dict, better: str, worse: str) -> tuple:
     return results[better].checkpoint, rows[:, 0], rows[:, 1], rows[:, 2]
 
 
-def encoding_claim_rows(results: dict) -> list[dict]:
-    """The Fig. 6 claims (data/chapter/section4.json) with verdicts computed from ``results``."""
-    return claims.verdicts(claims.load("state_encoding"), measure_encodings(results))
+def encoding_claim_rows(results: dict, readings: dict | None = None) -> list[dict]:
+    """The Fig. 6 claims (data/chapter/section4.json) with verdicts computed from ``results``, each
+    also judged under the results of the other readings of the box (``readings``: name -> results)."""
+    other = {name: measure_encodings(found) for name, found in (readings or {}).items()}
+    return claims.verdicts(claims.load("state_encoding"), measure_encodings(results), readings=other)
+
+
+def other_box_readings(config, seed: int = 0) -> dict:
+    """The results of Fig. 6 under the box readings other than ``config``'s (:data:`BOX_READINGS`),
+    computed at its scale from the same seed (seconds): what the claims are judged under too."""
+    from dataclasses import replace
+
+    from glamas.experiments.state_encoding.experiment import BOX_READINGS, compare_encodings
+
+    return {box: compare_encodings(replace(config, box=box), seed=seed) for box in BOX_READINGS if box != config.box}
