@@ -8,6 +8,7 @@ from pathlib import Path
 import numpy as np
 import matplotlib.pyplot as plt
 from matplotlib import scale as mscale
+from matplotlib.text import Text
 
 from glamas import atomic, portable
 from glamas.curves import mean_and_band
@@ -155,3 +156,68 @@ def mark_greedy(ax, x, values, name: str):
 def greedy_legend_entry(ax):
     """The legend's entry of :func:`mark_greedy`'s markers (one per axes)."""
     ax.plot([], [], linestyle="none", marker="D", color="white", markeredgecolor="black", label=GREEDY_LABEL)
+
+
+def layout_faults(fig) -> list[str]:
+    """What a reader would find wrong in ``fig``'s layout, one line each (empty: nothing): a text
+    outside the canvas, two texts drawn over each other, a logarithmic axis without tick labels,
+    a legend outside the canvas. Texts are every visible, non-empty text of the figure (titles,
+    labels, tick labels, legend entries, annotations), measured as drawn (their window extents)."""
+    fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    canvas = fig.bbox.padded(1.0)  # a pixel of rounding
+    ticks = _tick_labels(fig)
+    texts = [(text, text.get_window_extent(renderer)) for text in fig.findobj(Text)
+             if text.get_text().strip() and ticks.get(id(text), _shown(text))]
+    faults = [f"text {text.get_text()!r} reaches outside the canvas" for text, box in texts
+              if not _inside(box, canvas)]
+    for k, (text, box) in enumerate(texts):
+        faults += [f"texts {text.get_text()!r} and {other.get_text()!r} overlap" for other, other_box in texts[k + 1:]
+                   if _overlap(box, other_box) > OVERLAP_PIXELS]
+    for ax in fig.axes:
+        for axis, scale in ((ax.xaxis, ax.get_xscale()), (ax.yaxis, ax.get_yscale())):
+            if scale == "log" and axis.get_visible() and ax.get_visible() and not any(
+                    ticks.get(id(label)) and label.get_text().strip()
+                    for label in axis.get_ticklabels() + axis.get_ticklabels(minor=True)):
+                faults.append(f"a logarithmic axis of {ax.get_title()!r} has no tick labels")
+        legend = ax.get_legend()
+        if legend is not None and not _inside(legend.get_window_extent(renderer), canvas):
+            faults.append(f"the legend of {ax.get_title()!r} reaches outside the canvas")
+    faults += [f"the figure's legend reaches outside the canvas" for legend in fig.legends
+               if not _inside(legend.get_window_extent(renderer), canvas)]
+    return faults
+
+
+OVERLAP_PIXELS = 4.0
+"""The area (square pixels at the figure's dpi) two texts may share before they overlap: their
+boxes touching at an antialiased edge is not an overlap a reader sees."""
+
+
+def _shown(text) -> bool:
+    """Whether ``text`` (not a tick label) is drawn: it and its axes visible."""
+    return text.get_visible() and (text.axes is None or text.axes.get_visible())
+
+
+def _tick_labels(fig) -> dict:
+    """{id of a tick label: whether it is drawn}: a label is drawn when it is visible and its tick
+    lies within its axis' view (matplotlib keeps labels of ticks outside the view, undrawn)."""
+    drawn = {}
+    for ax in fig.axes:
+        for axis in (ax.xaxis, ax.yaxis):
+            low, high = sorted(axis.get_view_interval())
+            span = (high - low) * 1e-9
+            for tick in axis.get_major_ticks() + axis.get_minor_ticks():
+                inside = low - span <= tick.get_loc() <= high + span
+                for label in (tick.label1, tick.label2):
+                    drawn[id(label)] = inside and label.get_visible() and ax.get_visible() and axis.get_visible()
+    return drawn
+
+
+def _inside(box, canvas) -> bool:
+    return box.x0 >= canvas.x0 and box.y0 >= canvas.y0 and box.x1 <= canvas.x1 and box.y1 <= canvas.y1
+
+
+def _overlap(a, b) -> float:
+    width = min(a.x1, b.x1) - max(a.x0, b.x0)
+    height = min(a.y1, b.y1) - max(a.y0, b.y0)
+    return width * height if width > 0 and height > 0 else 0.0
