@@ -8,10 +8,10 @@ def main(argv=None):
     with figures.figure(single_gla.FIG5, "fig5", __doc__, argv, size=(8.0, 4.0),
                         ncols=2) as ((regions, lines), result, _):
         single_gla.plot_regions(regions)
-        regions.set_title("(a) regions and rewarded joint actions")
+        regions.set_title("(a) regions and rewarded joint actions", pad=10)
         typical = single_gla.typical_run(result)
         single_gla.plot_learned_lines(lines, result, typical)
-        lines.set_title(f"(b) learned lines (typical run {typical})")
+        lines.set_title(f"(b) learned lines (typical run {typical})", pad=10)
 
 
 if __name__ == "__main__":

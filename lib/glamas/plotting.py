@@ -9,6 +9,7 @@ import numpy as np
 import matplotlib.pyplot as plt
 from matplotlib import scale as mscale
 from matplotlib.text import Text
+from matplotlib.transforms import ScaledTranslation
 
 from glamas import atomic, portable
 from glamas.curves import mean_and_band
@@ -133,7 +134,7 @@ def legend_right(ax, **kwargs):
     return ax.legend(loc="upper left", bbox_to_anchor=(1.02, 1.0), fontsize="small", frameon=False, **kwargs)
 
 
-GREEDY_LABEL = "greedy policy after training (learning off), mean over runs"
+GREEDY_LABEL = "greedy policy after training, mean over runs"
 """The legend's words for the markers of :func:`mark_greedy`."""
 
 
@@ -141,21 +142,40 @@ def mark_greedy(ax, x, values, name: str):
     """Learner ``name``'s greedy values (an evaluation of what it learned) at ``x``: diamonds in its
     colour, edged in black; a value beyond the axis' current range is drawn at its edge as a
     triangle, the value written beside it, so that a trapped policy's thousands of steps or
-    collisions do not squeeze the curves. Call it once the axis' scale and range are set."""
+    collisions do not squeeze the curves. Markers of several learners at one ``x`` are set side by
+    side (a marker's width apart), so that none hides another, and their written values one under
+    the other. Call it once the axis' scale and range are set."""
     low, high = ax.get_ylim()
+    placed = ax.__dict__.setdefault("_greedy_placed", {})
     for at, value in zip(np.atleast_1d(x), np.atleast_1d(values)):
+        k = placed.get(float(at), 0)
+        placed[float(at)] = k + 1
         shown = min(max(float(value), low), high)
         marker = "^" if value > high else "v" if value < low else "D"
         ax.plot(at, shown, linestyle="none", marker=marker, markersize=7, markeredgecolor="black", clip_on=False,
-                **learner_style(name))
+                transform=_shifted(ax, 8 * k), **learner_style(name))
         if shown != value:
-            ax.annotate(f"{value:.3g}", (at, shown), textcoords="offset points", xytext=(6, -3), fontsize="x-small")
+            ax.__dict__["_greedy_off_scale"] = True
+            written = ax.__dict__.setdefault("_greedy_written", {})
+            row = written.get((float(at), marker), 0)
+            written[(float(at), marker)] = row + 1
+            ax.annotate(f"{value:.3g}", (at, shown), textcoords="offset points", fontsize="x-small",
+                        xytext=(6 + 8 * k, -3 - 9 * row if marker == "^" else 3 + 9 * row), **learner_style(name))
     ax.set_ylim(low, high)
 
 
+def _shifted(ax, points: float):
+    """The data transform of ``ax`` moved ``points`` to the right."""
+    return ax.transData + ScaledTranslation(points / 72.0, 0.0, ax.figure.dpi_scale_trans)
+
+
 def greedy_legend_entry(ax):
-    """The legend's entry of :func:`mark_greedy`'s markers (one per axes)."""
+    """The legend's entries of :func:`mark_greedy`'s markers (one per axes): the diamond, and where
+    a value of any axes of the figure lies beyond its axis, the triangle at the edge."""
     ax.plot([], [], linestyle="none", marker="D", color="white", markeredgecolor="black", label=GREEDY_LABEL)
+    if any(other.__dict__.get("_greedy_off_scale") for other in ax.figure.axes):
+        ax.plot([], [], linestyle="none", marker="^", color="white", markeredgecolor="black",
+                label="greedy value off the axis (written beside it)")
 
 
 def layout_faults(fig) -> list[str]:
@@ -176,7 +196,7 @@ def layout_faults(fig) -> list[str]:
                    if _overlap(box, other_box) > OVERLAP_PIXELS]
     for ax in fig.axes:
         for axis, scale in ((ax.xaxis, ax.get_xscale()), (ax.yaxis, ax.get_yscale())):
-            if scale == "log" and axis.get_visible() and ax.get_visible() and not any(
+            if scale == "log" and axis.get_visible() and ax.get_visible() and ax.axison and not any(
                     ticks.get(id(label)) and label.get_text().strip()
                     for label in axis.get_ticklabels() + axis.get_ticklabels(minor=True)):
                 faults.append(f"a logarithmic axis of {ax.get_title()!r} has no tick labels")
@@ -188,9 +208,10 @@ def layout_faults(fig) -> list[str]:
     return faults
 
 
-OVERLAP_PIXELS = 4.0
-"""The area (square pixels at the figure's dpi) two texts may share before they overlap: their
-boxes touching at an antialiased edge is not an overlap a reader sees."""
+OVERLAP_PIXELS = 10.0
+"""The area (square pixels at the figure's dpi) two texts may share before they overlap: boxes
+touching at an edge are not an overlap a reader sees; a label moved
+onto another shares tens of square pixels or more."""
 
 
 def _shown(text) -> bool:
@@ -203,13 +224,17 @@ def _tick_labels(fig) -> dict:
     lies within its axis' view (matplotlib keeps labels of ticks outside the view, undrawn)."""
     drawn = {}
     for ax in fig.axes:
-        for axis in (ax.xaxis, ax.yaxis):
-            low, high = sorted(axis.get_view_interval())
-            span = (high - low) * 1e-9
+        to_axes = ax.transScale + ax.transLimits  # data to the axes' fraction, on any scale
+        corner = (ax.get_xlim()[0], ax.get_ylim()[0])
+        for k, axis in enumerate((ax.xaxis, ax.yaxis)):
             for tick in axis.get_major_ticks() + axis.get_minor_ticks():
-                inside = low - span <= tick.get_loc() <= high + span
+                point = list(corner)
+                point[k] = tick.get_loc()
+                where = to_axes.transform([point])[0][k]
+                inside = -1e-6 <= where <= 1 + 1e-6
                 for label in (tick.label1, tick.label2):
-                    drawn[id(label)] = inside and label.get_visible() and ax.get_visible() and axis.get_visible()
+                    drawn[id(label)] = (inside and label.get_visible() and ax.get_visible() and ax.axison
+                                        and axis.get_visible())
     return drawn
 
 

@@ -34,7 +34,9 @@ def draw_map(ax, gridmap: GridMap):
             ax.add_patch(_square(c, r, "0.35"))
         if gridmap.shared_goal[cell]:
             ax.add_patch(_square(c, r, "#d9f0d3"))
-            ax.text(c + 0.5, r + 0.5, "G", ha="center", va="center", fontsize=14, fontweight="bold")
+            # smaller on wide maps, whose cells are small: the steps' numbers in its corners stay clear
+            ax.text(c + 0.5, r + 0.5, "G", ha="center", va="center", fontsize=14 if cols <= 6 else 8,
+                    fontweight="bold")
         elif gridmap.is_goal[cell]:
             _draw_own_goal(ax, r, c, gridmap.goal_owners(cell),
                            under_a_start=cell in gridmap.starts)
@@ -50,7 +52,7 @@ def draw_map(ax, gridmap: GridMap):
 
 def _draw_own_goal(ax, r: int, c: int, agents: list[int], under_a_start: bool):
     """A goal cell of ``agents`` (0 for agent 1), not of every agent: a stripe per agent in its
-    colour, light, and 'G' with their numbers (at the cell's foot where a start's disc covers its
+    colour, light, and 'G' with their numbers (at the cell's edge where a start's disc covers its
     middle, as in ISR, CIT and CMU, where each agent's goal is the other's start)."""
     width = 1.0 / len(agents)
     for k, agent in enumerate(agents):
@@ -58,7 +60,9 @@ def _draw_own_goal(ax, r: int, c: int, agents: list[int], under_a_start: bool):
                                edgecolor="none", zorder=1))
     label = "G" + ",".join(str(a + 1) for a in agents)
     size = 7 if under_a_start or len(label) > 2 else 12
-    ax.text(c + 0.5, r + (0.88 if under_a_start else 0.5), label, ha="center", va="center", fontweight="bold",
+    # under a start's disc, at the edge away from the corner where the owner writes its arrival
+    foot = 0.88 if _NUMBER_CORNERS[agents[0] % len(_NUMBER_CORNERS)][1] < 0.5 else 0.12
+    ax.text(c + 0.5, r + (foot if under_a_start else 0.5), label, ha="center", va="center", fontweight="bold",
             fontsize=size, color=agent_colour(agents[0]) if len(agents) == 1 else "black", zorder=5)
 
 
@@ -80,7 +84,8 @@ def draw_paths(ax, gridmap: GridMap, cells: np.ndarray, numbered: bool = False, 
     """The agents' cells over an episode (array (n_steps + 1, n_agents)) as offset polylines.
 
     ``numbered``: the step at which each agent enters each cell next to it (a range "5-6" where it
-    stays, the entry step alone in its goal), agent 1's numbers in the cells' upper left corners, agent 2's in the lower right.
+    stays, the entry step alone in its goal), each agent's numbers in a corner of its own
+    (agent 1 upper left, 2 lower right, 3 upper right, 4 lower left).
     ``wait_label``: a ring where an agent stays in a cell other than its goal, labelled so.
     """
     n = cells.shape[1]
@@ -108,17 +113,23 @@ def _stays(path: np.ndarray) -> list[tuple[int, int, int]]:
     return stretches
 
 
-_NUMBER_CORNERS = ((0.2, 0.22), (0.76, 0.8))
-"""Where in a cell agent 1 and agent 2 write their step numbers (x, y from the upper left)."""
+_NUMBER_CORNERS = ((0.2, 0.22), (0.78, 0.8), (0.78, 0.22), (0.2, 0.8))
+"""Where in a cell agents 1 to 4 write their step numbers (x, y from the upper left)."""
 
 
 def _number_steps(ax, gridmap, stays, agent, colour):
+    """Agent ``agent``'s step numbers in the corner of its own of each cell it enters after its
+    start, a cell entered again listing all its visits ("1, 3")."""
     dx, dy = _NUMBER_CORNERS[agent % len(_NUMBER_CORNERS)]
+    visits: dict = {}
     for first, last, cell in stays:
-        r, c = gridmap.row_col(cell)
+        if last == 0:
+            continue  # the start: its disc marks it
         once = first == last or gridmap.is_goal_of(agent, cell)  # an agent in its goal stays there: its entry step only
-        text = str(first) if once else f"{first}-{last}"
-        ax.text(c + dx, r + dy, text, ha="center", va="center", fontsize=6, color=colour,
+        visits.setdefault(cell, []).append(str(first) if once else f"{first}-{last}")
+    for cell, labels in visits.items():
+        r, c = gridmap.row_col(cell)
+        ax.text(c + dx, r + dy, ", ".join(labels), ha="center", va="center", fontsize=6, color=colour,
                 fontweight="bold", zorder=6)
 
 

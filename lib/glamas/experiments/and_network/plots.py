@@ -45,15 +45,17 @@ def plot_boundaries(ax, result: ANDNetworkResult, run_index: int, grid: int = 20
 def plot_prob_left(ax, result: ANDNetworkResult):
     """Fig. 7b: P(L) in region I of both agents over iterations: every run faint (the runs split
     into those that learned and those stuck in 'R everywhere', which a mean over all runs would
-    hide), and each group's mean per agent, A solid and wide under B dashed, so both show."""
+    hide), and each group's mean per agent, A solid and wide under B dashed, so both show; the
+    stuck group's means carry markers, so that the legend tells the groups apart."""
     stuck = stuck_runs(result)
     for agent, (name, colour) in enumerate(AGENT_COLOURS):
         ax.plot(result.iteration, result.prob_left[:, :, agent].T, color=colour, alpha=0.12, linewidth=0.6)
-    for group, label in ((~stuck, "that learned"), (stuck, "that got stuck")):
+    for group, label, marker in ((~stuck, "that learned", None), (stuck, "that got stuck", "o")):
         for agent, (name, colour) in enumerate(AGENT_COLOURS):
             if group.any():
                 ax.plot(result.iteration, result.prob_left[group, :, agent].mean(axis=0), color=colour,
                         linewidth=2.8 if agent == 0 else 1.4, linestyle="-" if agent == 0 else "--",
+                        marker=marker, markevery=0.1, markersize=6 if agent == 0 else 3,
                         label=f"agent {name}, mean of the {group.sum()} runs {label}")
     ax.plot([], [], color="0.5", alpha=0.4, linewidth=0.6, label="one run (per agent)")
     ax.set_title(f"stuck in 'R everywhere' at the end: {stuck.sum()} of {stuck.size} runs "
@@ -61,7 +63,7 @@ def plot_prob_left(ax, result: ANDNetworkResult):
     ax.set_xlabel("iteration")
     ax.set_ylabel("P(L) in region I")
     ax.set_ylim(0, 1)
-    legend_below(ax)
+    legend_below(ax, ncols=1)
 
 
 def plot_stuck_fraction(ax, result: SweepResult):

@@ -75,6 +75,17 @@ def plot_curves(axes, result: BenchmarkResult, metric: str = "collisions"):
     greedy_legend_entry(np.ravel(axes)[0])
 
 
+def map_panels(axes) -> list:
+    """The panels of the field's six maps on a 3 x 3 grid of ``axes``: the TunnelToGoal maps in the
+    first row, ISR and CIT (14 columns) across two thirds of the second, CMU (34 columns) alone
+    across the third, so that the wide maps' cells are large enough for their step numbers."""
+    grid = axes[0, 0].get_gridspec()
+    for ax in (axes[1, 1], axes[1, 2], *axes[2]):
+        ax.remove()
+    figure = axes[0, 0].figure
+    return [*axes[0], axes[1, 0], figure.add_subplot(grid[1, 1:]), figure.add_subplot(grid[2, :])]
+
+
 def plot_optimum(ax, result: BenchmarkResult, map_name: str):
     """Map ``map_name`` with the agents' paths in its optimal episode, numbered by step."""
     gridmap = result.config.gridmap(map_name)

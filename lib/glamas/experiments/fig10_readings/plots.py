@@ -4,7 +4,27 @@ coordinate at each distance, and the final collisions, reading by reading."""
 import numpy as np
 
 from glamas.experiments.fig10_readings.experiment import READINGS
-from glamas.plotting import legend_below
+from glamas.plotting import GREEDY_LABEL, legend_below
+
+
+WORDS = {
+    "in_range, L=8": "need = could collide, box 8 (default)",
+    "in_range, L=8, init 1": "the same, started in [-1, 1]",
+    "in_range, L=8, unit delta": "the same, distance in [0, 1]",
+    "in_range, L=8, unit delta, init 1": "distance in [0, 1], started in [-1, 1]",
+    "in_range, L=1": "need = could collide, box 1",
+    "in_range, unit delta, L=1": "box 1, distance in [0, 1]",
+    "in_range, coordinating never wrong": "coordinating never wrong",
+    "sampled, L=1": "need = actions collide, box 1",
+    "sampled, L=8": "need = actions collide, box 8",
+    "outcome, L=8": "need = collided, box 8",
+    "no GLA: fixed rule delta <= 2": "no GLA: rule delta <= 2",
+}
+"""Each reading of :data:`READINGS` in words, as the figure's labels give it."""
+
+
+def _label(k: int, row: dict) -> str:
+    return f"{k + 1}: {WORDS.get(row['reading'], row['reading'])}"
 
 
 def _colour(row: dict) -> str:
@@ -18,7 +38,7 @@ def plot_coordination(ax, rows: list[dict]):
     """The share of final GLAs that coordinate at each distance under each reading, against the
     rule "coordinate when the agents could collide this step" (delta <= 2)."""
     for k, row in enumerate(rows):
-        ax.plot(row["deltas"], row["coordinating"], "o-", label=f"{k + 1}: {row['reading']}", color=_colour(row),
+        ax.plot(row["deltas"], row["coordinating"], "o-", label=_label(k, row), color=_colour(row),
                 linewidth=2.5 if k == 0 else 1.2)
     x = rows[0]["deltas"]
     ax.step(x, (x <= 2).astype(float), where="mid", color="black", linestyle="--",
@@ -38,8 +58,8 @@ def plot_collisions(ax, rows: list[dict]):
     greedy = np.array([row["greedy_collisions"] for row in rows])
     left = min([row["collisions"] for row in rows] + list(greedy[greedy > 0])) / 3
     ax.plot(np.maximum(greedy, left), y, "D", color="white", markeredgecolor="black", linestyle="none",
-            label="greedy policy after training (learning off), mean over runs")
-    ax.set_yticks(y, [f"{k + 1}: {row['reading']}" for k, row in enumerate(rows)], fontsize="small")
+            label=GREEDY_LABEL)
+    ax.set_yticks(y, [_label(k, row) for k, row in enumerate(rows)], fontsize="small")
     ax.axvline(0.05, color="black", linestyle="--", linewidth=1, label="zero collisions (claim: <= 0.05)")
     ax.set_xscale("log")
     ax.set_xlabel("final collisions per episode")

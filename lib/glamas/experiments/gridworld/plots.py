@@ -2,7 +2,7 @@
 GLAs learned, each drawn on a given matplotlib Axes in the styles of :mod:`glamas.plotting`."""
 
 import numpy as np
-from matplotlib.ticker import NullFormatter
+from matplotlib.ticker import MaxNLocator, NullFormatter
 
 from glamas.experiments.gridworld.analysis import coordination_probability, first_level_settings, need_probability
 from glamas.experiments.gridworld.experiment import GridworldConfig
@@ -104,7 +104,8 @@ def _round_log_ticks(ax, ticks):
 
 def _plot_step_tail(ax, result, optimum, ticks):
     """An inset in the empty upper right (every curve is below twice the shortest path there): the
-    steps from TAIL_FROM on, linear axis, at ``ticks``."""
+    steps from TAIL_FROM on, on a linear steps axis at ``ticks``, its range widened to every curve
+    where a learner that fails on another map stays far above them (then at round ticks)."""
     tail = ax.inset_axes([0.5, 0.4, 0.47, 0.5])
     keep = result.episodes >= TAIL_FROM
     for name in sorted(result.names(), key=lambda name: not drawn_underneath(name)):
@@ -112,16 +113,22 @@ def _plot_step_tail(ax, result, optimum, ticks):
     if optimum is not None:
         tail.axhline(optimum["steps"], color="black", linestyle="--", linewidth=1)
     tail.set_xscale("log")
-    tail.set_yticks(ticks)
-    tail.set_ylim(ticks[0] - 0.5, ticks[-1] + 2)
+    means = [result.steps(name)[:, keep].mean(axis=0) for name in result.names()]
+    low, high = min(ticks[0], *(m.min() for m in means)), max(*(m.max() for m in means))
+    if high <= ticks[-1] + 2:
+        tail.set_yticks(ticks)
+        tail.set_ylim(ticks[0] - 0.5, ticks[-1] + 2)
+    else:
+        tail.yaxis.set_major_locator(MaxNLocator(nbins=5, integer=True))
+        tail.set_ylim(low - 0.5, high * 1.05)
     tail.grid(axis="y", linewidth=0.4, color="0.85")
     tail.tick_params(labelsize="x-small")
-    tail.set_title(f"from episode {TAIL_FROM}, linear axis", fontsize="x-small")
+    tail.set_title(f"from episode {TAIL_FROM}, steps on a linear axis", fontsize="x-small")
 
 
 def plot_reward(ax, result, optimum=None):
     """Fig. 11b: undiscounted reward per episode, mean of both agents."""
-    _plot_learners(ax, result, result.reward, "reward per episode (mean of the agents)",
+    _plot_learners(ax, result, result.reward, "reward per episode\n(mean of the agents)",
                    None if optimum is None else optimum["reward"])
     _finish(ax, result, "reward")
 
@@ -155,7 +162,7 @@ def plot_coordinations(ax, result):
     ax.set_xlabel("episode")
     ax.set_ylabel("coordinations per episode")
     _mark_greedy(ax, result, ["two_observe"], "coordinations")
-    legend_below(ax)
+    legend_below(ax, ncols=1)  # four long entries: in two columns they reach past the canvas
 
 
 NEED_LABELS = {"in_range": ("cannot collide this step", "could collide this step"),

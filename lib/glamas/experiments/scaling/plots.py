@@ -51,7 +51,7 @@ def plot_sizes(ax, result: ScalingResult, config: ScalingConfig | None = None, l
     if groups:
         names = "; ".join(" = ".join(label(result.names()[k]) for k in group) for group in groups)
         ax.set_title(f"drawn side by side, as they store within {COINCIDE - 1:.0%} of each other at every N:\n{names}",
-                     fontsize="small")
+                     fontsize="small", pad=10)  # clear of the top tick label
     if legend:
         legend_right(ax)
 
