@@ -75,8 +75,9 @@ def _plan(gridmap: GridMap, bounce: str, by_makespan: bool) -> Plan:
     start = int(joint_index(gridmap.starts, gridmap.n_cells))
     cost, parent = _dijkstra(mdp.next_state, mdp.collisions, mdp.valid, gridmap.goals, start, gridmap.n_cells,
                              by_makespan)
-    ends = [s for s in np.flatnonzero(parent >= 0) if gridmap.in_goal(_cells(s, gridmap)).all()]
-    if not ends:
+    reached = np.flatnonzero(parent >= 0)
+    ends = reached[gridmap.in_goal(_all_cells(reached, gridmap)).all(axis=1)]  # one call for every state
+    if not ends.size:
         raise UserError(f"map {gridmap.name!r}: no collision-free plan brings every agent to its goal")
     states = [int(min(ends, key=lambda s: cost[s]))]
     while states[-1] != start:
@@ -84,6 +85,12 @@ def _plan(gridmap: GridMap, bounce: str, by_makespan: bool) -> Plan:
     cells = np.array([_cells(s, gridmap) for s in reversed(states)], dtype=np.int64)
     arrived = gridmap.in_goal(cells)  # (makespan + 1, agents)
     return Plan(steps=np.argmax(arrived, axis=0).astype(np.int64), cells=cells)
+
+
+def _all_cells(states: np.ndarray, gridmap: GridMap) -> np.ndarray:
+    """(states, agents): the cells of every joint state of ``states`` (:func:`glamas.gridworld.joint.split_index`)."""
+    powers = gridmap.n_cells ** np.arange(gridmap.n_agents - 1, -1, -1, dtype=np.int64)
+    return (states[:, None] // powers) % gridmap.n_cells
 
 
 def _cells(state: int, gridmap: GridMap) -> np.ndarray:
