@@ -80,15 +80,18 @@ def outside_fault(error: BaseException) -> str | None:
     from glamas.paths import REPO  # the repository's scripts, tests and benchmarks are glamas's
 
     installed = {Path(sys.prefix).resolve(), Path(sys.base_prefix).resolve()}
+    ours = (REPO, Path(__file__).resolve().parent)  # the package, wherever it is installed
 
     def inside(name: str, places) -> bool:
         return name.startswith("<") or any(Path(name).resolve().is_relative_to(place) for place in places)
 
-    frames = [frame.filename for frame in traceback.extract_tb(error.__traceback__)
-              if not inside(frame.filename, installed)]
-    named = [name for name in re.findall(r'File "([^"]+\.py)"', str(error)) if not inside(name, installed)]
+    def kept(name: str) -> bool:
+        return inside(name, ours) or not inside(name, installed)
+
+    frames = [frame.filename for frame in traceback.extract_tb(error.__traceback__) if kept(frame.filename)]
+    named = [name for name in re.findall(r'File "([^"]+\.py)"', str(error)) if kept(name)]
     for name in frames[-1:] + named[-1:]:
-        if not inside(name, (REPO,)):
+        if not inside(name, ours):
             return name
     return None
 

@@ -153,8 +153,8 @@ def adopt(names) -> int:
             print(f"{name}: current")
             continue
         if small_digest(name) != digests[name]:
-            modules = sorted(m for m in set(code[name]) | set(current_code(name))
-                             if code[name].get(m) != current_code(name).get(m))
+            now = current_code(name)
+            modules = sorted(m for m in set(code[name]) | set(now) if code[name].get(m) != now.get(m))
             print(f"{name}: stale, its small run gives other bits with the changed code "
                   f"({', '.join('glamas/' + m for m in modules[:3])}): recompute it with {recompute_command(name)}")
             left += 1
