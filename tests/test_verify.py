@@ -141,7 +141,10 @@ def test_a_label_moved_by_a_hundredth_of_a_point_is_a_difference(twins, capsys):
     assert printed[-1] == "1 difference from the committed results and figures"
 
 
-def test_adopt_takes_the_recomputed_results_only_when_nothing_differs(tmp_path, monkeypatch, capsys):
+@pytest.fixture
+def stale_and_recomputed(tmp_path, monkeypatch):
+    """A committed single_gla result recorded with other code, its recomputation by the code as it
+    is (the same arrays), and verify pointed at them: (config, committed dir, recomputed dir)."""
     from glamas import results
     from glamas.experiments import single_gla
     config = single_gla.FIG5.paper_scale()
@@ -154,6 +157,12 @@ def test_adopt_takes_the_recomputed_results_only_when_nothing_differs(tmp_path, 
     results.save(out / "results" / "single_gla.npz", config, {"x": np.arange(3.0)}, seed=0)
     monkeypatch.setattr(verify, "RESULTS", committed / "results")
     monkeypatch.setattr(verify, "FIGURES", committed / "figures")
+    return config, committed, out
+
+
+def test_adopt_takes_the_recomputed_results_only_when_nothing_differs(stale_and_recomputed, capsys):
+    from glamas import results
+    config, committed, out = stale_and_recomputed
     with pytest.raises(results.StaleResultError, match="records not the code that computed it"):
         results.load(committed / "results" / "single_gla.npz", config, seed=0)
     assert verify.main([str(out), "--adopt"]) == 0
@@ -190,20 +199,10 @@ def test_arrays_of_another_dtype_differ(twins, capsys):
     assert status == 1 and "curve" in printed[0]
 
 
-def test_one_experiment_is_compared_and_adopted_alone(tmp_path, monkeypatch, capsys):
+def test_one_experiment_is_compared_and_adopted_alone(stale_and_recomputed, capsys):
     from glamas import results
-    from glamas.experiments import single_gla
-    config = single_gla.FIG5.paper_scale()
-    committed, out = tmp_path / "committed", tmp_path / "out"
-    for side in (committed, out):
-        (side / "results").mkdir(parents=True)
-        (side / "figures").mkdir()
-    np.savez(committed / "results" / "single_gla.npz", __config__=np.array(results.config_json(config, 0)),
-             __provenance__=np.array('{"version": "0.6.0", "maps": {}}'), x=np.arange(3.0))
+    config, committed, out = stale_and_recomputed
     np.savez(committed / "results" / "gridworld.npz", x=np.arange(2.0))  # another experiment, not recomputed
-    results.save(out / "results" / "single_gla.npz", config, {"x": np.arange(3.0)}, seed=0)
-    monkeypatch.setattr(verify, "RESULTS", committed / "results")
-    monkeypatch.setattr(verify, "FIGURES", committed / "figures")
     assert verify.main([str(out), "--adopt"]) == 1  # the whole comparison misses gridworld.npz
     capsys.readouterr()
     assert verify.main([str(out), "--adopt", "--experiment", "single_gla"]) == 0
