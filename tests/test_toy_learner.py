@@ -160,3 +160,21 @@ def test_a_result_records_the_code_of_a_learner_of_ones_own(toy):
             == "the code that computes it changed since it was made (toy_walk (a learner of one's own))"
     finally:
         module.write_text(original)
+
+
+def test_a_learner_of_ones_own_whose_kernel_mistypes_its_arrays_is_the_users_fault(tmp_path):
+    """Its kernel indexes its visits as (agents, cells), its outputs hand it one dimension: numba's
+    typing error names the module, and the one line says the fault is there, not in glamas."""
+    source = textwrap.dedent(TOY).replace('name="toy_walk"', 'name="toy_bad"').replace(
+        '"visits": np.zeros((gridmap.n_agents, gridmap.n_cells))', '"visits": np.zeros(gridmap.n_cells)')
+    (tmp_path / "toy_bad.py").write_text(source)
+    env = {"PYTHONPATH": str(tmp_path), "GLAMAS_LEARNERS": "toy_bad", "PATH": "/usr/bin:/bin"}
+    done = subprocess.run([sys.executable, str(REPO / "paper_figures" / "fig11a.py"), "--runs", "1", "--episodes", "2",
+                           "--learners", "toy_bad", "--workers", "1", "--out", str(tmp_path / "figures"),
+                           "--results", str(tmp_path / "results")],
+                          capture_output=True, text=True, env=env, timeout=300, cwd=REPO)
+    assert done.returncode == 2 and "Traceback" not in done.stderr, done.stderr
+    line = done.stderr.strip().splitlines()[-1]
+    named, _, rest = line.removeprefix("error: ").partition(" fails (")
+    assert (REPO / named).resolve() == (tmp_path / "toy_bad.py").resolve()  # numba names it from the cwd
+    assert rest.startswith("TypingError") and line.endswith("the fault is in that module, not in glamas; correct it")
