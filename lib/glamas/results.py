@@ -102,7 +102,11 @@ def load(path, config, *, seed: int | None = None) -> dict:
         raise ResultFileError(f"{path} is stale: it was made by another configuration "
                               f"({_difference(stored, expected)}); "
                               + _advice(path, "run the experiment again to refresh it", "--force"))
-    stored = _check_provenance(path, config)
+    return _recorded_arrays(path, _check_provenance(path, config))
+
+
+def _recorded_arrays(path: Path, stored: dict) -> dict:
+    """The arrays of ``path``, checked against the digests its record ``stored`` holds."""
     try:
         with np.load(path, allow_pickle=False) as archive:
             arrays = {key: archive[key] for key in archive.files if key not in _RESERVED}
@@ -153,14 +157,7 @@ def load_unchecked_code(path, config) -> dict:
     path = Path(path)
     if json.loads(stored_config(path))["type"] != type(config).__name__:
         raise ResultFileError(f"{path} is not a result of {type(config).__name__}")
-    stored = stored_provenance(path)
-    try:
-        with np.load(path, allow_pickle=False) as archive:
-            arrays = {key: archive[key] for key in archive.files if key not in _RESERVED}
-    except _UNREADABLE as error:
-        raise _unreadable(path, error) from None
-    _check_arrays(path, stored.get("arrays"), arrays)
-    return arrays
+    return _recorded_arrays(path, stored_provenance(path))
 
 
 def _check_provenance(path: Path, config) -> dict:
