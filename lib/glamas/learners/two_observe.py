@@ -89,6 +89,8 @@ N_GLA_INPUTS = 2
 """The GLA context [delta * delta_scale, 1]: the agents' Manhattan distance and a bias input."""
 NOBODY = rules.NOBODY
 """The nearest other agent of an agent that has nobody to observe (:func:`nearest_others`)."""
+GONE = -1
+"""The cell a kept trace gives an agent in its goal (:func:`episodes`): it has left the map."""
 
 NEED_IN_RANGE = 0
 NEED_SAMPLED = 1
@@ -598,7 +600,30 @@ def run_two(world, learning, automata, schedule, q, u, u_initial, need_counts, l
 def run(world, learning, automata, schedule, q, u, u_initial, need_counts, log, state):
     """One run of Alg. 4 for any number of agents (:func:`episodes`), from GLAs initialised randomly."""
     init_glas(u, u_initial, automata.gla_init_range, state)
-    episodes(world, learning, automata, schedule, q, u, need_counts, log, state, (*per_run(world), group_arrays(world)))
+    episodes(world, learning, automata, schedule, q, u, need_counts, log, state, (*per_run(world), group_arrays(world)),
+             nothing_kept())
+
+
+@njit(cache=True, inline="always")
+def nothing_kept():
+    """:func:`episodes`'s ``kept`` when nothing is to be kept: a trace and yields of no episodes."""
+    return np.empty((0, 0, 0), np.int32), np.empty(0, np.int64)
+
+
+@njit(cache=True, inline="always")
+def keep_cells(row, cells, done):
+    """Every agent's cell into ``row`` of a trace, GONE for an agent in its goal."""
+    for i in range(cells.shape[0]):
+        row[i] = GONE if done[i] else cells[i]
+
+
+@njit(cache=True, inline="always")
+def yielded(done, preferred, actions):
+    """The acting agents whose action is not the one they preferred (the coordination made them yield)."""
+    count = 0
+    for i in range(done.shape[0]):
+        count += (not done[i]) and actions[i] != preferred[i]
+    return count
 
 
 @njit(cache=True, inline="always")
@@ -750,12 +775,22 @@ def episodes_two(world, learning, automata, schedule, q, u, need_counts, log, st
 
 
 @njit(**ep.LOOP)
-def episodes(world, learning, automata, schedule, q, u, need_counts, log, state, arrays):
-    """:func:`episodes_two` for any number of agents: :func:`group_step` while three or more act."""
+def episodes(world, learning, automata, schedule, q, u, need_counts, log, state, arrays, kept):
+    """:func:`episodes_two` for any number of agents: :func:`group_step` while three or more act.
+    ``kept = (trace, yields)`` of as many episodes as the schedule (or of none: :func:`nothing_kept`)
+    keeps, besides, each episode's joint states in ``trace`` (episodes, max_steps + 1, agents), row t
+    every agent's cell after t steps (GONE once in its goal, :func:`keep_cells`), and counts in
+    ``yields`` the agent-steps on which the coordination replaced an agent's preferred action
+    (:func:`yielded`): what the crowd's replay reads (glamas.experiments.crowd.replay)."""
     cells, done, actions, new_cells, rewards, bumped, collided, reached, acc = arrays[1]
+    preferred = arrays[2][1]
+    trace, yields = kept
+    keeping = trace.shape[0] > 0
     for episode in range(schedule.episodes):
         ep.start_episode(world.starts, cells, done, acc)
         t = 0
+        if keeping:
+            keep_cells(trace[episode, t], cells, done)
         while t < schedule.max_steps and not ep.all_done(done):
             first, second = ep.few_acting(done)
             if second >= 0:
@@ -764,8 +799,12 @@ def episodes(world, learning, automata, schedule, q, u, need_counts, log, state,
                 collisions = lone_step(world, learning, q, first, state, arrays[1])
             else:
                 collisions = group_step(world, learning, automata, q, u, need_counts, state, arrays)
+            if keeping and (second >= 0 or first < 0):  # a lone agent has nobody to yield to
+                yields[episode] += yielded(done, preferred, actions)
             t += 1
             ep.end_step(t, cells, done, new_cells, rewards, reached, collisions, acc)
+            if keeping:
+                keep_cells(trace[episode, t], cells, done)
         ep.end_episode(log, episode, schedule.edges, acc, t, done)
 
 
