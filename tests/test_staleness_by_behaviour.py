@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 
 from glamas import committed, provenance, results, small_runs
+from glamas.experiments.gridworld import experiment as gw
 from glamas.paths import RESULTS
 
 NAME = "single_gla"  # the cheapest small run
@@ -17,14 +18,14 @@ NAME = "single_gla"  # the cheapest small run
 @pytest.fixture
 def edited(monkeypatch, tmp_path):
     """Copies of the committed results and digests, and the code record of a change of one kernel
-    module (gridworld/rules.py) that the records see, whatever it does."""
+    module (lineworld.py) that the records see, whatever it does."""
     shutil.copytree(RESULTS, tmp_path / "results")
     shutil.copy(small_runs.DIGESTS, tmp_path / "small_runs.json")
     monkeypatch.setattr(small_runs, "RESULTS", tmp_path / "results")
     monkeypatch.setattr(committed, "RESULTS", tmp_path / "results")
     monkeypatch.setattr(small_runs, "DIGESTS", tmp_path / "small_runs.json")
     real = provenance.code_record
-    monkeypatch.setattr(provenance, "code_record", lambda config: {**real(config), "gridworld/rules.py": "edited"})
+    monkeypatch.setattr(provenance, "code_record", lambda config: {**real(config), "lineworld.py": "edited"})
     return tmp_path
 
 
@@ -43,7 +44,7 @@ def test_a_change_that_keeps_the_behaviour_is_re_recorded_and_the_result_loads(e
     after = _load(edited / "results")
     assert set(after) == {key for key in before.files if not key.startswith("__")}
     assert all(np.array_equal(after[key], before[key], equal_nan=True) for key in after)
-    assert small_runs.committed_code()[NAME]["gridworld/rules.py"] == "edited"
+    assert small_runs.committed_code()[NAME]["lineworld.py"] == "edited"
     assert small_runs.status(NAME)[0] == "current" and small_runs.status("gridworld")[0] == "re-record"
 
 
@@ -53,7 +54,7 @@ def test_a_change_of_behaviour_leaves_the_result_stale_naming_the_recomputation(
     assert small_runs.main(["--adopt", NAME]) == 1
     out = capsys.readouterr().out.strip()
     assert out.count("\n") == 0 and out.startswith(f"{NAME}: stale, its small run gives other bits")
-    assert "paper_figures/fig5.py --rerun" in out and "glamas/gridworld/rules.py" in out
+    assert "paper_figures/fig5.py --rerun" in out and "glamas/lineworld.py" in out
     assert (edited / "results" / f"{NAME}.npz").read_bytes() == committed
     with pytest.raises(results.StaleResultError):
         _load(edited / "results")
@@ -79,3 +80,12 @@ def test_an_unknown_experiment_is_one_line(capsys):
     from glamas.errors import UserError
     with pytest.raises(UserError, match="no stored experiment named nonexistent"):
         small_runs.main(["--adopt", "nonexistent"])
+
+
+def test_a_result_records_only_the_code_its_experiment_runs():
+    line_world = provenance.code_record(small_runs.experiment_named("state_encoding").paper_scale())
+    assert "lineworld.py" in line_world
+    assert not [module for module in line_world if module.startswith("gridworld/")]  # Fig. 5 never runs it
+    independent = provenance.code_record(gw.GridworldConfig(learners=("independent",)))
+    assert "learners/independent.py" in independent and "gridworld/rules.py" in independent
+    assert "learners/two_observe.py" not in independent  # a learner it does not train

@@ -35,20 +35,24 @@ def record(config, arrays: dict | None = None) -> dict:
 
 
 def code_files(config) -> list[Path]:
-    """The modules whose code computes a result of ``config``: its configuration's module, every
-    module of :mod:`glamas.learners` (the registry finds them all, so any experiment may run any),
-    and every module of glamas these import, directly or not, but those that read or keep a result
-    rather than make it (:func:`computes`)."""
+    """The modules whose code computes a result of ``config``: its configuration's module, the
+    module of every learner of glamas it trains (:func:`kernel_modules`), and every module of glamas
+    these import, directly or not, but those that read or keep a result rather than make it
+    (:func:`computes`). A learner it does not train is left out: the registry finds learners by
+    name, not by import."""
     module = Path(inspect.getfile(type(config))).resolve()
-    start = ([module] if module.is_relative_to(sources.PACKAGE) else []) + sorted(LEARNERS.glob("*.py"))
+    start = ([module] if module.is_relative_to(sources.PACKAGE) else [])
+    start += [path for _, path in kernel_modules(config) if path.is_relative_to(sources.PACKAGE)]
     return sources.import_closure([path for path in start if computes(path)], follow=computes)
 
 
-LEARNERS = sources.PACKAGE / "learners"
 KEEPING = ("atomic.py", "committed.py", "errors.py", "paths.py", "provenance.py", "results.py",
-           "experiments/registry.py", "experiments/faces.py", "learners/contract.py")
-"""Modules that keep, name and check results, check learners or report errors, but compute nothing
-of a result (the learner contract runs learners to test them, never for a result)."""
+           "experiments/registry.py", "experiments/faces.py", "learners/contract.py", "learners/__init__.py",
+           "learners/registry.py")
+"""Modules that keep, name and check results, find or check learners or report errors, but compute
+nothing of a result (the learner contract runs learners to test them, never for a result; the
+registry finds a learner by its name, and the module of each learner a result trains is in its
+record: :func:`code_files`)."""
 READING = ("__init__.py", "analysis.py", "plots.py")
 """The modules of an experiment's package that read its result: its face, its analysis, its plots."""
 
@@ -87,6 +91,12 @@ def trained_learners(config) -> set:
 def own_learner_files(config) -> list[tuple[str, Path]]:
     """(module name, file) of each learner ``config`` trains whose kernel is defined outside the
     package: a learner of one's own, whose edit must make its results stale as the package's do."""
+    return [(name, path) for name, path in kernel_modules(config) if not path.is_relative_to(sources.PACKAGE)]
+
+
+def kernel_modules(config) -> list[tuple[str, Path]]:
+    """(module name, file) of the module defining the kernel of each learner ``config`` trains
+    (:func:`trained_learners`)."""
     from glamas.learners import registry  # the registry imports the learners, which keep results
 
     found = set()
@@ -94,7 +104,7 @@ def own_learner_files(config) -> list[tuple[str, Path]]:
         learner = registry.LEARNERS.get(name)
         module = sys.modules.get(getattr(getattr(learner, "kernel", None), "__module__", ""), None)
         path = Path(getattr(module, "__file__", "") or "")
-        if path.suffix == ".py" and not path.resolve().is_relative_to(sources.PACKAGE):
+        if path.suffix == ".py":
             found.add((module.__name__, path.resolve()))
     return sorted(found)
 
