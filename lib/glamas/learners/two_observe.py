@@ -600,13 +600,13 @@ def run_two(world, learning, automata, schedule, q, u, u_initial, need_counts, l
 def run(world, learning, automata, schedule, q, u, u_initial, need_counts, log, state):
     """One run of Alg. 4 for any number of agents (:func:`episodes`), from GLAs initialised randomly."""
     init_glas(u, u_initial, automata.gla_init_range, state)
-    episodes(world, learning, automata, schedule, q, u, need_counts, log, state, (*per_run(world), group_arrays(world)),
-             nothing_kept())
+    episodes(world, learning, automata, schedule, q, u, need_counts, log, state,
+             (*per_run(world), group_arrays(world), nothing_kept()))
 
 
 @njit(cache=True, inline="always")
 def nothing_kept():
-    """:func:`episodes`'s ``kept`` when nothing is to be kept: a trace and yields of no episodes."""
+    """:func:`episodes`'s ``kept`` arrays when nothing is to be kept: a trace and yields of no episodes."""
     return np.empty((0, 0, 0), np.int32), np.empty(0, np.int64)
 
 
@@ -679,10 +679,10 @@ def pair_step(world, learning, automata, q, u, need_counts, pair, state, arrays)
 @njit(cache=True, inline="always")
 def group_step(world, learning, automata, q, u, need_counts, state, arrays):
     """One step of Alg. 4 for any number of acting agents, with the group coordination of the
-    module docstring; as :func:`pair_step` otherwise. ``arrays``: :func:`per_run`'s, then
-    ``group`` (:class:`Group`). Each agent's lookups go through the group's index of the cells
-    (module docstring): a step costs in proportion to its acting agents."""
-    _, buffers, agents, group = arrays  # the in-range table: the group's index answers instead
+    module docstring; as :func:`pair_step` otherwise. ``arrays``: :func:`episodes`'s. Each
+    agent's lookups go through the group's index of the cells (module docstring): a step costs in
+    proportion to its acting agents."""
+    buffers, agents, group = arrays[1:4]  # not arrays[0], the in-range table: the group's index answers
     next_cell, goals, n_agents = world.next_cell, world.goals, world.starts.shape[0]
     alpha, gamma = learning.q_learning_rate, learning.discount
     learn_first_level = automata.rule_distance < 0
@@ -775,16 +775,17 @@ def episodes_two(world, learning, automata, schedule, q, u, need_counts, log, st
 
 
 @njit(**ep.LOOP)
-def episodes(world, learning, automata, schedule, q, u, need_counts, log, state, arrays, kept):
+def episodes(world, learning, automata, schedule, q, u, need_counts, log, state, arrays):
     """:func:`episodes_two` for any number of agents: :func:`group_step` while three or more act.
-    ``kept = (trace, yields)`` of as many episodes as the schedule (or of none: :func:`nothing_kept`)
-    keeps, besides, each episode's joint states in ``trace`` (episodes, max_steps + 1, agents), row t
-    every agent's cell after t steps (GONE once in its goal, :func:`keep_cells`), and counts in
+    ``arrays``: :func:`per_run`'s, ``group`` (:class:`Group`) and ``kept = (trace, yields)``.
+    Kept arrays of as many episodes as the schedule (not of none: :func:`nothing_kept`) keep,
+    besides, each episode's joint states in ``trace`` (episodes, max_steps + 1, agents), row t
+    every agent's cell after t steps (GONE once in its goal, :func:`keep_cells`), and count in
     ``yields`` the agent-steps on which the coordination replaced an agent's preferred action
     (:func:`yielded`): what the crowd's replay reads (glamas.experiments.crowd.replay)."""
     cells, done, actions, new_cells, rewards, bumped, collided, reached, acc = arrays[1]
     preferred = arrays[2][1]
-    trace, yields = kept
+    trace, yields = arrays[4]
     keeping = trace.shape[0] > 0
     for episode in range(schedule.episodes):
         ep.start_episode(world.starts, cells, done, acc)

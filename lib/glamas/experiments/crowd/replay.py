@@ -23,8 +23,8 @@ def replay(world, learning, automata, schedule, q, u, need_counts, log, state, k
     the run draws no parameters), keeping ``kept = (trace, yields)``: each episode's joint states in
     ``trace`` (episodes, max_steps + 1, agents), row t every agent's cell after t steps (GONE once in
     its goal), and the coordination's replaced actions per episode in ``yields`` (episodes,)."""
-    arrays = (*two_observe.per_run(world), two_observe.group_arrays(world))
-    two_observe.episodes(world, learning, automata, schedule, q, u, need_counts, log, state, arrays, kept)
+    arrays = (*two_observe.per_run(world), two_observe.group_arrays(world), kept)
+    two_observe.episodes(world, learning, automata, schedule, q, u, need_counts, log, state, arrays)
 
 
 def revisits(trace: np.ndarray, length: int) -> float:
