@@ -575,7 +575,6 @@ def test_a_result_of_edited_code_is_stale_and_of_edited_comments_is_not(tmp_path
     clone = tmp_path / "glamas"
     shutil.copytree(sources.PACKAGE, clone, ignore=shutil.ignore_patterns("__pycache__"))
     monkeypatch.setattr(sources, "PACKAGE", clone)
-    monkeypatch.setattr(provenance, "LEARNERS", clone / "learners")
     config = gridworld.GridworldConfig(runs=1, episodes=10, bins=10)
     stored = results.save(tmp_path / "gw.npz", config, {"x": np.zeros(1)})
     kernel = clone / "learners" / "independent.py"

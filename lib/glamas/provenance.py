@@ -103,7 +103,11 @@ def kernel_modules(config) -> list[tuple[str, Path]]:
     for name in trained_learners(config):
         learner = registry.LEARNERS.get(name)
         module = sys.modules.get(getattr(getattr(learner, "kernel", None), "__module__", ""), None)
+        if module is None:
+            continue
         path = Path(getattr(module, "__file__", "") or "")
+        if module.__name__.startswith(f"{sources.PACKAGE.name}."):  # read where the package's sources are
+            path = sources.PACKAGE.joinpath(*module.__name__.split(".")[1:]).with_suffix(".py")
         if path.suffix == ".py":
             found.add((module.__name__, path.resolve()))
     return sorted(found)
