@@ -3,14 +3,17 @@ result whose experiment's small run still gives the committed bits is recorded a
 as it is, its arrays untouched; one whose small run gives other bits stays stale."""
 
 import json
+import os
 import shutil
+import subprocess
+import sys
 
 import numpy as np
 import pytest
 
 from glamas import committed, provenance, results, small_runs
 from glamas.experiments.gridworld import experiment as gw
-from glamas.paths import RESULTS
+from glamas.paths import REPO, RESULTS
 
 NAME = "single_gla"  # the cheapest small run
 
@@ -89,3 +92,36 @@ def test_a_result_records_only_the_code_its_experiment_runs():
     independent = provenance.code_record(gw.GridworldConfig(learners=("independent",)))
     assert "learners/independent.py" in independent and "gridworld/rules.py" in independent
     assert "learners/two_observe.py" not in independent  # a learner it does not train
+
+
+def test_a_real_edit_of_the_rules_is_re_recorded_when_it_keeps_the_behaviour_and_not_when_it_changes_it(tmp_path):
+    """In a copy of the code, maps, results and figure scripts: renaming a parameter of
+    rules.move_reward leaves Fig. 10's readings stale by their record; one command re-records them
+    and their figure is drawn. Then a chapter reward's default changed (the collision's, -10 to -11):
+    the same command leaves them stale, and the figure script refuses them."""
+    for part in ("lib", "data", "paper_figures"):
+        shutil.copytree(REPO / part, tmp_path / part, ignore=shutil.ignore_patterns("__pycache__", "output"))
+    env = {**os.environ, "PYTHONPATH": str(tmp_path / "lib"), "NUMBA_CACHE_DIR": str(tmp_path / "cache"),
+           "MPLBACKEND": "Agg"}
+
+    def glamas(*args):
+        return subprocess.run([sys.executable, "-m", *args], cwd=tmp_path, env=env, capture_output=True, text=True)
+
+    def edit(module, old, new):
+        path = tmp_path / "lib" / "glamas" / module
+        path.write_text(path.read_text().replace(old, new, 1))
+
+    edit("gridworld/rules.py", "def move_reward(payoffs, bump):\n", "def move_reward(payoffs, bumped):\n")
+    edit("gridworld/rules.py", "return payoffs.bump if bump else", "return payoffs.bump if bumped else")
+    adopted = glamas("glamas.small_runs", "--adopt", "fig10_readings")
+    assert adopted.returncode == 0 and "fig10_readings: re-recorded" in adopted.stdout
+    drawn = glamas("glamas.reproduce", "--experiment", "fig10_readings", "--out", str(tmp_path / "figures"))
+    assert drawn.returncode == 0, drawn.stderr
+    assert list((tmp_path / "figures").glob("fig10_readings*.png"))
+
+    edit("gridworld/rewards.py", "collision: float = -10.0", "collision: float = -11.0")
+    kept = glamas("glamas.small_runs", "--adopt", "fig10_readings")
+    assert kept.returncode == 1 and "fig10_readings: stale, its small run gives other bits" in kept.stdout
+    assert "glamas/gridworld/rewards.py" in kept.stdout
+    refused = glamas("glamas.reproduce", "--experiment", "fig10_readings", "--out", str(tmp_path / "figures"))
+    assert refused.returncode == 2 and "stale" in refused.stderr + refused.stdout
