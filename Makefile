@@ -8,7 +8,7 @@ READY := $(VENV)/.installed
 EXTRAS := $(VENV)/.extras-installed
 NOTEBOOKS := $(sort $(wildcard notebooks/*.ipynb))
 
-.PHONY: figures test unit notebooks-check notebooks lab ledger benchmark benchmark-maps benchmark-budgets warehouses pogema-crosscheck reproduce verify clean-env clean-cache
+.PHONY: figures test unit notebooks-check notebooks lab ledger benchmark mutations benchmark-maps benchmark-budgets warehouses pogema-crosscheck reproduce verify clean-env clean-cache
 
 $(READY): requirements.txt pyproject.toml
 	@$(PYTHON) -c 'import sys; sys.exit(sys.version_info < (3, 11) and "glamas needs Python >= 3.11: set PYTHON=python3.11")'
@@ -92,6 +92,13 @@ ADOPT ?=
 verify: $(READY)
 	$(PY) -m glamas.reproduce --all --fresh "$$VERIFY"
 	$(PY) -m glamas.verify "$$VERIFY" $(if $(ADOPT),--adopt)
+
+## mutations: whether the small runs (data/small_runs.json) see a change of behaviour: each of a set of
+## mutations of the kernels (a reward, a learning rate, a tie rule, a bounce, ...) made in a copy of the
+## package, and the small runs of the experiments recording the mutated module computed there
+## (benchmarks/small_run_mutations.py; about 18 minutes on 2 cores). Not run by make test.
+mutations: $(READY)
+	$(PY) -m benchmarks.small_run_mutations
 
 ## benchmark-maps: the sparse-interaction benchmark: every learner on the field's maps (TunnelToGoal
 ## with 2, 3 and 4 agents, ISR, CIT, CMU) against each map's exact optimum, under the chapter's rewards
