@@ -2,6 +2,8 @@
 P(R) per region and the stuck runs (Fig. 7); for the sweep, the stuck fraction at each region II
 reward and how far the initialisation decides the outcome; the claims' verdicts."""
 
+import functools
+
 import numpy as np
 
 from glamas import claims
@@ -57,9 +59,11 @@ def claim_rows(result: ANDNetworkResult, readings: dict | None = None) -> list[d
     return claims.verdicts(claims.load("and_network"), measure(result), readings=other)
 
 
+@functools.cache
 def other_parabolas(config: ANDNetworkConfig, seed: int = 0) -> dict:
     """The results of Fig. 7 under the documented parabolas other than ``config``'s
-    (:data:`PARABOLA_READINGS`), computed at its scale from the same seed (seconds)."""
+    (:data:`PARABOLA_READINGS`), computed at its scale from the same seed (seconds). Computed once
+    per process (the verdicts and the notebook read the same results, unchanged)."""
     from dataclasses import replace
 
     from glamas.experiments.and_network.experiment import run
