@@ -1,8 +1,9 @@
 """Compile seconds per kernel: what ``python -m glamas.precompile`` compiles, done here in one
 process from an empty numba cache, with numba's compile events recorded (numba.core.event). Each
-compiled function's own time is its compile event less those of the functions it compiled inside
-it (a kernel calls functions compiled on their own, as rng.next_u64 and qlearning.q_update);
-the pieces numba inlines (``inline="always"``) count in the function they are inlined into.
+compiled function's own time (wall time: run it on a quiet machine) is its compile event less
+those of the functions it compiled inside it (a kernel calls functions compiled on their own, as
+rng.next_u64 and qlearning.q_update); the pieces numba inlines (``inline="always"``) count in
+the function they are inlined into.
 
 Prints each precompile task's wall time (a learner's kernels, then each experiment's small run,
 which compiles what is left and computes a little), the functions that took longest, and the total
@@ -19,23 +20,26 @@ CACHE = tempfile.mkdtemp(prefix="glamas-compile-")
 os.environ["NUMBA_CACHE_DIR"] = CACHE  # before numba is imported, so that every kernel compiles here
 atexit.register(shutil.rmtree, CACHE, True)
 
-from glamas import errors  # noqa: E402 (after the cache is chosen)
+from numba.core import event  # noqa: E402 (after the cache is chosen)
+
+from glamas import errors  # noqa: E402
 
 SHOWN = 15
 """How many of the longest compiled functions are listed."""
 
 
-class CompileTimes:
+class CompileTimes(event.Listener):
     """numba's compile events, as own seconds per compiled function (module docstring)."""
 
     def __init__(self):
+        super().__init__()
         self.own, self.open = {}, []
 
-    def on_start(self, event):
-        function = event.data["dispatcher"].py_func
+    def on_start(self, ev):
+        function = ev.data["dispatcher"].py_func
         self.open.append([f"{function.__module__}.{function.__qualname__}", time.perf_counter(), 0.0])
 
-    def on_end(self, event):
+    def on_end(self, ev):
         name, start, inside = self.open.pop()
         seconds = time.perf_counter() - start
         self.own[name] = self.own.get(name, 0.0) + seconds - inside
@@ -43,25 +47,12 @@ class CompileTimes:
             self.open[-1][2] += seconds
 
 
-def listen(times: CompileTimes) -> None:
-    from numba.core import event
-
-    class Listener(event.Listener):
-        def on_start(self, ev):
-            times.on_start(ev)
-
-        def on_end(self, ev):
-            times.on_end(ev)
-
-    event.register("numba:compile", Listener())
-
-
 def main():
     from benchmarks import timing
 
     quick = timing.quick(__doc__)
     times = CompileTimes()
-    listen(times)
+    event.register("numba:compile", times)
     from glamas import precompile, small_runs
 
     tasks = [(", ".join(names), precompile.compile_learners, names) for names in precompile.learner_groups()]
@@ -77,7 +68,7 @@ def main():
     for name in sorted(times.own, key=times.own.get, reverse=True)[:SHOWN]:
         print(f"{times.own[name]:8.1f}  {name}")
     cpu = time.process_time()
-    print(f"\nin all {sum(times.own.values()):.0f} s compiling, {cpu:.0f} s CPU time of this process")
+    print(f"\nin all {sum(times.own.values()):.0f} s compiling (wall time), {cpu:.0f} s CPU time of this process")
 
 
 if __name__ == "__main__":
