@@ -109,6 +109,7 @@ def test_a_real_edit_of_the_rules_is_re_recorded_when_it_keeps_the_behaviour_and
 
     def edit(module, old, new):
         path = tmp_path / "lib" / "glamas" / module
+        assert old in path.read_text(), f"{module} no longer holds {old!r}: update this test"
         path.write_text(path.read_text().replace(old, new, 1))
 
     edit("gridworld/rules.py", "def move_reward(payoffs, bump):\n", "def move_reward(payoffs, bumped):\n")
