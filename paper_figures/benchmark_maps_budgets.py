@@ -7,7 +7,7 @@ from glamas.experiments import benchmark_maps
 
 
 def main(argv=None):
-    with figures.figure(benchmark_maps.BUDGETS_EXPERIMENT, "benchmark_maps_budgets", __doc__, argv, size=(11.0, 4.2),
+    with figures.figure(benchmark_maps.BUDGETS_EXPERIMENT, "benchmark_maps_budgets", __doc__, argv, size=(11.0, 4.8),
                         ncols=2) as (axes, result, _):
         benchmark_maps.plot_budgets(axes, result)
 

@@ -7,6 +7,7 @@ from pathlib import Path
 
 import numpy as np
 import matplotlib.pyplot as plt
+from matplotlib import patheffects
 from matplotlib import scale as mscale
 from matplotlib.text import Text
 from matplotlib.transforms import ScaledTranslation
@@ -132,6 +133,11 @@ def legend_below_figure(ax, ncols: int = 4):
 def legend_right(ax, **kwargs):
     """The legend of ``ax`` right of it, outside the data (for legends too long to go below)."""
     return ax.legend(loc="upper left", bbox_to_anchor=(1.02, 1.0), fontsize="small", frameon=False, **kwargs)
+
+
+ON_LINES = [patheffects.withStroke(linewidth=2.5, foreground="white")]
+"""Path effects of a text drawn where lines pass (a cell's label, a step number): a white outline,
+so that a line under the text does not cross it out."""
 
 
 GREEDY_LABEL = "greedy policy after training, mean over runs"

@@ -5,6 +5,7 @@ from matplotlib.patches import Circle, Rectangle
 
 from glamas.gridworld.maps import GridMap
 from glamas.gridworld.rules import E, S
+from glamas.plotting import ON_LINES
 
 _AGENT_COLOURS = ("tab:blue", "tab:orange", "tab:green", "tab:red", "tab:purple",
                   "tab:brown", "tab:pink", "tab:gray", "tab:olive")
@@ -130,7 +131,7 @@ def _number_steps(ax, gridmap, stays, agent, colour):
     for cell, labels in visits.items():
         r, c = gridmap.row_col(cell)
         ax.text(c + dx, r + dy, ", ".join(labels), ha="center", va="center", fontsize=6, color=colour,
-                fontweight="bold", zorder=6)
+                fontweight="bold", zorder=6, path_effects=ON_LINES)
 
 
 def _mark_waits(ax, gridmap, stays, agent, offset, label):

@@ -11,7 +11,7 @@ from glamas.experiments.gridworld.analysis import COMPLETION
 from glamas.gridworld import draw, plans
 from glamas.gridworld.rewards import CHAPTER, PRESETS
 from glamas.learners import registry
-from glamas.plotting import greedy_legend_entry, learner_style, mark_greedy, plot_mean_band
+from glamas.plotting import greedy_legend_entry, learner_style, legend_below_figure, mark_greedy, plot_mean_band
 
 BUDGET_SHIFT = 0.06
 """How far apart (in maps) the budget figure draws learners that solve as many maps."""
@@ -129,4 +129,4 @@ def plot_budgets(axes, result: BudgetsResult):
         ax.set_ylabel(f"maps solved (of {result.maps.size})", fontsize="small")
         ax.set_title(f"the {formulation}'s formulation: greedy policy collision-free and completing "
                      f"{COMPLETION:.0%}", fontsize="small")
-    np.ravel(axes)[0].legend(fontsize="x-small")
+    legend_below_figure(np.ravel(axes)[0])

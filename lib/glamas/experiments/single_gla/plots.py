@@ -6,7 +6,7 @@ import numpy as np
 from glamas import lineworld
 from glamas.experiments.single_gla.analysis import B_BEST_LINE_OFFSETS, bounded
 from glamas.experiments.single_gla.experiment import SingleGLAResult
-from glamas.plotting import legend_below, plot_mean_band
+from glamas.plotting import ON_LINES, legend_below, plot_mean_band
 from glamas.portable import weighted_sum
 from glamas.errors import UserError
 
@@ -48,7 +48,7 @@ def plot_learned_lines(ax, result: SingleGLAResult, run_index: int, grid: int = 
             cell = (prefers_left[0] == left_a) & (prefers_left[1] == left_b)
             if cell.mean() > 0.02:  # label cells large enough to hold text
                 label = f"({'L' if left_a else 'R'}, {'L' if left_b else 'R'})"
-                ax.text(x1[cell].mean(), x2[cell].mean(), label, ha="center", va="center")
+                ax.text(x1[cell].mean(), x2[cell].mean(), label, ha="center", va="center", path_effects=ON_LINES)
     legend_below(ax, ncols=2)
     _square(ax)
 
