@@ -12,7 +12,9 @@ from glamas.experiments import single_gla, state_encoding
 def main(argv=None):
     with figures.figure(state_encoding.FIG6, "fig6", __doc__, argv, size=(11.0, 4.0), ncols=2) as (axes, results, _):
         single_gla.plot_reward_curves(axes[0], results)
+        axes[0].set_title("(a) as the chapter draws it: average reward per window", fontsize="medium")
         state_encoding.plot_expected_curves(axes[1], results)
+        axes[1].set_title("(b) expected reward at each checkpoint (log axis)", fontsize="medium")
 
 
 if __name__ == "__main__":
