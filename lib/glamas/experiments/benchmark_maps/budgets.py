@@ -18,7 +18,7 @@ from glamas import checks
 from glamas.errors import UserError
 from glamas.experiments.benchmark_maps.analysis import SOLVED_COLLISIONS
 from glamas.experiments.benchmark_maps.experiment import (FIELD_MAPS, FORMULATIONS, PLANS, BenchmarkConfig,
-                                                          configured, optimal_plans, case_names)
+                                                          case_names, configured, optimal_plans)
 from glamas.experiments.gridworld.analysis import COMPLETION
 from glamas.experiments.scaling.experiment import METHODS, METRICS, sweep
 from glamas.learners import registry, spec
