@@ -13,6 +13,7 @@ import os
 import shutil
 import subprocess
 import sys
+from pathlib import Path
 
 import pytest
 
@@ -161,3 +162,20 @@ def test_a_module_a_kernel_imports_is_a_kernel_source_and_a_figure_module_is_not
     # modules with kernels, and gla.py and rng.py whose functions the kernels call
     assert {"gridworld/rules.py", "learners/two_observe.py", "gla.py", "rng.py"} <= names
     assert not {"plotting.py", "figures.py", "cli.py", "verify.py"} & names
+
+
+def test_the_first_run_notice_looks_for_the_kernels_where_numba_caches_them(tmp_path):
+    """cli.kernels_cached, which decides the one-line notice that a first run compiles, reads the
+    cache numba uses: under NUMBA_CACHE_DIR too."""
+    env = {**os.environ, "NUMBA_CACHE_DIR": str(tmp_path)}
+
+    def ask(code):
+        return subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True).stdout.strip()
+
+    assert ask("from glamas import cli; print(cli.kernels_cached())") == "False"
+    cache = Path(ask("from glamas import sources; print(sources.cache_directory(sources.PACKAGE / 'learners'))"))
+    assert cache.parent == tmp_path
+    cache.mkdir(exist_ok=True)  # glamas made it on import
+    for module in (sources.PACKAGE / "learners").glob("*.py"):
+        (cache / f"{module.stem}.kernel-1.py311.nbi").touch()
+    assert ask("from glamas import cli; print(cli.kernels_cached())") == "True"
