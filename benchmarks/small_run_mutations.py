@@ -20,7 +20,7 @@ from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 from typing import NamedTuple
 
-from glamas import errors, provenance, small_runs, sources
+from glamas import errors, small_runs, sources
 from glamas.paths import REPO
 
 
@@ -73,8 +73,7 @@ print(json.dumps({name: small_runs.small_digest(name) for name in sys.argv[1:]})
 
 def recording(module: str) -> list[str]:
     """The experiments whose result records ``module``, as the code is."""
-    return [name for name in small_runs.SIZES
-            if module in provenance.code_record(small_runs.experiment_named(name).paper_scale())]
+    return [name for name in small_runs.SIZES if module in small_runs.current_code(name)]
 
 
 def mutated_digests(mutation: Mutation, names: list[str], scratch: Path) -> dict:

@@ -86,7 +86,7 @@ def test_an_unknown_experiment_is_one_line(capsys):
 
 
 def test_a_result_records_only_the_code_its_experiment_runs():
-    line_world = provenance.code_record(small_runs.experiment_named("state_encoding").paper_scale())
+    line_world = small_runs.current_code("state_encoding")
     assert "lineworld.py" in line_world
     assert not [module for module in line_world if module.startswith("gridworld/")]  # Fig. 5 never runs it
     independent = provenance.code_record(gw.GridworldConfig(learners=("independent",)))
