@@ -10,7 +10,8 @@ import pytest
 from glamas.errors import UserError
 from glamas.experiments import crowd
 from glamas.experiments import warehouses as wh
-from glamas.experiments.crowd.replay import GONE, revisits
+from glamas.experiments.crowd.replay import revisits
+from glamas.learners.two_observe import GONE
 
 STUDY = replace(wh.WarehousesConfig(agents=(3, 8), instances=2, episodes=20, blocks=4, window=5,
                                     evaluation_episodes=3, max_steps=200), learners=crowd.LEARNERS)

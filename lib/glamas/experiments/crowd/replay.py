@@ -13,16 +13,13 @@ from numba import njit
 
 from glamas.learners import two_observe
 
-GONE = two_observe.GONE
-"""The cell a trace gives an agent in its goal: it has left the map (glamas.gridworld.rules)."""
-
-
 @njit(cache=True)
 def replay(world, learning, automata, schedule, q, u, need_counts, log, state, kept):
     """:func:`glamas.learners.two_observe.run` with its GLAs frozen (:func:`two_observe.freeze`:
     the run draws no parameters), keeping ``kept = (trace, yields)``: each episode's joint states in
-    ``trace`` (episodes, max_steps + 1, agents), row t every agent's cell after t steps (GONE once in
-    its goal), and the coordination's replaced actions per episode in ``yields`` (episodes,)."""
+    ``trace`` (episodes, max_steps + 1, agents), row t every agent's cell after t steps
+    (two_observe.GONE once in its goal), and the coordination's replaced actions per episode in
+    ``yields`` (episodes,)."""
     arrays = (*two_observe.per_run(world), two_observe.group_arrays(world), kept)
     two_observe.episodes(world, learning, automata, schedule, q, u, need_counts, log, state, arrays)
 
