@@ -1,6 +1,7 @@
 """glamas: generalized learning automata and 2observe, after De Hauwere, Vrancx and Nowe,
 'Multi-Agent Systems and Large State Spaces'."""
 
+from glamas.inlining import skip_copies_of_fresh_ir
 from glamas.sources import prepare_kernel_cache
 
 __version__ = "0.6.0"
@@ -10,3 +11,4 @@ __version__ = "0.6.0"
 # calls in other files, so a change of the sources drops the whole cache, and a cache glamas cannot
 # keep in step is not used at all (glamas.sources).
 prepare_kernel_cache()
+skip_copies_of_fresh_ir()  # compile time only: the machine code is the same (glamas.inlining)
