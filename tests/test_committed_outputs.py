@@ -1,15 +1,15 @@
 """The committed figures and results are what the code makes.
 
 Every experiment's figure scripts redraw its figures from the committed results into a temporary
-directory (one process per experiment, as ``make figures`` runs them), each the same figure as its
-twin in ``paper_figures/output`` (:func:`glamas.figure_files.compare`: PNG byte for byte, PDF as
-structure within its tolerance; on the machine that drew them, byte for byte); drawn twice in two
-processes, a figure has the same bytes (one figure with log axes stands for all: every figure is
-drawn by the same code path). Ten of the hundred runs of the fast experiments (Fig. 5,
-6 and 7) are recomputed at paper scale and compared with those of ``data/results``. The slow ones
-(the gridworld, the Fig. 10 readings, related work, scaling, and the Fig. 7 sweep) are recomputed
-by ``make verify``; ``tests/test_portable_results.py`` recomputes a small run of each against
-committed digests.
+directory (in the test's process, one experiment after another, as ``make figures`` draws them),
+each the same figure as its twin in ``paper_figures/output`` (:func:`glamas.figure_files.compare`:
+PNG byte for byte, PDF as structure within its tolerance; on the machine that drew them, byte for
+byte) and laid out cleanly (:func:`glamas.plotting.layout_faults`); drawn twice in two processes, a
+figure has the same bytes (one figure with log axes stands for all: every figure is drawn by the
+same code path). Ten of the hundred runs of the fast experiments (Fig. 5, 6 and 7) are recomputed
+at paper scale and compared with those of ``data/results``. The slow ones (the gridworld, the
+Fig. 10 readings, related work, scaling, and the Fig. 7 sweep) are recomputed by ``make verify``;
+``tests/test_portable_results.py`` recomputes a small run of each against committed digests.
 """
 
 import subprocess
@@ -18,7 +18,7 @@ import sys
 import numpy as np
 import pytest
 
-from glamas import figure_files
+from glamas import figure_files, plotting, reproduce
 from glamas.experiments import registry
 from glamas.paths import REPO, RESULTS
 
@@ -27,11 +27,21 @@ DRAWN = [experiment.name for experiment in registry.experiments() if experiment.
 """Every experiment that draws a figure."""
 
 
-def _draw(experiment: str, out) -> None:
-    """``experiment``'s figures drawn from the committed results into ``out``, as ``make figures`` does."""
-    done = subprocess.run([sys.executable, "-m", "glamas.reproduce", "--experiment", experiment, "--out", str(out)],
-                          capture_output=True, text=True, timeout=300)
-    assert done.returncode == 0, done.stderr[-500:]
+def _draw(experiment: str, out, monkeypatch) -> dict:
+    """``experiment``'s figures drawn from the committed results into ``out``, as ``make figures``
+    does: in this process, which has drawn other figures before (as ``make figures``'s has).
+    Returns each figure's layout faults (:func:`glamas.plotting.layout_faults`), found once it is saved
+    (a draw before saving would move its constrained layout)."""
+    faults, save = {}, plotting.save_figure
+
+    def saved_then_checked(fig, directory, name):
+        paths = save(fig, directory, name)
+        faults[name] = plotting.layout_faults(fig)
+        return paths
+
+    monkeypatch.setattr(plotting, "save_figure", saved_then_checked)
+    assert reproduce.main(["--experiment", experiment, "--out", str(out)]) == 0
+    return faults
 
 
 def _not_the_same_figure(directory) -> list[str]:
@@ -50,9 +60,10 @@ def test_the_committed_figures_are_a_png_and_a_pdf_of_every_script():
 
 
 @pytest.mark.parametrize("experiment", DRAWN)
-def test_every_figure_redraws_to_the_committed_figure(tmp_path, experiment):
-    _draw(experiment, tmp_path)
+def test_every_figure_redraws_to_the_committed_figure_laid_out_cleanly(tmp_path, experiment, monkeypatch):
+    faults = _draw(experiment, tmp_path, monkeypatch)
     scripts = next(e for e in registry.experiments() if e.name == experiment).figures
+    assert faults == {name: [] for name in scripts}, "layout faults (tests/test_figure_layout.py shows each kind)"
     assert sorted(path.name for path in tmp_path.iterdir()) == sorted(f"{name}.{suffix}" for name in scripts
                                                                        for suffix in ("pdf", "png"))
     assert _not_the_same_figure(tmp_path) == [], "figures that differ from paper_figures/output"
