@@ -1,8 +1,8 @@
 """Every kernel compiled into numba's cache at once, one process per core:
 ``python -m glamas.precompile`` (``make test`` runs it before the tests).
 
-numba compiles a kernel the first time it runs with new types of arguments, some for half a
-minute (the kernels of N agents of 2observe and of sparse MAQ), and keeps it in its cache
+numba compiles a kernel the first time it runs with new types of arguments, some for ten seconds
+and more (the kernels of N agents of 2observe and of sparse MAQ), and keeps it in its cache
 (:mod:`glamas.sources` keeps the cache in step with the code). Processes that start at once, as
 the test workers do, each compile the kernels they meet first, often the same ones; here each is
 compiled once and every later process loads it. The tasks run what the experiments run, so that
@@ -24,12 +24,12 @@ from glamas import errors
 
 TWO_AGENTS, N_AGENTS = "tunnel_to_goal", "warehouse_3"
 """The maps a learner's kernels are compiled on: the chapter's two agents, and a warehouse of three."""
-COMPILE_SECONDS = {"two_observe": 32, "sparse_maq": 23, "cq": 9, "independent": 6, "mmdp": 5, "joint_state": 5}
+COMPILE_SECONDS = {"two_observe": 24, "sparse_maq": 20, "cq": 7, "independent": 5, "mmdp": 4, "joint_state": 4}
 """About how long each learner's kernels took to compile on one core of the machine glamas is
 developed on: the order in which the tasks are handed out (the longest first, so that no process
 is left with a long one at the end). A learner not listed counts as 10 s."""
-SMALL_RUN_SECONDS = {"benchmark_maps": 23, "warehouses": 6, "crowd": 5, "and_network": 4, "many_agents": 4,
-                     "single_gla": 3}
+SMALL_RUN_SECONDS = {"benchmark_maps": 12, "warehouses": 7, "crowd": 5, "and_network": 4, "single_gla": 3,
+                     "many_agents": 2}
 """About how long each experiment's small run took after the learners' kernels were compiled
 (compiling what is left, as the exact plans): the order of the second round of tasks, the
 longest first. An experiment not listed counts as 1 s."""
