@@ -6,10 +6,12 @@ each the same figure as its twin in ``paper_figures/output`` (:func:`glamas.figu
 PNG byte for byte, PDF as structure within its tolerance; on the machine that drew them, byte for
 byte) and laid out cleanly (:func:`glamas.plotting.layout_faults`); drawn twice in two processes, a
 figure has the same bytes (one figure with log axes stands for all: every figure is drawn by the
-same code path). Ten of the hundred runs of the fast experiments (Fig. 5, 6 and 7) are recomputed
-at paper scale and compared with those of ``data/results``. The slow ones (the gridworld, the
-Fig. 10 readings, related work, scaling, and the Fig. 7 sweep) are recomputed by ``make verify``;
-``tests/test_portable_results.py`` recomputes a small run of each against committed digests.
+same code path). Ten of the hundred runs of the fast experiments (Fig. 5, 6 and 7, and Fig. 6 and
+7 under their other readings) are recomputed at paper scale and compared with those of
+``data/results``; at paper scale the claims read those other readings from there. The slow ones
+(the gridworld, the Fig. 10 readings, related work, scaling, and the Fig. 7 sweep) are recomputed
+by ``make verify``; ``tests/test_portable_results.py`` recomputes a small run of each against
+committed digests.
 """
 
 import subprocess
@@ -19,7 +21,7 @@ import numpy as np
 import pytest
 
 from glamas import figure_files, plotting, reproduce
-from glamas.experiments import registry
+from glamas.experiments import and_network, registry, state_encoding
 from glamas.paths import REPO, RESULTS
 
 OUTPUT = REPO / "paper_figures" / "output"
@@ -89,7 +91,8 @@ draws from its own stream, the same whatever the number of runs (glamas.rng), so
 of the committed hundred, bit for bit; every array that has runs has them on its first axis."""
 
 
-@pytest.mark.parametrize("experiment", ["single_gla", "state_encoding", "and_network"])
+@pytest.mark.parametrize("experiment", ["single_gla", "state_encoding", "state_encoding_readings", "and_network",
+                                        "and_network_readings"])
 def test_fast_experiments_recompute_to_the_committed_results(experiment):
     found = next(e for e in registry.experiments() if e.name == experiment)
     config = found.configure(RECOMPUTED_RUNS, found.iterations)
@@ -102,3 +105,17 @@ def test_fast_experiments_recompute_to_the_committed_results(experiment):
         with_runs = array.shape != ours.shape and array.shape[1:] == ours.shape[1:]
         return array[:RECOMPUTED_RUNS] if with_runs else array
     assert [key for key in arrays if not np.array_equal(fresh[key], first_runs(key))] == []
+
+
+def test_at_paper_scale_the_claims_read_the_other_readings_from_the_committed_results(monkeypatch):
+    def recomputed(*args, **kwargs):
+        raise AssertionError("recomputed instead of read from data/results")
+
+    for face, read, experiment in ((state_encoding, state_encoding.other_box_readings, state_encoding.FIG6_READINGS),
+                                   (and_network, and_network.other_parabolas, and_network.FIG7_READINGS)):
+        monkeypatch.setattr(face, "other_readings", recomputed)
+        stored = experiment.arrays(read.__wrapped__(experiment.paper_scale()))
+        with np.load(experiment.file(RESULTS)) as committed:
+            assert all(np.array_equal(committed[key], value) for key, value in stored.items())
+        with pytest.raises(AssertionError, match="recomputed"):
+            read.__wrapped__(experiment.configure(2, 100))  # any other scale is computed

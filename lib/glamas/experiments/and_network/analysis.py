@@ -2,8 +2,6 @@
 P(R) per region and the stuck runs (Fig. 7); for the sweep, the stuck fraction at each region II
 reward and how far the initialisation decides the outcome; the claims' verdicts."""
 
-import functools
-
 import numpy as np
 
 from glamas import claims
@@ -47,30 +45,11 @@ def _agreement(p_left: np.ndarray, config: ANDNetworkConfig) -> np.ndarray:
     return (agreement - trivial) / (1.0 - trivial)
 
 
-PARABOLA_READINGS = {"x2 >= x1^2 - 0.5": (1.0, -0.5), "x2 >= 2 x1^2 - 1": (2.0, -1.0), "x2 >= x1^2": (1.0, 0.0)}
-"""The parabolas the reproduction notes give for region I, the chapter not stating its equation:
-name -> (curvature, offset). The first is the default."""
-
-
 def claim_rows(result: ANDNetworkResult, readings: dict | None = None) -> list[dict]:
     """The Fig. 7 claims (data/chapter/section4.json) with verdicts computed from ``result``, each
     also judged under the results of the other parabolas (``readings``: name -> result)."""
     other = {name: measure(found) for name, found in (readings or {}).items()}
     return claims.verdicts(claims.load("and_network"), measure(result), readings=other)
-
-
-@functools.cache
-def other_parabolas(config: ANDNetworkConfig, seed: int = 0) -> dict:
-    """The results of Fig. 7 under the documented parabolas other than ``config``'s
-    (:data:`PARABOLA_READINGS`), computed at its scale from the same seed (seconds). Computed once
-    per process (the verdicts and the notebook read the same results, unchanged)."""
-    from dataclasses import replace
-
-    from glamas.experiments.and_network.experiment import run
-
-    own = (config.parabola_curvature, config.parabola_offset)
-    return {name: run(replace(config, parabola_curvature=a, parabola_offset=b), seed=seed)
-            for name, (a, b) in PARABOLA_READINGS.items() if (a, b) != own}
 
 
 def stuck_runs(result: ANDNetworkResult) -> np.ndarray:

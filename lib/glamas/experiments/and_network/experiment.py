@@ -145,6 +145,36 @@ def result_of(config: ANDNetworkConfig, work: parallel.Batch) -> ANDNetworkResul
     return ANDNetworkResult(config, iteration, prob_left, params)
 
 
+PARABOLA_READINGS = {"x2 >= x1^2 - 0.5": (1.0, -0.5), "x2 >= 2 x1^2 - 1": (2.0, -1.0), "x2 >= x1^2": (1.0, 0.0)}
+"""The parabolas the reproduction notes give for region I, the chapter not stating its equation:
+name -> (curvature, offset). The first is the default."""
+
+
+def other_readings(config: ANDNetworkConfig, seed: int = 0, workers=None, progress: str | None = None) -> dict:
+    """Experiment 2 under each parabola of :data:`PARABOLA_READINGS` other than ``config``'s, from the
+    same seed: name -> result. What Fig. 7's claims are also judged under."""
+    own = (config.parabola_curvature, config.parabola_offset)
+    return {name: run(replace(config, parabola_curvature=a, parabola_offset=b), seed, workers,
+                      None if progress is None else f"{progress} ({name})")
+            for name, (a, b) in PARABOLA_READINGS.items() if (a, b) != own}
+
+
+def readings_arrays(readings: dict) -> dict:
+    """:func:`other_readings`'s results as one flat dict ('parabola<k>_<array>', k its place in
+    :data:`PARABOLA_READINGS`), as its result file stores them."""
+    place = {name: k for k, name in enumerate(PARABOLA_READINGS)}
+    return {f"parabola{place[name]}_{key}": getattr(result, key)
+            for name, result in readings.items() for key in ("iteration", "prob_left", "params")}
+
+
+def readings_from_arrays(config: ANDNetworkConfig, arrays: dict) -> dict:
+    """The inverse of :func:`readings_arrays`: name -> result (``config`` under that parabola)."""
+    own = (config.parabola_curvature, config.parabola_offset)
+    return {name: ANDNetworkResult(replace(config, parabola_curvature=a, parabola_offset=b),
+                                   *(arrays[f"parabola{k}_{key}"] for key in ("iteration", "prob_left", "params")))
+            for k, (name, (a, b)) in enumerate(PARABOLA_READINGS.items()) if (a, b) != own}
+
+
 @njit(cache=True, nogil=True)
 def _left_map(params, x1, x2, temperature, L, mode, out):
     """out[agent, i] = P(agent plays L) at (x1[i], x2[i])."""

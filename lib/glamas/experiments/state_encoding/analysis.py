@@ -2,8 +2,6 @@
 evaluation grid (:func:`expected_curves`), and from it, never from the plot's windows, the
 claims' comparisons of the encodings: paired differences, effect sizes and learning speed."""
 
-import functools
-
 import numpy as np
 from numba import njit
 
@@ -206,15 +204,3 @@ def encoding_claim_rows(results: dict, readings: dict | None = None) -> list[dic
     also judged under the results of the other readings of the box (``readings``: name -> results)."""
     other = {name: measure_encodings(found) for name, found in (readings or {}).items()}
     return claims.verdicts(claims.load("state_encoding"), measure_encodings(results), readings=other)
-
-
-@functools.cache
-def other_box_readings(config, seed: int = 0) -> dict:
-    """The results of Fig. 6 under the box readings other than ``config``'s (:data:`BOX_READINGS`),
-    computed at its scale from the same seed (seconds): what the claims are judged under too.
-    Computed once per process (the verdicts and the notebook read the same results, unchanged)."""
-    from dataclasses import replace
-
-    from glamas.experiments.state_encoding.experiment import BOX_READINGS, compare_encodings
-
-    return {box: compare_encodings(replace(config, box=box), seed=seed) for box in BOX_READINGS if box != config.box}

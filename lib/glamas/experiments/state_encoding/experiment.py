@@ -91,6 +91,25 @@ def encodings_from_arrays(config: EncodingConfig, arrays: dict) -> dict:
             for name in ENCODING_NAMES}
 
 
+def other_readings(config: EncodingConfig, seed: int = 0, workers=None, progress: str | None = None) -> dict:
+    """Fig. 6 under each reading of its box other than ``config``'s (:data:`BOX_READINGS`), from the
+    same seed: box -> encoding -> result. What its claims are also judged under."""
+    return {box: compare_encodings(replace(config, box=box), seed, workers, None if progress is None else f"{progress} {box}")
+            for box in BOX_READINGS if box != config.box}
+
+
+def readings_arrays(readings: dict) -> dict:
+    """:func:`other_readings`'s results as one flat dict ('<box>_<encoding>_<array>'), as its result file stores them."""
+    return {f"{box}_{key}": value for box, results in readings.items() for key, value in encoding_arrays(results).items()}
+
+
+def readings_from_arrays(config: EncodingConfig, arrays: dict) -> dict:
+    """The inverse of :func:`readings_arrays`: box -> encoding -> result."""
+    return {box: encodings_from_arrays(replace(config, box=box), {key.removeprefix(f"{box}_"): value
+                                                                  for key, value in arrays.items() if key.startswith(f"{box}_")})
+            for box in BOX_READINGS if box != config.box}
+
+
 def scaled_encodings(runs: int, iterations: int, **settings) -> EncodingConfig:
     """Fig. 6 (with ``settings`` of :class:`EncodingConfig` changed) at ``runs`` and ``iterations``."""
     return EncodingConfig(scaled(runs, iterations), **settings)
