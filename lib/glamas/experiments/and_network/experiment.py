@@ -9,7 +9,7 @@ P(L) maps over the evaluation grid are here too: the sweep keeps each run's mean
 """
 
 from concurrent.futures import ThreadPoolExecutor
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, fields, replace
 
 import numpy as np
 from numba import njit
@@ -150,6 +150,10 @@ PARABOLA_READINGS = {"x2 >= x1^2 - 0.5": (1.0, -0.5), "x2 >= 2 x1^2 - 1": (2.0, 
 name -> (curvature, offset). The first is the default."""
 
 
+_ARRAYS = tuple(field.name for field in fields(ANDNetworkResult) if field.name != "config")
+"""The arrays of a result, in its fields' order."""
+
+
 def other_readings(config: ANDNetworkConfig, seed: int = 0, workers=None, progress: str | None = None) -> dict:
     """Experiment 2 under each parabola of :data:`PARABOLA_READINGS` other than ``config``'s, from the
     same seed: name -> result. What Fig. 7's claims are also judged under."""
@@ -163,15 +167,14 @@ def readings_arrays(readings: dict) -> dict:
     """:func:`other_readings`'s results as one flat dict ('parabola<k>_<array>', k its place in
     :data:`PARABOLA_READINGS`), as its result file stores them."""
     place = {name: k for k, name in enumerate(PARABOLA_READINGS)}
-    return {f"parabola{place[name]}_{key}": getattr(result, key)
-            for name, result in readings.items() for key in ("iteration", "prob_left", "params")}
+    return {f"parabola{place[name]}_{key}": getattr(result, key) for name, result in readings.items() for key in _ARRAYS}
 
 
 def readings_from_arrays(config: ANDNetworkConfig, arrays: dict) -> dict:
     """The inverse of :func:`readings_arrays`: name -> result (``config`` under that parabola)."""
     own = (config.parabola_curvature, config.parabola_offset)
     return {name: ANDNetworkResult(replace(config, parabola_curvature=a, parabola_offset=b),
-                                   *(arrays[f"parabola{k}_{key}"] for key in ("iteration", "prob_left", "params")))
+                                   *(arrays[f"parabola{k}_{key}"] for key in _ARRAYS))
             for k, (name, (a, b)) in enumerate(PARABOLA_READINGS.items()) if (a, b) != own}
 
 
