@@ -2,9 +2,9 @@
 workers of pytest-xdist.
 
 * Each notebook is one unit of work, so that its cells run in order on one worker, in one kernel,
-  and every unit test is a unit of its own; the notebooks go first, being the longest units, so
-  that the workers end together. (xdist's own ``--dist loadgroup`` cannot group nbval's cells: it
-  renames tests in a way pytest 9 ignores.)
+  and every unit test is a unit of its own; the notebooks go first, being the longest units, then
+  the unit tests marked ``long`` (many seconds each), so that the workers end together. (xdist's
+  own ``--dist loadgroup`` cannot group nbval's cells: it renames tests in a way pytest 9 ignores.)
 * With a worker per core, each worker keeps to a core of its own, and so do the processes it
   starts: an experiment a test or a notebook runs at its default of one worker per core then runs
   in the test's process instead of starting worker processes that would only wait for the other
@@ -38,5 +38,6 @@ def pytest_configure(config):
 
 def pytest_collection_modifyitems(config, items):
     notebooks = [item for item in items if ".ipynb::" in item.nodeid]
-    chosen = set(map(id, notebooks))
-    items[:] = notebooks + [item for item in items if id(item) not in chosen]
+    long = [item for item in items if item.get_closest_marker("long")]
+    chosen = set(map(id, notebooks + long))
+    items[:] = notebooks + long + [item for item in items if id(item) not in chosen]

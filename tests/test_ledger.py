@@ -31,6 +31,7 @@ ROWS = _rows()
 TABLE = ledger.table(ROWS)
 
 
+@pytest.mark.long
 def test_the_ledger_and_the_readme_summary_match_the_committed_results():
     done = subprocess.run([sys.executable, "-m", "glamas.ledger", "--check"], capture_output=True, text=True)
     assert done.returncode == 0, done.stdout + done.stderr

@@ -215,6 +215,7 @@ def test_group_coordination_through_the_index_is_the_all_pairs_one():
     assert yielded > 0
 
 
+@pytest.mark.long
 @pytest.mark.parametrize("reading", [{"gla_need": need, "gla_L": L} for need in sorted(two_observe.NEEDS)
                                      for L in (1.0, 8.0)] + [{"rule_distance": 3}], ids=str)
 def test_2observe_pair_step_plays_the_group_step_for_two_agents(reading):

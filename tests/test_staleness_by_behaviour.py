@@ -94,6 +94,7 @@ def test_a_result_records_only_the_code_its_experiment_runs():
     assert "learners/two_observe.py" not in independent  # a learner it does not train
 
 
+@pytest.mark.long
 def test_a_real_edit_of_the_rules_is_re_recorded_when_it_keeps_the_behaviour_and_not_when_it_changes_it(tmp_path):
     """In a copy of the code, maps, results and figure scripts: renaming a parameter of
     rules.move_reward leaves Fig. 10's readings stale by their record; one command re-records them
