@@ -17,6 +17,7 @@ from typing import Callable
 
 from glamas import committed, results
 from glamas.errors import UserError
+from glamas.paths import RESULTS
 
 REGISTRY: dict = {}
 """The registered experiments by name, in the order they registered."""
@@ -112,6 +113,13 @@ class Experiment:
         if not self.stored:
             return self.run(config, seed=seed)
         return self.result_of(config, results.load(self.file(directory), config, seed=seed))
+
+    def committed_or_run(self, config, seed: int = 0):
+        """The committed result (:meth:`load` from ``data/results``) when ``config`` is the paper
+        scale and ``seed`` the committed seed 0; else computed (:attr:`run`, at ``config``'s scale)."""
+        if (config, seed) == (self.paper_scale(), 0):
+            return self.load(RESULTS, config, seed)
+        return self.run(config, seed=seed)
 
 
 def register(experiment: Experiment) -> Experiment:

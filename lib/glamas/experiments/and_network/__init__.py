@@ -53,6 +53,4 @@ def other_parabolas(config: ANDNetworkConfig, seed: int = 0) -> dict:
     """Experiment 2 under the parabolas other than ``config``'s (name -> result): at paper scale the
     committed result (its configuration and provenance checked), else computed at ``config``'s scale
     from the same seed (seconds). Once per process: the verdicts and the notebook read the same results."""
-    if (config, seed) == (FIG7_READINGS.paper_scale(), 0):
-        return FIG7_READINGS.load(RESULTS, config, seed)
-    return other_readings(config, seed=seed)
+    return FIG7_READINGS.committed_or_run(config, seed)

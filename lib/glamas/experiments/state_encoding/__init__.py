@@ -15,7 +15,6 @@ from glamas.experiments.state_encoding.experiment import (BOX_READINGS, ENCODING
                                                           compare_encodings, encoding_arrays, encodings_from_arrays,
                                                           other_readings, readings_arrays, readings_from_arrays,
                                                           scaled_encodings)
-from glamas.paths import RESULTS
 
 PLOTS = ("plot_expected_curves",)
 """The drawing functions of :mod:`.plots` this face hands on."""
@@ -45,6 +44,4 @@ def other_box_readings(config: EncodingConfig, seed: int = 0) -> dict:
     scale the committed result (its configuration and provenance checked), else computed at
     ``config``'s scale from the same seed (seconds). Once per process: the verdicts and the notebook
     read the same results."""
-    if (config, seed) == (FIG6_READINGS.paper_scale(), 0):
-        return FIG6_READINGS.load(RESULTS, config, seed)
-    return other_readings(config, seed=seed)
+    return FIG6_READINGS.committed_or_run(config, seed)
