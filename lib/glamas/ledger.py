@@ -19,8 +19,6 @@ from glamas.experiments import registry
 from glamas.experiments.registry import Experiment
 from glamas.paths import REPO, RESULTS
 
-SEED = 0
-"""The master seed of the committed results (the figure scripts' default)."""
 README = REPO / "README.md"
 """Holds the summary of verdicts (:func:`summary`) between START and END."""
 START, END = "<!-- verdicts:start -->", "<!-- verdicts:end -->"
@@ -81,9 +79,10 @@ FIGURES = (
 
 
 def paper_result(experiment: Experiment, results_dir: Path = RESULTS):
-    """The paper-scale result of ``experiment`` and SEED in ``results_dir``, its configuration
-    checked (computed instead, for an experiment whose result is not stored)."""
-    return experiment.load(results_dir, experiment.paper_scale(), SEED)
+    """The paper-scale result of ``experiment`` and the committed seed (:data:`registry.SEED`) in
+    ``results_dir``, its configuration checked (computed instead, for an experiment whose result is
+    not stored)."""
+    return experiment.load(results_dir, experiment.paper_scale(), registry.SEED)
 
 
 def with_claims() -> dict:

@@ -21,6 +21,8 @@ from glamas.paths import RESULTS
 
 REGISTRY: dict = {}
 """The registered experiments by name, in the order they registered."""
+SEED = 0
+"""The master seed of the committed results (the figure scripts' default)."""
 
 
 @dataclass(frozen=True)
@@ -114,10 +116,10 @@ class Experiment:
             return self.run(config, seed=seed)
         return self.result_of(config, results.load(self.file(directory), config, seed=seed))
 
-    def committed_or_run(self, config, seed: int = 0):
+    def committed_or_run(self, config, seed: int = SEED):
         """The committed result (:meth:`load` from ``data/results``) when ``config`` is the paper
-        scale and ``seed`` the committed seed 0; else computed (:attr:`run`, at ``config``'s scale)."""
-        if (config, seed) == (self.paper_scale(), 0):
+        scale and ``seed`` the committed :data:`SEED`; else computed (:attr:`run`, at ``config``'s scale)."""
+        if (config, seed) == (self.paper_scale(), SEED):
             return self.load(RESULTS, config, seed)
         return self.run(config, seed=seed)
 
