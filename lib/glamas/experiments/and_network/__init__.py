@@ -14,7 +14,7 @@ from glamas.experiments.and_network.experiment import (DEFAULT_SWEEP, PARABOLA_R
                                                        other_readings, readings_arrays, readings_from_arrays, run,
                                                        scaled, sweep)
 from glamas.experiments.faces import plots_on_first_use
-from glamas.experiments.registry import Experiment, register
+from glamas.experiments.registry import SEED, Experiment, register
 from glamas.paths import RESULTS
 
 PLOTS = ("plot_parabola", "plot_boundaries", "plot_prob_left", "plot_stuck_fraction")
@@ -49,7 +49,7 @@ def load_sweep(config: ANDNetworkConfig = ANDNetworkConfig(), seed: int = 0, res
 
 
 @functools.cache
-def other_parabolas(config: ANDNetworkConfig, seed: int = 0) -> dict:
+def other_parabolas(config: ANDNetworkConfig, seed: int = SEED) -> dict:
     """Experiment 2 under the parabolas other than ``config``'s (name -> result): at paper scale the
     committed result (its configuration and provenance checked), else computed at ``config``'s scale
     from the same seed (seconds). Once per process: the verdicts and the notebook read the same results."""
