@@ -73,6 +73,16 @@ def test_a_result_recorded_with_other_code_than_its_digest_is_not_re_recorded(ed
     assert capsys.readouterr().out.startswith(f"{NAME}: stale, not re-recorded")
 
 
+def test_writing_the_digests_keeps_a_result_of_an_unchanged_digest_re_recordable(edited):
+    # --write after recomputing another experiment: this one's digest is the same, so the code its
+    # result was made with still gives it, and --adopt can still re-record the result
+    small_runs.write(small_runs.committed())
+    assert small_runs.status(NAME)[0] == "re-record"
+    small_runs.write({**small_runs.committed(), NAME: "other bits"})
+    assert small_runs.committed_code()[NAME]["lineworld.py"] == "edited"
+    assert small_runs.status(NAME)[0] == "recompute"
+
+
 def test_status_lists_every_committed_result(capsys):
     assert small_runs.main(["--status"]) == 0
     lines = capsys.readouterr().out.splitlines()

@@ -106,9 +106,13 @@ def current_code(name: str) -> dict:
 
 
 def write(found: dict) -> None:
-    """Rewrite the digests file with the digests ``found`` and the code that computes each now."""
+    """Rewrite the digests file with the digests ``found`` and the code that computes each now,
+    except where a digest is the committed one: its record of code stays, since that code gives the
+    same bits, and a committed result it computed stays one that ``--adopt`` can re-record."""
     sizes = {name: {"runs": runs, "iterations": iterations, **fields} for name, (runs, iterations, fields) in SIZES.items()}
-    code = {name: current_code(name) for name in found}
+    digests, recorded = committed(), committed_code()
+    code = {name: recorded[name] if digest == digests.get(name) and name in recorded else current_code(name)
+            for name, digest in found.items()}
     DIGESTS.write_text(json.dumps({"seed": SEED, "sizes": sizes, "digests": found, "code": code}, indent=1) + "\n")
 
 
