@@ -208,9 +208,9 @@ def _encodings(sharpness: dict):
         w = np.array(IDEAL_LINES[name])  # (agents, inputs)
         params = np.stack([w / 2, -w / 2], axis=1)  # (agents, actions L and R, inputs)
         at_checkpoints = scale[:, :, None, None, None] * params
-        results[name] = single_gla.SingleGLAResult(
-            replace(FIG5, context=name), np.arange(1, 3), np.zeros((scale.shape[0], 2)),
-            at_checkpoints[:, -1], CHECKPOINTS, at_checkpoints)
+        result = single_gla.SingleGLAResult(replace(FIG5, context=name), np.arange(1, 3), np.zeros((scale.shape[0], 2)),
+                                            at_checkpoints[:, -1], CHECKPOINTS, at_checkpoints)
+        results[name] = replace(result, expected_reward=state_encoding.expected_curves(result))
     return results
 
 

@@ -142,7 +142,7 @@ def test_expected_rewards_do_not_move_with_the_checkpoints_or_the_grid():
 def test_the_learning_speed_verdict_does_not_move_with_the_reach_level():
     # the committed result: deictic / joint iterations to reach 1 - tolerance of the final value
     results = state_encoding.FIG6.load(RESULTS, state_encoding.FIG6.paper_scale(), seed=0)
-    curves = {name: state_encoding.expected_curves(results[name]) for name in ("deictic", "joint")}
+    curves = {name: results[name].expected_reward for name in ("deictic", "joint")}
     claim = next(c for c in claims.load("state_encoding") if c.id == "deictic_learns_faster")
     verdicts = set()
     for tolerance in np.linspace(0.03, 0.15, 7):

@@ -13,7 +13,7 @@ from glamas.experiments.and_network import analysis as and_analysis
 from glamas.experiments.state_encoding import analysis as se_analysis
 
 
-def _fig6_verdicts(monkeypatch, lead: float) -> dict:
+def _fig6_verdicts(lead: float) -> dict:
     """Fig. 6's claims on three encodings' curves: each rises from 0.3 to its level over the run,
     joint to 0.6, deictic to 0.6 + ``lead``, absolute to 0.35; five runs with a little spread."""
     checkpoint = np.linspace(0.0, 100_000.0, 11)
@@ -21,28 +21,26 @@ def _fig6_verdicts(monkeypatch, lead: float) -> dict:
     spread = np.linspace(-0.002, 0.002, 5)[:, None]
     levels = {"joint": 0.6, "deictic": 0.6 + lead, "absolute": 0.35}
     curves = {name: 0.3 + (level - 0.3) * rise[None, :] + spread for name, level in levels.items()}
-    monkeypatch.setattr(se_analysis, "expected_curves", lambda result: curves[result.name])
-    results = {name: SimpleNamespace(name=name, checkpoint=checkpoint) for name in levels}
+    results = {name: SimpleNamespace(checkpoint=checkpoint, expected_reward=curves[name]) for name in levels}
     rows = claims.verdicts(claims.load("state_encoding"), se_analysis.measure_encodings(results))
     return {row["claim"].id: row["verdict"] for row in rows}
 
 
-def test_a_deictic_lead_a_reader_cannot_see_is_no_outperforming(monkeypatch):
-    tiny = _fig6_verdicts(monkeypatch, lead=0.002)  # a lead every run shows: significant, invisible
+def test_a_deictic_lead_a_reader_cannot_see_is_no_outperforming():
+    tiny = _fig6_verdicts(lead=0.002)  # a lead every run shows: significant, invisible
     assert tiny["deictic_outperforms_joint"] == tiny["same_information_clearly_benefits"] == "NOT reproduced"
     assert tiny["absolute_clearly_worst"] == "reproduced"
-    seen = _fig6_verdicts(monkeypatch, lead=0.03)  # about a tenth of the plot's height over the run
+    seen = _fig6_verdicts(lead=0.03)  # about a tenth of the plot's height over the run
     assert seen["deictic_outperforms_joint"] == "reproduced"
-    clear = _fig6_verdicts(monkeypatch, lead=0.08)
+    clear = _fig6_verdicts(lead=0.08)
     assert clear["same_information_clearly_benefits"] == "reproduced"
 
 
-def test_an_absolute_distance_close_to_the_others_is_not_clearly_worst(monkeypatch):
+def test_an_absolute_distance_close_to_the_others_is_not_clearly_worst():
     checkpoint = np.linspace(0.0, 100_000.0, 11)
     curves = {name: np.tile(np.linspace(0.3, level, 11), (5, 1)) + np.linspace(-0.001, 0.001, 5)[:, None]
               for name, level in {"joint": 0.6, "deictic": 0.6, "absolute": 0.59}.items()}
-    monkeypatch.setattr(se_analysis, "expected_curves", lambda result: curves[result.name])
-    results = {name: SimpleNamespace(name=name, checkpoint=checkpoint) for name in curves}
+    results = {name: SimpleNamespace(checkpoint=checkpoint, expected_reward=curves[name]) for name in curves}
     rows = claims.verdicts(claims.load("state_encoding"), se_analysis.measure_encodings(results))
     assert next(row for row in rows if row["claim"].id == "absolute_clearly_worst")["verdict"] == "NOT reproduced"
 

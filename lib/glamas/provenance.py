@@ -13,12 +13,15 @@ loading, so that a damaged or edited array is found before anything is drawn fro
 """
 
 import dataclasses
+import hashlib
 import inspect
 import sys
 from pathlib import Path
 
+import numpy as np
+
 import glamas
-from glamas import memo, sources
+from glamas import sources
 from glamas.gridworld.maps import MapError, map_hash
 
 MISSING = "missing"
@@ -114,8 +117,14 @@ def kernel_modules(config) -> list[tuple[str, Path]]:
 
 
 def array_digests(arrays: dict) -> dict:
-    """{name: :func:`glamas.memo.digest` of the array (its dtype, shape and bytes)}."""
-    return {name: memo.digest(array) for name, array in arrays.items()}
+    """{name: :func:`digest` of the array}."""
+    return {name: digest(array) for name, array in arrays.items()}
+
+
+def digest(array: np.ndarray) -> str:
+    """A short key of an array's content (its dtype, shape and bytes)."""
+    array = np.ascontiguousarray(array)
+    return hashlib.sha1(f"{array.dtype.str}{array.shape}".encode() + array.tobytes()).hexdigest()
 
 
 def map_files(config, prefix: str = "") -> list[tuple[str, str]]:

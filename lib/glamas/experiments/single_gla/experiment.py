@@ -87,12 +87,16 @@ class SingleGLAResult:
     """(checkpoints,) the iterations after which the parameters were recorded (Fig. 5: none)."""
     checkpoint_params: np.ndarray = field(default_factory=lambda: np.zeros((0, 0, 2, 2, 0)))
     """(runs, checkpoints, 2 agents, 2 actions, context length) the parameters at the checkpoints."""
+    expected_reward: np.ndarray = field(default_factory=lambda: np.zeros((0, 0)))
+    """(runs, checkpoints) the team's expected feedback at each checkpoint, from its parameters
+    (Fig. 6's learning curve without sampling noise: glamas.experiments.state_encoding.expected_curves)."""
 
     def arrays(self) -> dict:
         """The arrays a result file stores; the checkpoints only when there are any."""
         arrays = {"iteration": self.iteration, "reward": self.reward, "params": self.params}
         if self.checkpoint.size:
-            arrays.update(checkpoint=self.checkpoint, checkpoint_params=self.checkpoint_params)
+            arrays.update(checkpoint=self.checkpoint, checkpoint_params=self.checkpoint_params,
+                          expected_reward=self.expected_reward)
         return arrays
 
 

@@ -6,7 +6,6 @@ import numpy as np
 from numba import njit
 
 from glamas import claims, gla, lineworld
-from glamas.memo import digest, memoized
 from glamas.curves import BOOTSTRAP_DRAWS
 from glamas.experiments.single_gla.analysis import best_actions, contexts
 from glamas.experiments.single_gla.experiment import SingleGLAConfig, SingleGLAResult
@@ -64,18 +63,10 @@ def grid_points(config: SingleGLAConfig) -> tuple:
             rows[:, 2 * n + 1].astype(np.int64), counts / 2.0)
 
 
-def _reads(result: SingleGLAResult) -> tuple:
-    """What :func:`expected_curves` reads of a result: its checkpoints' parameters and the settings
-    of the policies and the grid (a result recorded in other windows has the same curves)."""
-    config = result.config
-    return (config.context, config.region3_reward, config.eval_grid, config.temperature, config.L, config.bounding,
-            digest(result.checkpoint_params))
-
-
-@memoized(_reads)
 def expected_curves(result: SingleGLAResult) -> np.ndarray:
     """(runs, checkpoints) the team's expected feedback (:func:`team_rewards` on the evaluation
-    grid) at every checkpoint of every run: Fig. 6's learning curve without sampling noise."""
+    grid) at every checkpoint of every run: Fig. 6's learning curve without sampling noise, which
+    the run stores (``result.expected_reward``) and the claims, tables and figures read."""
     config = result.config
     runs, points = result.checkpoint_params.shape[:2]
     out = np.empty(runs * points)
@@ -121,7 +112,7 @@ def measure_encodings(results: dict, tolerance: float = REACH_TOLERANCE) -> dict
     paired difference of both with its 95 % interval and Cohen's d; the absolute distance's
     smaller d against the others; deictic against joint, the iterations to reach 1 - ``tolerance``
     of the final value (:func:`speed_comparison`)."""
-    curves = {name: expected_curves(res) for name, res in results.items()}
+    curves = {name: res.expected_reward for name, res in results.items()}
     per_run = {name: {"mean": curve_mean(curve, results[name].checkpoint), "final": curve[:, -1]}
                for name, curve in curves.items()}
     measured = {f"{name}_expected_{key}": values.mean() for name, rows in per_run.items() for key, values in rows.items()}
@@ -194,7 +185,7 @@ def speed_comparison(deictic: np.ndarray, joint: np.ndarray, seed: int = 0) -> d
 def paired_curve(results: dict, better: str, worse: str) -> tuple:
     """(iterations, mean, low, high): the paired difference of two encodings' expected rewards at
     every checkpoint, with its 95 % interval over runs."""
-    a, b = expected_curves(results[better]), expected_curves(results[worse])
+    a, b = results[better].expected_reward, results[worse].expected_reward
     rows = np.array([paired_interval(a[:, c], b[:, c]) for c in range(a.shape[1])])
     return results[better].checkpoint, rows[:, 0], rows[:, 1], rows[:, 2]
 

@@ -7,6 +7,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from glamas import checks, memory, portable
+from glamas.experiments.state_encoding.analysis import expected_curves
 from glamas.experiments.single_gla.experiment import PARAMETERS, SingleGLAConfig, SingleGLAResult, run, scaled
 from glamas.errors import UserError
 
@@ -63,9 +64,9 @@ class EncodingConfig:
         return np.unique(np.concatenate([[0], spaced]))
 
     def memory_bytes(self) -> int:
-        """Bytes of one encoding's runs: experiment 1's arrays and the parameters at the start and
-        at the checkpoints."""
-        checkpoints = memory.per_run(self.experiment.runs, (self.checkpoints + 1) * PARAMETERS)
+        """Bytes of one encoding's runs: experiment 1's arrays, and the parameters and the expected
+        reward at the start and at the checkpoints."""
+        checkpoints = memory.per_run(self.experiment.runs, (self.checkpoints + 1) * (PARAMETERS + 1))
         return self.experiment.memory_bytes() + checkpoints
 
 
@@ -73,10 +74,12 @@ def compare_encodings(config: EncodingConfig, seed: int = 0, workers=None,
                       progress: str | None = None) -> dict:
     """Fig. 6: the same experiment with each context encoding (same seed, so run r of every
     encoding sees the same positions until their actions differ), the parameters recorded at the
-    checkpoints."""
-    return {name: run(config.encoding(name), seed, workers, None if progress is None else f"{progress} ({name})",
-                      config.checkpoint_iterations())
-            for name in ENCODING_NAMES}
+    checkpoints and the team's expected reward computed there (:func:`.analysis.expected_curves`:
+    seconds for the joint context, computed once here rather than by every reader of the result)."""
+    results = {name: run(config.encoding(name), seed, workers, None if progress is None else f"{progress} ({name})",
+                         config.checkpoint_iterations())
+               for name in ENCODING_NAMES}
+    return {name: replace(result, expected_reward=expected_curves(result)) for name, result in results.items()}
 
 
 def encoding_arrays(results: dict) -> dict:
@@ -87,7 +90,7 @@ def encoding_arrays(results: dict) -> dict:
 def encodings_from_arrays(config: EncodingConfig, arrays: dict) -> dict:
     """The inverse of :func:`encoding_arrays`: encoding name -> result (``config``'s for the encoding)."""
     return {name: SingleGLAResult(config.encoding(name), *(arrays[f"{name}_{key}"] for key in
-                                  ("iteration", "reward", "params", "checkpoint", "checkpoint_params")))
+                                  ("iteration", "reward", "params", "checkpoint", "checkpoint_params", "expected_reward")))
             for name in ENCODING_NAMES}
 
 
