@@ -73,6 +73,21 @@ def test_a_result_recorded_with_other_code_than_its_digest_is_not_re_recorded(ed
     assert capsys.readouterr().out.startswith(f"{NAME}: stale, not re-recorded")
 
 
+def test_an_adoption_stopped_midway_keeps_each_result_and_its_digest_recorded_with_the_same_code(edited, monkeypatch):
+    real = small_runs.small_digest
+
+    def stopped_at_the_second(name, workers=None):
+        if name != NAME:
+            raise KeyboardInterrupt  # Ctrl-C, or a closed pipe, while the second small run computes
+        return real(name, workers)
+
+    monkeypatch.setattr(small_runs, "small_digest", stopped_at_the_second)
+    with pytest.raises(KeyboardInterrupt):
+        small_runs.adopt([NAME, "gridworld"])
+    assert small_runs.status(NAME)[0] == "current"
+    assert small_runs.committed_code()[NAME] == small_runs.stored_record(NAME)["code"]
+
+
 def test_writing_the_digests_keeps_a_result_of_an_unchanged_digest_re_recordable(edited):
     # --write after recomputing another experiment: this one's digest is the same, so the code its
     # result was made with still gives it, and --adopt can still re-record the result

@@ -167,8 +167,8 @@ def adopt(names) -> int:
             continue
         _rerecord(name)
         code[name] = current_code(name)
+        write_code(code)  # at once: a result and its digest never stay recorded with different code
         print(f"{name}: re-recorded (its small run gives the committed bits)")
-    write_code(code)
     return 1 if left else 0
 
 
