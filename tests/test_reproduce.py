@@ -120,10 +120,10 @@ def test_fresh_refuses_a_file(tmp_path, capsys):
 
 def test_fresh_draws_into_the_emptied_directories(tmp_path, capsys, monkeypatch):
     monkeypatch.setattr(registry, "figure_scripts", lambda chapter_only: ("fig9",))  # nothing to compute
-    monkeypatch.setattr(parallel.memo, "MEMO_BYTES", parallel.memo.MEMO_BYTES)  # main turns the reuse of runs on: undone after
     old = tmp_path / "a b" / "results" / "single_gla.npz"
     old.parent.mkdir(parents=True)
     old.write_text("an earlier run's")
     assert reproduce.main(["--fresh", str(tmp_path / "a b")]) == 0
+    assert parallel.memo.MEMO_BYTES == 0  # the reuse of runs it turned on is off again for its caller
     assert (tmp_path / "a b" / "figures" / "fig9.png").read_bytes() == (FIGURES / "fig9.png").read_bytes()
     assert not any((tmp_path / "a b" / "results").iterdir())

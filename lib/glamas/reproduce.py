@@ -165,7 +165,10 @@ def main(argv=None) -> int:
     if args.results is None:
         options.append("--no-compute")  # drawing from the committed results: never recompute one at paper scale
     parallel.reuse_batches(REUSED_BYTES)
-    run(names, options)  # a script's user error exits with status 2
+    try:
+        run(names, options)  # a script's user error exits with status 2
+    finally:
+        parallel.reuse_batches(0)  # a caller in this process (a test, a notebook) runs its own batches again
     return 0
 
 
