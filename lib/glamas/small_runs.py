@@ -5,9 +5,10 @@ the results were computed.
 The kernels use IEEE arithmetic without fastmath and call the C library for exp and log, and the
 analyses compute what decides a verdict portably (:mod:`glamas.portable`): every committed result
 should come out bit for bit on any processor. ``make verify`` proves it for the paper-scale runs
-in ten minutes; these small runs take seconds, so that ``make test`` finds a processor, a C library
-or a change of code that gives other bits: its compile step checks them (``python -m
-glamas.precompile --check``), and ``tests/test_portable_results.py`` does where pytest runs alone.
+in about an hour (docs/usage.md); these small runs take seconds, so that ``make test`` finds a
+processor, a C library or a change of code that gives other bits: its compile step checks them
+(``python -m glamas.precompile --check``), and ``tests/test_portable_results.py`` does where
+pytest runs alone.
 
 They also decide, by behaviour rather than by syntax, whether a committed result is still what
 the code computes. A result records the code that computed it (:mod:`glamas.provenance`), and so
