@@ -31,6 +31,7 @@ EXPERIMENT = register(Experiment("related_work", RelatedWorkConfig, run, scaled,
 """The related-work comparison (its result file is shared by the related_* figure scripts)."""
 
 
-def load(config: RelatedWorkConfig = RelatedWorkConfig(), seed: int = 0, results_dir: Path = RESULTS) -> RelatedWorkResult:
-    """The committed (or ``results_dir``'s) result of ``config`` and ``seed``, its configuration checked."""
-    return EXPERIMENT.load(results_dir, config, seed)
+def load(config: RelatedWorkConfig | None = None, seed: int = 0, results_dir: Path = RESULTS) -> RelatedWorkResult:
+    """The committed (or ``results_dir``'s) result of ``config`` (None: the comparison's defaults)
+    and ``seed``, its configuration checked."""
+    return EXPERIMENT.load(results_dir, RelatedWorkConfig() if config is None else config, seed)

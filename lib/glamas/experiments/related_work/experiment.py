@@ -48,11 +48,12 @@ class RelatedWorkResult(gw_experiment.GridworldResult):
     """int (n_learners,): immediate rewards each agent keeps for a statistical test (CQ only)."""
 
 
-def run(config: RelatedWorkConfig = RelatedWorkConfig(), seed: int = 0, workers=None,
+def run(config: RelatedWorkConfig | None = None, seed: int = 0, workers=None,
         progress=None) -> RelatedWorkResult:
-    """Train every learner of ``config`` as :func:`glamas.experiments.gridworld.run` does (same
-    seeds, so the chapter's learners give the same results), all on one pool of workers, and
-    measure what each stores."""
+    """Train every learner of ``config`` (None: the comparison's defaults) as
+    :func:`glamas.experiments.gridworld.run` does (same seeds, so the chapter's learners give the
+    same results), all on one pool of workers, and measure what each stores."""
+    config = RelatedWorkConfig() if config is None else config  # built on a call: importing glamas checks no map
     work = gw_experiment.trainings(config, seed)
     parallel.run_many([batch for batch, _ in work], workers=workers, progress=progress)
     outputs = [outputs for _, outputs in work]
