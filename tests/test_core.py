@@ -238,10 +238,12 @@ def test_mean_and_band_stays_within_the_runs():
 
 def test_running_and_measuring_the_experiments_imports_no_matplotlib():
     """Each experiment's face, experiment and analysis modules, the registry and the ledger import no
-    matplotlib (checked in a fresh interpreter): it comes with the first drawing function asked for."""
+    matplotlib, nor does finding every experiment (checked in a fresh interpreter): it comes with
+    the first drawing function asked for."""
     modules = ["glamas.experiments.registry", "glamas.ledger"] + [
         f"glamas.experiments.{name}.{job}" for name in EXPERIMENT_PACKAGES for job in ("experiment", "analysis")]
     code = (f"import importlib, sys\nfor name in {modules!r}: importlib.import_module(name)\n"
+            "importlib.import_module('glamas.experiments.registry').experiments()\n"
             "print(sorted(name for name in sys.modules if name.split('.')[0] == 'matplotlib'))")
     done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
     assert done.returncode == 0, done.stderr[-500:]

@@ -145,11 +145,12 @@ def _identity(experiment: Experiment) -> tuple:
 
 
 def experiments() -> tuple:
-    """Every experiment: those of each module of :mod:`glamas.experiments` (imported here, so that
-    an experiment is known by being there) and any registered since; the chapter's first, each
-    part in the order of its first figure (:func:`figure_order`)."""
+    """Every experiment: those each package of :mod:`glamas.experiments` registers in its face
+    (imported here, so that an experiment is known by being there; its plots, and matplotlib with
+    them, are not) and any registered since; the chapter's first, each part in the order of its
+    first figure (:func:`figure_order`)."""
     package = importlib.import_module("glamas.experiments")
-    for module in pkgutil.walk_packages(package.__path__, f"{package.__name__}."):
+    for module in pkgutil.iter_modules(package.__path__, f"{package.__name__}."):
         importlib.import_module(module.name)
     return tuple(sorted(REGISTRY.values(),
                         key=lambda e: (not e.chapter, figure_order(e.figures[0] if e.figures else e.name))))
