@@ -281,7 +281,7 @@ def _sweep(stuck_first, stuck_rerun, threshold=0.5):
     left = lambda stuck: np.where(np.asarray(stuck)[..., None], 0.05, 0.9).repeat(2, axis=-1)
     config = replace(FIG7, stuck_threshold=threshold)
     return and_network.SweepResult(config, np.array([0.5, 1.0]), np.asarray(stuck_first), left(stuck_first),
-                                   left(stuck_rerun))
+                                   left(stuck_rerun), np.zeros_like(stuck_first, dtype=bool))
 
 
 def _sweep_verdicts(result) -> dict:

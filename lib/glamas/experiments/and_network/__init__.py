@@ -38,9 +38,9 @@ FIG7_READINGS = register(Experiment("and_network_readings", ANDNetworkConfig, ot
 FIG7_SWEEP = register(Experiment("and_network_sweep", ANDNetworkConfig, sweep, scaled, ANDNetworkConfig.runs,
                                  ANDNetworkConfig.iterations, SweepResult,
                                  claim_rows=lambda result, config: sweep_claim_rows(result), figures=("fig7_sweep",),
-                                 chapter=False, copies=len(DEFAULT_SWEEP) + 1))
-"""The stuck sweep: experiment 2 at each region II reward of DEFAULT_SWEEP, and the highest
-reward's rerun on another stream."""
+                                 chapter=False, copies=len(DEFAULT_SWEEP) + 3))
+"""The stuck sweep: experiment 2 at each region II reward of DEFAULT_SWEEP, the highest reward's
+rerun on another stream, and the lowest and highest reward from zero parameters."""
 
 
 def load_sweep(config: ANDNetworkConfig = ANDNetworkConfig(), seed: int = 0, results_dir: Path = RESULTS) -> SweepResult:

@@ -240,6 +240,9 @@ class SweepResult:
     rerun_prob_left_I: np.ndarray
     """(runs, 2 agents) the same for the highest reward's runs rerun from their own initial
     parameters on another stream (RERUN_STREAM)."""
+    zero_start_stuck: np.ndarray
+    """(2, runs) ``stuck`` at the lowest and the highest reward for runs that all start from zero
+    parameters (init_scale 0) on the same streams: what the random start does."""
 
 
 DEFAULT_SWEEP = (0.5, 0.625, 0.75, 0.875, 1.0)
@@ -252,18 +255,22 @@ def sweep(config: ANDNetworkConfig, rewards_outside=DEFAULT_SWEEP, seed: int = 0
           workers=None, progress: str | None = None) -> SweepResult:
     """Run experiment 2 for each region II reward (same seed for each, so the runs share their
     initialisation and positions until their actions differ) and record which runs got stuck;
-    then rerun the highest reward's runs from the same initial parameters on stream RERUN_STREAM."""
+    then rerun the highest reward's runs from the same initial parameters on stream RERUN_STREAM,
+    and the lowest and highest reward's runs from zero parameters."""
     values = np.array(rewards_outside, dtype=np.float64)
     if values.ndim != 1 or values.size < 2:
         raise UserError(f"rewards_outside needs at least two values, got {rewards_outside!r}")
     configs = [replace(config, reward_outside=float(value)) for value in values]
-    configs.append(replace(configs[-1], stream=RERUN_STREAM))
+    rerun = replace(configs[-1], stream=RERUN_STREAM)
+    zero_starts = [replace(c, init_scale=0.0) for c in (configs[0], configs[-1])]
+    configs += [rerun, *zero_starts]
     memory.check(config, copies=len(configs))  # every reward's arrays are held at once
     batches = [batch(c, seed) for c in configs]
     parallel.run_many(batches, workers=workers, progress=progress)  # every reward's runs on one pool
     left_I = np.array([final_left_by_region(result_of(c, work))[0] for c, work in zip(configs, batches)])
-    stuck = (left_I[:-1] < config.stuck_threshold).all(axis=2)
-    return SweepResult(config, values, stuck, left_I[:-1], left_I[-1])
+    stuck = (left_I < config.stuck_threshold).all(axis=2)
+    n = values.size
+    return SweepResult(config, values, stuck[:n], left_I[:n], left_I[n], stuck[n + 1:])
 
 
 def scaled(runs: int, iterations: int) -> ANDNetworkConfig:
