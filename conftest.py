@@ -4,8 +4,8 @@ workers of pytest-xdist.
 * Each notebook is one unit of work, so that its cells run in order on one worker, in one kernel,
   and so is each test function with all its parameters: the compiled pieces a test calls from
   Python (2observe's steps, the coordination graph's maximisers) compile once, on one worker, where
-  parameters spread over both workers compiled each on both at once (about 15 of the 45 seconds
-  the tests spent compiling). The notebooks go first, being the longest units, then the unit
+  parameters spread over both workers compiled each on both at once (about 5 of the 45 seconds
+  the tests spent compiling on a fresh cache). The notebooks go first, being the longest units, then the unit
   tests marked ``long`` (many seconds each), so that the workers end together. (xdist's own
   ``--dist loadgroup`` cannot group nbval's cells: it renames tests in a way pytest 9 ignores.)
 * With a worker per core, each worker keeps to a core of its own, and so do the processes it

@@ -89,8 +89,8 @@ def encoding_arrays(results: dict) -> dict:
 
 def encodings_from_arrays(config: EncodingConfig, arrays: dict) -> dict:
     """The inverse of :func:`encoding_arrays`: encoding name -> result (``config``'s for the encoding)."""
-    return {name: SingleGLAResult(config.encoding(name), *(arrays[f"{name}_{key}"] for key in
-                                  ("iteration", "reward", "params", "checkpoint", "checkpoint_params", "expected_reward")))
+    keys = ("iteration", "reward", "params", "checkpoint", "checkpoint_params", "expected_reward")
+    return {name: SingleGLAResult(config.encoding(name), *(arrays[f"{name}_{key}"] for key in keys))
             for name in ENCODING_NAMES}
 
 
