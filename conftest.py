@@ -3,8 +3,8 @@ workers of pytest-xdist.
 
 * Each file is one unit of work (xdist's scheduling by file): a notebook's cells run in order on
   one worker, in one kernel, and the compiled pieces a test file calls from Python (2observe's
-  steps, the coordination graph's maximisers) compile once, on one worker, where its tests spread
-  over both workers compiled each on both at once (46 to 41 CPU-s of compiling on a fresh cache).
+  steps, the coordination graph's maximisers) compile once, on one worker, not on both at once
+  (docs/speed.md, the tests' time).
   The notebooks go first, being the longest units, then the files of the unit tests marked
   ``long`` (many seconds each), so that the workers end together.
 * With a worker per core, each worker keeps to a core of its own, and so do the processes it
