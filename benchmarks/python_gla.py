@@ -9,12 +9,21 @@ def bound(eta, L):
     return max(-L, min(L, eta))
 
 
+def added(values) -> float:
+    """The sum of ``values`` added left to right, as the kernels add (the built-in ``sum`` of floats
+    compensates its rounding from Python 3.12 on, and so gives other bits)."""
+    total = 0.0
+    for value in values:
+        total += value
+    return total
+
+
 def probabilities(u, x, temperature, L):
     """Eq. 15 at h(u): one probability per row (action) of u."""
-    z = [sum(xk * bound(v, L) for xk, v in zip(x, row)) / temperature for row in u]
+    z = [added(xk * bound(v, L) for xk, v in zip(x, row)) / temperature for row in u]
     top = max(z)
     e = [1.0 if v == top else math.exp(v - top) for v in z]  # exp(0) is 1 exactly, as glamas.gla.boltzmann
-    total = sum(e)
+    total = added(e)
     return [v / total for v in e]
 
 

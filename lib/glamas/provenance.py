@@ -28,13 +28,23 @@ MISSING = "missing"
 
 
 def record(config, arrays: dict | None = None) -> dict:
-    """``{"version", "maps": {field: hash of the map file}, "code": {module: digest},
-    "arrays": {name: digest}}`` of a result of ``config`` holding ``arrays``."""
+    """``{"version", "maps": {field: hash of the map file}, "code": {module: digest}, "code_form",
+    "python", "arrays": {name: digest}}`` of a result of ``config`` holding ``arrays`` (``code_form``:
+    :data:`glamas.sources.CODE_FORM`; ``python``: the version that recorded the code, for messages)."""
     found = {"version": glamas.__version__, "maps": {field: file_hash(name) for field, name in map_files(config)},
-             "code": code_record(config)}
+             **current_code(config)}
     if arrays is not None:
         found["arrays"] = array_digests(arrays)
     return found
+
+
+def current_code(config) -> dict:
+    """The part of a record that says which code computes a result of ``config``, as it is now."""
+    return {"code": code_record(config), "code_form": sources.CODE_FORM, "python": python_version()}
+
+
+def python_version() -> str:
+    return "{}.{}".format(*sys.version_info[:2])
 
 
 def code_files(config) -> list[Path]:
@@ -163,12 +173,18 @@ def mismatch(stored: dict, current: dict) -> str | None:
         return f"the map file of {', '.join(changed_maps)} changed since it was made"
     if "code" not in stored:
         return "it records not the code that computed it (an older glamas made it)"
+    if stored.get("code_form") != current["code_form"]:
+        return (f"its record of the code that computed it is in {stored.get('code_form') or 'an older'} form, not the "
+                f"{current['code_form']} form this glamas compares, so whether that code changed is not known")
     changed_code = sorted(module for module in set(stored["code"]) | set(current["code"])
                           if stored["code"].get(module) != current["code"].get(module))
     if changed_code:
         shown = ", ".join(module if module.endswith("own)") else f"glamas/{module}" for module in changed_code[:3])
         more = f" and {len(changed_code) - 3} more" if len(changed_code) > 3 else ""
-        return f"the code that computes it changed since it was made ({shown}{more})"
+        python = stored.get("python")
+        elsewhere = (f", or reads otherwise on Python {current['python']} than on Python {python}, which recorded it"
+                     if python and python != current["python"] else "")
+        return f"the code that computes it changed since it was made ({shown}{more}){elsewhere}"
     if stored.get("version") != current["version"]:
         return f"it was made by glamas {stored.get('version')}, this is glamas {current['version']}"
     return None

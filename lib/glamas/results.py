@@ -170,7 +170,7 @@ def _check_provenance(path: Path, config) -> dict:
     stored = stored_provenance(path, text)
     changed = provenance.mismatch(stored, provenance.record(config))
     if changed:
-        code_only = provenance.mismatch({**stored, "code": provenance.code_record(config)}, provenance.record(config))
+        code_only = provenance.mismatch({**stored, **provenance.current_code(config)}, provenance.record(config))
         advice = (committed.stale_advice(path.name) if code_only is None and committed.advice(path) is not None
                   else _advice(path, _REFRESH))
         raise StaleResultError(f"{path} is stale: {changed}; " + advice)

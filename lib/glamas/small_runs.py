@@ -137,7 +137,8 @@ def status(name: str) -> tuple[str, str]:
     changed = provenance.mismatch(stored, provenance.record(experiment.paper_scale()))
     if changed is None:
         return "current", "nothing to do"
-    same_but_code = provenance.mismatch({**stored, "code": current_code(name)}, provenance.record(experiment.paper_scale()))
+    same_but_code = provenance.mismatch({**stored, **provenance.current_code(experiment.paper_scale())},
+                                        provenance.record(experiment.paper_scale()))
     if same_but_code is not None or stored.get("code") != committed_code().get(name):
         return "recompute", f"{changed}: recompute it with {recompute_command(name)}"
     return "re-record", (f"{changed}: if its small run still gives the committed bits, `{PYTHON} -m "

@@ -88,19 +88,61 @@ def import_closure(start: list, package: Path | None = None, follow=None) -> lis
     return sorted(seen)
 
 
+CODE_FORM = "ast-named-fields-1"
+"""The name of :func:`code_digest`'s form, recorded with every record of code
+(:mod:`glamas.provenance`): a record made in another form is re-recorded, not taken for changed code."""
+
+
 def code_digest(path: Path) -> str:
-    """A digest of what the module at ``path`` does: the SHA-256 of its syntax tree without its
-    docstrings (comments, docstrings, blank lines and line breaks do not count), first 16 hex digits."""
+    """A digest of what the module at ``path`` does: the SHA-256 of :func:`canonical_form` of its
+    syntax tree, first 16 hex digits. The same on every supported Python."""
     stat = path.stat()
     key = (path, stat.st_mtime_ns, stat.st_size)
     if key not in _DIGESTS:
-        tree = ast.parse(_text(path))
-        for node in ast.walk(tree):  # docstrings, of modules, classes, functions and attributes
-            body = getattr(node, "body", None)
-            if isinstance(body, list):
-                node.body = [statement for statement in body if not _is_text(statement)] or [ast.Pass()]
-        _DIGESTS[key] = hashlib.sha256(ast.dump(tree).encode()).hexdigest()[:16]
+        _DIGESTS[key] = hashlib.sha256(canonical_form(_text(path)).encode()).hexdigest()[:16]
     return _DIGESTS[key]
+
+
+def canonical_form(source: str) -> str:
+    """The syntax tree of ``source`` without its docstrings (so comments, docstrings, blank lines and
+    line breaks do not count), written as nested ``Node(field=value, ...)`` with only the fields that
+    hold something. ``ast.dump`` is not used: its text changes with the Python version (3.12 gave
+    functions and classes an empty ``type_params``; 3.13 leaves empty fields out), which would make
+    every record of code look changed on another Python."""
+    tree = ast.parse(source)
+    for node in ast.walk(tree):  # docstrings, of modules, classes, functions and attributes
+        body = getattr(node, "body", None)
+        if isinstance(body, list):
+            node.body = [statement for statement in body if not _is_text(statement)] or [ast.Pass()]
+    return _written(tree)
+
+
+def _written(value) -> str:
+    """``value`` (a node, a list of them, or a constant) in the canonical form."""
+    if isinstance(value, ast.JoinedStr):
+        value = ast.JoinedStr(values=_joined_text(value.values))
+    if isinstance(value, ast.AST):
+        shown = ", ".join(f"{name}={_written(field)}" for name, field in ast.iter_fields(value)
+                          if field is not None and field != [])
+        return f"{type(value).__name__}({shown})"
+    if isinstance(value, list):
+        return "[" + ", ".join(_written(item) for item in value) + "]"
+    return repr(value)
+
+
+def _joined_text(values: list) -> list:
+    """An f-string's parts with adjacent texts joined and empty texts left out, as Python 3.11
+    parses them (3.12 can end a nested format spec with an empty text)."""
+    joined = []
+    for value in values:
+        if isinstance(value, ast.Constant) and isinstance(value.value, str):
+            if joined and isinstance(joined[-1], ast.Constant) and isinstance(joined[-1].value, str):
+                joined[-1] = ast.Constant(value=joined[-1].value + value.value)
+                continue
+            if not value.value:
+                continue
+        joined.append(value)
+    return joined
 
 
 def _is_text(statement) -> bool:
