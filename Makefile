@@ -1,4 +1,4 @@
-# Two commands on a fresh machine with Python 3.11: `make figures` and `make test`.
+# Two commands on a fresh machine with Python 3.11, 3.12 or 3.13: `make figures` and `make test`.
 # Each creates the virtual environment in .venv on first use.
 
 PYTHON ?= python3
