@@ -16,7 +16,7 @@ from typing import Any
 import numpy as np
 from numba import njit
 
-from glamas import parallel, rng
+from glamas import parallel, rng, training
 from glamas.gridworld import load_map, rules
 from glamas.learners import cq, registry, spec
 from glamas.learners import episode as ep
@@ -100,8 +100,8 @@ def run_state(seed: int, run: int = 0) -> np.ndarray:
 
 def new_outputs(workload: Workload, n_runs: int) -> dict:
     """Fresh outputs of ``n_runs`` runs of the workload's kernel, in the kernel's order."""
-    return spec.allocate(registry.get(workload.learner), workload.setup(), workload.gridmap(),
-                         workload.schedule(), n_runs)
+    return training.allocate(registry.get(workload.learner), workload.setup(), workload.gridmap(),
+                             workload.schedule(), n_runs)
 
 
 def run_compiled(workload: Workload, seed: int = 0, n_runs: int = 1, workers=None) -> Outputs:

@@ -7,11 +7,12 @@ import dataclasses
 import numpy as np
 import pytest
 
+from glamas import training
 from glamas.errors import UserError
 from glamas.experiments import benchmark_maps as bm
 from glamas.experiments.benchmark_maps import budgets
 from glamas.experiments.scaling.experiment import METRICS
-from glamas.learners import spec
+
 
 SMALL = budgets.BudgetsConfig(maps=("isr",), learners=("independent", "cq"), budgets=(3, 12), runs=2,
                               evaluation_episodes=3)
@@ -42,7 +43,7 @@ def _axis(completion: list, collisions: list) -> budgets.BudgetsResult:
     ``collisions`` at budgets 10, 100 and 1000."""
     config = budgets.BudgetsConfig(formulations=("chapter",), maps=("isr",), learners=("cq",), budgets=(10, 100, 1000),
                                    runs=1)
-    evaluated = np.zeros((1, 3, 1, 1, 1, len(spec.EVALUATIONS), len(METRICS)))
+    evaluated = np.zeros((1, 3, 1, 1, 1, len(training.EVALUATIONS), len(METRICS)))
     evaluated[0, :, 0, 0, 0, 0, METRICS.index("capped")] = 1 - np.array(completion)
     evaluated[0, :, 0, 0, 0, 0, METRICS.index("collisions")] = collisions
     evaluated[0, :, 0, 0, 0, 0, METRICS.index("steps")] = 5.0

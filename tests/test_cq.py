@@ -5,10 +5,10 @@ the memory it declares, and a frozen run from learned outputs."""
 import numpy as np
 import pytest
 
-from glamas import parallel
+from glamas import parallel, training
 from glamas.gridworld import load_map, rules, tunnel_to_goal
 from glamas.gridworld.rewards import CHAPTER
-from glamas.learners import cq, spec
+from glamas.learners import cq
 from glamas.learners import episode as ep
 from glamas.learners.two_observe import NOBODY
 from glamas.paths import MAPS
@@ -257,7 +257,7 @@ def test_a_frozen_run_changes_nothing_learned_and_logs_its_episodes(case, exploi
     g = load_map(map_name)
     setup = cq.LEARNER.setup(QSettings(), settings)
     schedule = ep.Schedule(300, ep.uniform_edges(300, 100), 1000)
-    trained = spec.train(cq.LEARNER, setup, g, schedule, 1, 4, workers=parallel.Threads(1))
+    trained = training.train(cq.LEARNER, setup, g, schedule, 1, 4, workers=parallel.Threads(1))
     assert trained["marked"].any()  # something to keep
     world = rules.world(g)
     frozen = cq.LEARNER.freeze(tuple(cq.LEARNER.inputs(setup, g)))

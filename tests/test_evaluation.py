@@ -1,4 +1,4 @@
-"""The evaluation of what a run learned (glamas.learners.spec.evaluations): every learner's kernel,
+"""The evaluation of what a run learned (glamas.training.evaluations): every learner's kernel,
 run frozen from learned outputs, changes none of them; a frozen 2observe plays what a training
 run plays when nothing it learns can change; the evaluations travel with their batch to every
 backend and give the same numbers there."""
@@ -6,7 +6,7 @@ backend and give the same numbers there."""
 import numpy as np
 import pytest
 
-from glamas import parallel, rng
+from glamas import parallel, rng, training
 from glamas.experiments import gridworld as gw
 from glamas.gridworld import load_map
 from glamas.learners import episode as ep
@@ -22,8 +22,8 @@ def test_a_frozen_run_changes_nothing_it_learned(name, map_name):
     learner, gridmap = registry.get(name), load_map(map_name)
     setup = learner.setup(own=learner.defaults if name != "cq" else learner.defaults.__class__(cq_solo_episodes=20))
     schedule = ep.Schedule(60, ep.uniform_edges(60, 60), 500)
-    learned = spec.train(learner, setup, gridmap, schedule, 1, 5, workers=parallel.Threads(1))
-    (evaluation,) = spec.evaluations(learner, setup, gridmap, spec.Evaluation(20, (0.9,)), 500, 5)
+    learned = training.train(learner, setup, gridmap, schedule, 1, 5, workers=parallel.Threads(1))
+    (evaluation,) = training.evaluations(learner, setup, gridmap, training.Evaluation(20, (0.9,)), 500, 5)
     copies = [array[0].copy() for array in learned.values()]
     copies[evaluation.log] = np.zeros_like(copies[evaluation.log])
     learner.kernel_for(gridmap.n_agents)(*evaluation.inputs, *copies, rng.run_states(9, 1)[0])
@@ -51,7 +51,7 @@ def test_a_frozen_2observe_plays_a_training_episode_that_learns_nothing():
         rng.uniform(after_draws)
     trained_log = np.zeros((1, ep.n_columns(2)))
     learner.kernel_for(2)(*still, q[0].copy(), u[0], u_initial[0], counts[0], trained_log, state)
-    (evaluation,) = spec.evaluations(learner, setup, gridmap, spec.Evaluation(1, (1.0,)), 200, 0)
+    (evaluation,) = training.evaluations(learner, setup, gridmap, training.Evaluation(1, (1.0,)), 200, 0)
     evaluated_log = np.zeros((1, ep.n_columns(2)))
     learner.kernel_for(2)(*evaluation.inputs, q[0].copy(), u[0].copy(), u_initial[0].copy(), counts[0].copy(),
                           evaluated_log, after_draws)
@@ -63,7 +63,7 @@ def test_an_experiment_keeps_every_evaluation_and_backends_agree():
                                 evaluation_episodes=7)
     threads = gw.run(config, workers=parallel.Threads(2))
     processes = gw.run(config, workers=2)
-    assert threads.evaluated.shape == (2, 3, len(spec.EVALUATIONS), ep.n_columns(2))
+    assert threads.evaluated.shape == (2, 3, len(training.EVALUATIONS), ep.n_columns(2))
     assert np.array_equal(threads.evaluated, processes.evaluated) and np.array_equal(threads.log, processes.log)
     exploit = config.evaluation().exploits
     assert exploit == (1.0, 0.9, 1.0 - 1.0 / 20)  # greedy, the training's, one random action in 2 x 10 steps

@@ -5,7 +5,7 @@ import collections
 
 import numpy as np
 import pytest
-from glamas import claims
+from glamas import claims, training
 from glamas.curves import final
 from glamas.experiments import gridworld as gw
 from glamas.experiments import scaling as sc
@@ -308,7 +308,8 @@ def test_n_agent_kernels_run_on_the_warehouse():
     for learner in (independent.LEARNER, joint_state.LEARNER, mmdp.LEARNER):
         if learner is mmdp.LEARNER:
             g = load_map(MAPS / "warehouse_3.txt")
-        outputs = spec.train(learner, learner.setup(), g, ep.Schedule(20, ep.uniform_edges(20, 10), 500), 1, 2, workers=1)
+        outputs = training.train(learner, learner.setup(), g, ep.Schedule(20, ep.uniform_edges(20, 10), 500), 1, 2,
+                                 workers=1)
         assert (outputs["log"][0, :, :g.n_agents] >= 1).all() and np.abs(outputs["q"]).sum() > 0
 
 

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from benchmarks import kernels
-from glamas import parallel, seeds
+from glamas import parallel, seeds, training
 from glamas.experiments import gridworld as gw
 from glamas.experiments import scaling as sc
 from glamas.gridworld import load_map, rules
@@ -331,7 +331,7 @@ def test_a_frozen_run_from_the_learned_tables_changes_none_of_them(name, map_nam
     learner, gridmap = registry.get(name), load_map(map_name)
     setup = learner.setup()
     schedule = ep.Schedule(60, ep.uniform_edges(60, 10), 1000)
-    learned = spec.train(learner, setup, gridmap, schedule, 1, 3, workers=parallel.Threads(1))
+    learned = training.train(learner, setup, gridmap, schedule, 1, 3, workers=parallel.Threads(1))
     world, learning, *own, schedule = spec.kernel_inputs(learner, setup, gridmap, schedule)
     frozen = (world, learning._replace(q_learning_rate=0.0), *learner.freeze(tuple(own)), schedule)
     start = tuple(np.array(learned[key]) for key in ("q", "q_pairs")) + (np.zeros_like(learned["log"]),)
@@ -355,8 +355,8 @@ def test_cq_marks_with_many_agents_pair_an_agent_with_a_near_agent(observe, near
     g = load_map(MAPS / "warehouse_3.txt")
     n = g.n_agents
     setup = cq.LEARNER.setup(own=cq.Settings(cq_solo_episodes=200, cq_observe=observe))
-    outputs = spec.train(cq.LEARNER, setup, g, ep.Schedule(400, ep.uniform_edges(400, 100), 1000), 1, 2,
-                         workers=parallel.Threads(1))
+    outputs = training.train(cq.LEARNER, setup, g, ep.Schedule(400, ep.uniform_edges(400, 100), 1000), 1, 2,
+                             workers=parallel.Threads(1))
     q_aug, marked, log = outputs["q_aug"], outputs["marked"], outputs["log"]
     _, own, other = np.nonzero(marked[0])
     assert own.size > 0 and (log[0, :, ep.column(n, ep.COORDINATIONS)] > 0).any()

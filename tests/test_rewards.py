@@ -6,13 +6,14 @@ import dataclasses
 import numpy as np
 import pytest
 
+from glamas import training
 from glamas.errors import UserError
 from glamas.experiments import benchmark_maps
 from glamas.gridworld import GridworldEnv, load_map
 from glamas.gridworld.rewards import CHAPTER, FIELD, PRESETS, Rewards, preset
 from glamas.gridworld.rules import E, N, W
 from glamas.learners import episode as ep
-from glamas.learners import registry, spec
+from glamas.learners import registry
 
 CORRIDOR = """\
 +-+-+-+-+
@@ -65,8 +66,8 @@ def test_a_bad_value_is_one_line_naming_the_field(changes, named):
 
 def _rewards_learned(rewards: Rewards) -> np.ndarray:
     learner = registry.get("independent")
-    out = spec.train(learner, learner.setup(), load_map("isr"), ep.Schedule(20, ep.log_edges(20, 2), 200), 2, 0,
-                     rewards=rewards, workers=1)
+    out = training.train(learner, learner.setup(), load_map("isr"), ep.Schedule(20, ep.log_edges(20, 2), 200), 2, 0,
+                         rewards=rewards, workers=1)
     return ep.metric(out["log"], "reward")
 
 

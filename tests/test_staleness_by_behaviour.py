@@ -7,11 +7,12 @@ import os
 import shutil
 import subprocess
 import sys
+from pathlib import Path
 
 import numpy as np
 import pytest
 
-from glamas import committed, provenance, results, small_runs
+from glamas import committed, provenance, results, small_runs, sources
 from glamas.experiments.gridworld import experiment as gw
 from glamas.paths import REPO, RESULTS
 
@@ -152,3 +153,20 @@ def test_a_real_edit_of_the_rules_is_re_recorded_when_it_keeps_the_behaviour_and
     assert "glamas/gridworld/rewards.py" in kept.stdout
     refused = glamas("glamas.reproduce", "--experiment", "fig10_readings", "--out", str(tmp_path / "figures"))
     assert refused.returncode == 2 and "stale" in refused.stderr + refused.stdout
+
+
+def test_no_learner_imports_the_layer_that_runs_it():
+    """The learners sit at the bottom: a learner's module (and what it imports) reaches neither the
+    parallel layer nor the batches built above the learners (glamas.training)."""
+    learners = [path for path in sorted((sources.PACKAGE / "learners").glob("*.py")) if path.name != "contract.py"]
+    for path in learners:
+        reached = [found.relative_to(sources.PACKAGE).as_posix() for found in sources.import_closure([path])]
+        assert not [name for name in reached if name.startswith(provenance.RUNNING) or name == "training.py"], path.name
+
+
+def test_an_edit_of_a_dask_message_or_a_plot_label_stales_nothing(monkeypatch):
+    real = sources.code_digest
+    edited = {sources.PACKAGE / "parallel" / "dask.py", sources.PACKAGE / "experiments" / "gridworld" / "plots.py",
+              sources.PACKAGE / "plotting.py", sources.PACKAGE / "cli.py"}
+    monkeypatch.setattr(sources, "code_digest", lambda path: "edited" if Path(path) in edited else real(path))
+    assert {name: small_runs.status(name)[0] for name in small_runs.SIZES} == dict.fromkeys(small_runs.SIZES, "current")

@@ -51,13 +51,14 @@ def compile_learners(names: tuple) -> str:
     """Run each learner of ``names`` for one episode of one run on both maps."""
     from glamas.gridworld import load_map
     from glamas.learners import episode as ep
-    from glamas.learners import registry, spec
+    from glamas import training
+    from glamas.learners import registry
 
     for name in names:
         learner = registry.get(name)
         for map_name in (N_AGENTS, TWO_AGENTS):
             gridmap = load_map(map_name)
-            spec.train(learner, learner.setup(), gridmap, ep.Schedule(1, ep.log_edges(1, 1), 10), 1, 0, workers=1)
+            training.train(learner, learner.setup(), gridmap, ep.Schedule(1, ep.log_edges(1, 1), 10), 1, 0, workers=1)
     return ", ".join(names)
 
 

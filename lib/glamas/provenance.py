@@ -70,12 +70,20 @@ READING = ("__init__.py", "analysis.py", "plots.py")
 """The modules of an experiment's package that read its result: its face, its analysis, its plots."""
 
 
+RUNNING = "parallel/"
+"""The package that puts runs on workers (:mod:`glamas.parallel`): it decides who runs a run, never
+its bits (a run draws from the stream :func:`glamas.rng.chunk_states` derives from the master seed and
+its index, whatever the backend, the number of workers or the chunking: tests/test_backends.py), so
+an edit there (a message, a backend) stales no result. A change of behaviour that slipped through it
+would still show in the small runs that ``make test`` checks (:mod:`glamas.small_runs`)."""
+
+
 def computes(path: Path) -> bool:
-    """Whether module ``path`` can change what a result holds: not one of KEEPING, nor a module of
-    an experiment's package that reads its result (READING)."""
+    """Whether module ``path`` can change what a result holds: not one of KEEPING, nor of RUNNING,
+    nor a module of an experiment's package that reads its result (READING)."""
     relative = path.relative_to(sources.PACKAGE).as_posix()
     reading = relative.startswith("experiments/") and relative.count("/") == 2 and path.name in READING
-    return relative not in KEEPING and not reading
+    return relative not in KEEPING and not relative.startswith(RUNNING) and not reading
 
 
 def code_record(config) -> dict:

@@ -20,7 +20,7 @@ from glamas.errors import UserError
 def named(*names: int | str) -> int:
     """The master seed named by ``names`` (integers in [0, 2**32) as they are, strings by their
     CRC-32, in order): 48 bits drawn from ``numpy.random.SeedSequence(names)``, so that every
-    training seed stays below the evaluations' (:data:`glamas.learners.spec.EVALUATION_SEEDS`).
+    training seed stays below the evaluations' (:data:`glamas.training.EVALUATION_SEEDS`).
 
     The last name must be a string (the study's or the learner's): SeedSequence pads its entropy
     with zeros, so two lists of names that differ only by trailing zeros (``(7,)`` and ``(7, 0)``)

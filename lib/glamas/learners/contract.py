@@ -29,12 +29,12 @@ import os
 import numpy as np
 from numba.core.caching import NullCache
 
-from glamas import parallel, rng, sources
+from glamas import parallel, rng, sources, training
 from glamas.errors import UserError
 from glamas.gridworld import GridMap, load_map
 from glamas.gridworld.rules import N_ACTIONS
 from glamas.learners import episode as ep
-from glamas.learners import spec
+
 from glamas.learners.spec import Learner
 
 MAPS = ("tunnel_to_goal", "warehouse_3")
@@ -91,9 +91,9 @@ def _cached(kernel) -> bool:
 
 
 def _train(learner, setup, gridmap, schedule, runs, seed, workers, chunk=None, kernel=None) -> dict:
-    """The filled outputs of ``runs`` runs (as :func:`glamas.learners.spec.train`, with ``kernel``
+    """The filled outputs of ``runs`` runs (as :func:`glamas.training.train`, with ``kernel``
     in place of the learner's own where given)."""
-    work, outputs = spec.batch(learner, setup, gridmap, schedule, runs, seed)
+    work, outputs = training.batch(learner, setup, gridmap, schedule, runs, seed)
     if kernel is not None:
         work = parallel.Batch(kernel, work.inputs, work.outputs, work.seed)
     parallel.run_many([work], workers=workers, chunk=chunk)
@@ -140,9 +140,9 @@ def _log(learner: Learner, log: np.ndarray, n: int, max_steps: int, where: str) 
 
 def _frozen(learner: Learner, setup, gridmap: GridMap, outputs: dict, max_steps: int, where: str) -> None:
     """Run 0's learned outputs played twice as the experiments evaluate them, learning off
-    (:func:`glamas.learners.spec.evaluations`): unchanged, the same episodes."""
-    evaluation = spec.Evaluation(5, (1.0,), per_episode=True)
-    (played,) = spec.evaluations(learner, setup, gridmap, evaluation, max_steps, 3)
+    (:func:`glamas.training.evaluations`): unchanged, the same episodes."""
+    evaluation = training.Evaluation(5, (1.0,), per_episode=True)
+    (played,) = training.evaluations(learner, setup, gridmap, evaluation, max_steps, 3)
     learned = [outputs[k][0] for k in outputs if k != "log"]
     kept = [k not in learner.counters for k in outputs if k != "log"]
     logs = []

@@ -14,14 +14,14 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from glamas import checks
+from glamas import checks, training
 from glamas.errors import UserError
 from glamas.experiments.benchmark_maps.analysis import SOLVED_COLLISIONS
 from glamas.experiments.benchmark_maps.experiment import (FIELD_MAPS, FORMULATIONS, PLANS, BenchmarkConfig,
                                                           case_names, configured, optimal_plans)
 from glamas.experiments.gridworld.analysis import COMPLETION
 from glamas.experiments.scaling.experiment import METHODS, METRICS, sweep
-from glamas.learners import registry, spec
+from glamas.learners import registry
 
 DECADES = 3
 """Budgets of the axis at a command line's --iterations E: E / 100, E / 10 and E episodes."""
@@ -67,7 +67,7 @@ class BudgetsConfig:
     def memory_bytes(self) -> int:
         """The largest benchmark of the axis (they run one after the other) and the evaluations kept."""
         kept = (len(self.formulations) * len(self.budgets) * len(self.learners) * len(self.maps) * self.runs
-                * len(spec.EVALUATIONS) * len(METRICS) * 8)
+                * len(training.EVALUATIONS) * len(METRICS) * 8)
         return max(self.benchmark(f, b).memory_bytes() for f in self.formulations for b in self.budgets) + kept
 
 
@@ -89,7 +89,7 @@ class BudgetsResult:
     """bool (formulations, budgets, learners, maps): whether the learner ran (its tables fit the budget)."""
     evaluated: np.ndarray
     """(formulations, budgets, learners, maps, runs, evaluations, METRICS): each run's evaluations
-    after training (glamas.learners.spec.EVALUATIONS); NaN where skipped."""
+    after training (glamas.training.EVALUATIONS); NaN where skipped."""
     plan_steps: np.ndarray
     """int (maps, PLANS, MAX_AGENTS): each agent's steps in each map's optimal plans (the benchmark's)."""
 
@@ -98,7 +98,7 @@ class BudgetsResult:
         """(runs,): one of METRICS, or ``completion`` (1 - capped), under evaluation ``mode``."""
         index = (list(self.formulations).index(formulation), list(self.budgets).index(budget),
                  list(self.learners).index(learner), list(self.maps).index(map_name))
-        rows = self.evaluated[index][:, spec.EVALUATIONS.index(mode)]
+        rows = self.evaluated[index][:, training.EVALUATIONS.index(mode)]
         if metric == "completion":
             return np.clip(1.0 - rows[:, METRICS.index("capped")], 0.0, 1.0)
         return rows[:, METRICS.index(metric)]
@@ -109,7 +109,7 @@ def run(config: BudgetsConfig = BudgetsConfig(), seed: int = 0, workers=None, pr
     formulation and budget of ``config``, one benchmark after the other, with the benchmark's seeds."""
     shape = (len(config.formulations), len(config.budgets), len(config.learners), len(config.maps))
     ran = np.zeros(shape, dtype=bool)
-    evaluated = np.full(shape + (config.runs, len(spec.EVALUATIONS), len(METRICS)), np.nan)
+    evaluated = np.full(shape + (config.runs, len(training.EVALUATIONS), len(METRICS)), np.nan)
     for f, formulation in enumerate(config.formulations):
         for b, budget in enumerate(config.budgets):
             benchmark = config.benchmark(formulation, budget)
@@ -128,7 +128,6 @@ def scaled(runs: int, episodes: int) -> BudgetsConfig:
     apart (fewer where ``episodes`` is small)."""
     budgets = sorted({max(1, episodes // 10 ** k) for k in range(DECADES)})
     return BudgetsConfig(runs=runs, budgets=tuple(budgets))
-
 
 
 def greedy(result: BudgetsResult, formulation: str, budget: int, learner: str, map_name: str) -> dict:

@@ -15,11 +15,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from glamas import seeds
+from glamas import seeds, training
 from glamas.errors import UserError
 from glamas.experiments.benchmark_maps.experiment import BenchmarkConfig, case_names
 from glamas.gridworld import GridworldEnv
-from glamas.learners import registry, spec
+from glamas.learners import registry
 
 MOVES = "NESW"
 """The actions' letters, in the rules' order (glamas.gridworld.rules)."""
@@ -31,9 +31,9 @@ def trained(config: BenchmarkConfig, map_name: str, seed: int = 0) -> dict:
     learner, gridmap = registry.get("cq"), config.gridmap(map_name)
     if gridmap.n_agents != 2:
         raise UserError(f"map {map_name!r} has {gridmap.n_agents} agents: the replay reads two agents' tables")
-    return spec.train(learner, config.setup("cq"), gridmap, config.schedule(), config.runs,
-                      seeds.named(*case_names(seed, map_name), "cq"), bounce=config.bounce,
-                      rewards=config.rewards)
+    return training.train(learner, config.setup("cq"), gridmap, config.schedule(), config.runs,
+                          seeds.named(*case_names(seed, map_name), "cq"), bounce=config.bounce,
+                          rewards=config.rewards)
 
 
 @dataclass(frozen=True)

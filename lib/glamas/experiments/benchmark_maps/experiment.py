@@ -15,7 +15,7 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from glamas import checks, memory
+from glamas import checks, memory, training
 from glamas.errors import UserError
 from glamas.experiments.gridworld.experiment import check_learners
 from glamas.experiments.scaling.experiment import METHODS, METRICS, sweep
@@ -66,7 +66,7 @@ class BenchmarkConfig:
     """Memory the Q tables of all runs of one (learner, map) may take, in GiB; a learner whose
     tables would need more is skipped on that map (the joint learners on TunnelToGoal with 4 agents)."""
     evaluation_episodes: int = 100
-    """Episodes of each evaluation of what a run learned, learning off (glamas.learners.spec.EVALUATIONS)."""
+    """Episodes of each evaluation of what a run learned, learning off (glamas.training.EVALUATIONS)."""
 
     def __post_init__(self):
         checks.field_types(self)
@@ -108,7 +108,8 @@ class BenchmarkConfig:
         needs = [self.runs * registry.get(name).bytes_per_run(self.setup(name), self.gridmap(m))
                  for m in self.maps for name in self.learners]
         largest = max((need for need in needs if need <= budget), default=0)
-        logs = len(self.learners) * len(self.maps) * self.runs * (self.n_bins + len(spec.EVALUATIONS)) * len(METRICS)
+        logs = (len(self.learners) * len(self.maps) * self.runs * (self.n_bins + len(training.EVALUATIONS))
+                * len(METRICS))
         optimum = max(dp.tabulated_bytes(self.gridmap(m)) if dp.tabulable(self.gridmap(m)) else 0 for m in self.maps)
         return largest * (memory.WORKING_COPIES + 1) + logs * memory.BYTES_PER_VALUE + optimum
 
@@ -170,7 +171,7 @@ class BenchmarkResult:
     """(learners, maps, runs, bins, METRICS): block means of the agent-mean measurements; NaN where skipped."""
     evaluated: np.ndarray
     """(learners, maps, runs, evaluations, METRICS): each run evaluated with learning off
-    (glamas.learners.spec.EVALUATIONS); NaN where skipped."""
+    (glamas.training.EVALUATIONS); NaN where skipped."""
     episodes: np.ndarray
     """int (bins,): the episode count at the end of each block."""
     optimum_steps: np.ndarray
@@ -205,7 +206,7 @@ class BenchmarkResult:
     def evaluation(self, learner: str, map_name: str, metric: str, mode: str = "greedy") -> np.ndarray:
         """(runs,): one of METRICS, or ``completion`` (1 - capped), under evaluation ``mode``."""
         k, j = self._case(learner, map_name)
-        rows = self.evaluated[k, j, :, spec.EVALUATIONS.index(mode)]
+        rows = self.evaluated[k, j, :, training.EVALUATIONS.index(mode)]
         if metric == "completion":
             return np.clip(1.0 - rows[:, METRICS.index("capped")], 0.0, 1.0)
         return rows[:, METRICS.index(metric)]

@@ -18,14 +18,14 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from glamas import memory, parallel, rng
+from glamas import memory, parallel, rng, training
 from glamas.errors import UserError
 from glamas.experiments.crowd.replay import replay, revisits
 from glamas.experiments.warehouses.experiment import (GREEDY, WarehousesConfig, greedy_rows, scaled as warehouses_scaled,
                                                       seed_of)
 from glamas.gridworld import GridMap
 from glamas.learners import episode as ep
-from glamas.learners import registry, spec, two_observe
+from glamas.learners import registry, two_observe
 
 LEARNERS = ("two_observe", "two_observe_rule")
 """2observe with its learned first level (its GLAs) and with the fixed rule "coordinate when delta < 3"."""
@@ -100,12 +100,12 @@ class CrowdResult:
 def greedy_episodes(study: WarehousesConfig, formulation: str, name: str, gridmap: GridMap, master_seed: int,
                     learned: dict, coordination: str) -> np.ndarray:
     """(greedy episodes, MEASURES): the benchmark's greedy evaluation of one run (its inputs and
-    stream, :func:`glamas.learners.spec.evaluations`) replayed from the run's ``learned`` outputs,
+    stream, :func:`glamas.training.evaluations`) replayed from the run's ``learned`` outputs,
     with the coordination 'on' as learned or 'off' (the fixed rule at distance 0: nobody coordinates)."""
     learner, setup, n = registry.get(name), study.setup(formulation, name), gridmap.n_agents
-    evaluation = spec.Evaluation(study.evaluation_episodes, (1.0,), per_episode=True)
-    (greedy,) = spec.evaluations(learner, setup, gridmap, evaluation, study.max_steps, master_seed, study.bounce,
-                                 study.rewards(formulation))
+    evaluation = training.Evaluation(study.evaluation_episodes, (1.0,), per_episode=True)
+    (greedy,) = training.evaluations(learner, setup, gridmap, evaluation, study.max_steps, master_seed, study.bounce,
+                                     study.rewards(formulation))
     world, learning, automata, schedule = greedy.inputs  # automata frozen: the replay draws no GLA parameters
     if coordination == "off":
         automata = automata._replace(rule_distance=0)
@@ -130,9 +130,9 @@ def run(config: CrowdConfig = CrowdConfig(), seed: int = 0, workers=None, progre
     greedy = np.full(shape, np.nan)
     for a, n in enumerate(study.agents):
         gridmaps = [study.gridmap(n, instance) for instance in range(study.instances)]
-        batches = {(f, k, instance): spec.batch(registry.get(name), study.setup(formulation, name), gridmap,
-                                                study.schedule(), 1, seed_of(seed, formulation, n, instance, name),
-                                                bounce=study.bounce, rewards=study.rewards(formulation))
+        batches = {(f, k, instance): training.batch(registry.get(name), study.setup(formulation, name), gridmap,
+                                                    study.schedule(), 1, seed_of(seed, formulation, n, instance, name),
+                                                    bounce=study.bounce, rewards=study.rewards(formulation))
                    for f, formulation in enumerate(study.formulations) for k, name in enumerate(study.learners)
                    for instance, gridmap in enumerate(gridmaps)}
         parallel.run_many([work for work, _ in batches.values()], workers=workers, progress=progress, chunk=1)

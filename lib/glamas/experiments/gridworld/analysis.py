@@ -7,7 +7,7 @@ from dataclasses import replace
 
 import numpy as np
 
-from glamas import claims as chapter
+from glamas import claims as chapter, training
 from glamas import gla
 from glamas.curves import (DEFINITIONS, ratio, convergence_episode, convergence_episodes, convergence_grid,
                            convergence_ratio, earlier_share, final, grid_verdict, interval_verdict,
@@ -15,7 +15,7 @@ from glamas.curves import (DEFINITIONS, ratio, convergence_episode, convergence_
 from glamas.experiments.gridworld.experiment import GridworldConfig, GridworldResult
 from glamas.gridworld import GridMap, dp, rules
 from glamas.learners import episode as ep
-from glamas.learners import registry, spec, two_observe
+from glamas.learners import registry, two_observe
 from glamas.portable import weighted_sum
 
 
@@ -60,7 +60,7 @@ def measure(result: GridworldResult) -> dict:
 
 
 def evaluation_measures(result: GridworldResult, name: str) -> dict:
-    """What learner ``name`` learned, evaluated with learning off (glamas.learners.spec.EVALUATIONS),
+    """What learner ``name`` learned, evaluated with learning off (glamas.training.EVALUATIONS),
     means over runs: steps, reward, collisions, coordinations and completion of the greedy policy
     and of the frozen tables under the training's exploration; collisions per perturbation (the
     perturbed evaluation's collisions per random action); and ``greedy_solution_collisions``: the
@@ -79,10 +79,10 @@ def evaluation_measures(result: GridworldResult, name: str) -> dict:
 
 def collisions_per_perturbation(result: GridworldResult, name: str) -> float:
     """The collisions a random action adds to the greedy policy: the perturbed evaluation's
-    (glamas.learners.spec.evaluation_of: about one random action per episode) collisions beyond the
+    (glamas.training.evaluation_of: about one random action per episode) collisions beyond the
     greedy one's, per random action, over all runs: how robust the learned solution is to one wrong move."""
-    exploit = result.config.evaluation().exploits[spec.EVALUATIONS.index("perturbed")]
-    rows = result.evaluated[result.names().index(name), :, spec.EVALUATIONS.index("perturbed")]
+    exploit = result.config.evaluation().exploits[training.EVALUATIONS.index("perturbed")]
+    rows = result.evaluated[result.names().index(name), :, training.EVALUATIONS.index("perturbed")]
     random_actions = (1.0 - exploit) * float(rows[:, :result.config.gridmap().n_agents].sum())  # agent-steps
     extra = ep.metric(rows, "collisions") - result.evaluation(name, "collisions")
     return ratio(float(extra.sum()), random_actions)

@@ -7,7 +7,7 @@ from dataclasses import dataclass, field, fields
 
 import numpy as np
 
-from glamas import checks, memory, parallel, seeds
+from glamas import checks, memory, parallel, seeds, training
 from glamas.errors import UserError
 from glamas.gridworld import BOUNCE_MODES, GridMap, load_map
 from glamas.learners import episode as ep
@@ -48,7 +48,7 @@ class GridworldConfig:
     """Points of the learning curves: blocks of episodes with log-spaced ends (the first blocks
     one episode wide), so that learning in the first episodes is resolved (glamas.learners.episode)."""
     evaluation_episodes: int = 100
-    """Episodes of each evaluation of what a run learned, learning off (glamas.learners.spec.EVALUATIONS:
+    """Episodes of each evaluation of what a run learned, learning off (glamas.training.EVALUATIONS:
     the greedy policy, the training's exploration on frozen tables, one random action per episode)."""
 
     def __post_init__(self):
@@ -78,9 +78,9 @@ class GridworldConfig:
     def schedule(self) -> ep.Schedule:
         return ep.Schedule(self.episodes, self.edges(), self.max_steps)
 
-    def evaluation(self) -> spec.Evaluation:
-        """How each run's learned tables are evaluated (:func:`glamas.learners.spec.evaluation_of`)."""
-        return spec.evaluation_of(self.evaluation_episodes, self.q, self.gridmap())
+    def evaluation(self) -> training.Evaluation:
+        """How each run's learned tables are evaluated (:func:`glamas.training.evaluation_of`)."""
+        return training.evaluation_of(self.evaluation_episodes, self.q, self.gridmap())
 
     def memory_bytes(self) -> int:
         """Bytes of every learner's runs: their tables and logs (:func:`learner_bytes`)."""
@@ -130,7 +130,7 @@ class GridworldResult:
     as in glamas.learners.episode (steps and reward per agent, length, collisions, coordinations, capped)."""
     evaluated: np.ndarray
     """(n_learners, runs, evaluations, columns): what each run learned, evaluated with learning off
-    (glamas.learners.spec.EVALUATIONS), the means over ``config.evaluation_episodes`` episodes in
+    (glamas.training.EVALUATIONS), the means over ``config.evaluation_episodes`` episodes in
     the columns of ``log``."""
     table_shapes: np.ndarray
     """int (n_learners, 3): (tables, states, actions) of each learner's final Q tables."""
@@ -178,9 +178,9 @@ class GridworldResult:
 
     def evaluation(self, learner: str, metric: str, mode: str = "greedy") -> np.ndarray:
         """(runs,): one metric of glamas.learners.episode.METRICS for one learner under evaluation
-        ``mode`` of glamas.learners.spec.EVALUATIONS (``completion``: 1 - capped, the share of the
+        ``mode`` of glamas.training.EVALUATIONS (``completion``: 1 - capped, the share of the
         evaluation's episodes that ended with every agent in its goal)."""
-        rows = self.evaluated[self.names().index(learner), :, spec.EVALUATIONS.index(mode)]
+        rows = self.evaluated[self.names().index(learner), :, training.EVALUATIONS.index(mode)]
         if metric == "completion":
             return np.clip(1.0 - ep.metric(rows, "capped"), 0.0, 1.0)  # the block mean of 1s may pass 1 by rounding
         return ep.metric(rows, metric)
@@ -211,8 +211,8 @@ def trainings(config: GridworldConfig, seed: int = 0) -> list:
     """Per learner of ``config``: its runs, ready to run (glamas.parallel.Batch), and the outputs they fill."""
     gridmap, schedule = config.gridmap(), config.schedule()
     evaluation = config.evaluation()
-    return [spec.batch(registry.get(name), config.setup(name), gridmap, schedule, config.runs,
-                       seed_of(seed, name), bounce=config.bounce, evaluation=evaluation)
+    return [training.batch(registry.get(name), config.setup(name), gridmap, schedule, config.runs,
+                           seed_of(seed, name), bounce=config.bounce, evaluation=evaluation)
             for name in config.learners]
 
 
@@ -230,7 +230,7 @@ def result_of(config: GridworldConfig, outputs: list) -> GridworldResult:
            for name, learned in zip(config.learners, outputs)}
     return GridworldResult(config=config, learners=np.array(config.learners),
                            log=np.stack([learned["log"] for learned in outputs]),
-                           evaluated=np.stack([spec.evaluated(learned) for learned in outputs]),
+                           evaluated=np.stack([training.evaluated(learned) for learned in outputs]),
                            table_shapes=np.array([learned["q"].shape[1:] for learned in outputs], dtype=np.int64),
                            episodes=config.edges()[1:], own={name: arrays for name, arrays in own.items() if arrays})
 

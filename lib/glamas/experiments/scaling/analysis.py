@@ -6,14 +6,13 @@ import math
 
 import numpy as np
 
-from glamas import claims as chapter
+from glamas import claims as chapter, training
 from glamas import portable
 from glamas.curves import BAND_DRAWS, convergence_episode, convergence_episodes, final, final_by_run, ratio, resampled_means
 from glamas.errors import UserError
 from glamas.experiments.gridworld.analysis import COMPLETION
 from glamas.experiments.scaling.experiment import RELATED_METHODS, ScalingResult, label
 from glamas.gridworld import prioritized
-from glamas.learners import spec
 
 
 def growth(agents, values) -> dict:
@@ -89,7 +88,8 @@ def evaluation_measures(result: ScalingResult, method: str, n: int) -> dict:
     m[f"exploring_collisions_{method}_{n}"] = float(result.evaluation(method, n, "collisions", "exploring").mean())
     completed = m[f"greedy_completion_{method}_{n}"] >= COMPLETION
     m[f"greedy_solution_collisions_{method}_{n}"] = m[f"greedy_collisions_{method}_{n}"] if completed else math.inf
-    exploit = spec.evaluation_of(1, result.config.q, result.config.gridmap(n)).exploits[spec.EVALUATIONS.index("perturbed")]
+    perturbed = training.EVALUATIONS.index("perturbed")
+    exploit = training.evaluation_of(1, result.config.q, result.config.gridmap(n)).exploits[perturbed]
     steps, collisions = (result.evaluation(method, n, metric, "perturbed") for metric in ("steps", "collisions"))
     extra = float((collisions - result.evaluation(method, n, "collisions")).sum())
     m[f"collisions_per_perturbation_{method}_{n}"] = (ratio(extra, (1.0 - exploit) * n * float(steps.sum()))

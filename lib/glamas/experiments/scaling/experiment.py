@@ -24,7 +24,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from glamas import checks, memory, parallel, seeds
+from glamas import checks, memory, parallel, seeds, training
 from glamas.errors import UserError
 from glamas.experiments.gridworld.experiment import check_learners
 from glamas.gridworld import GridMap, load_map
@@ -79,7 +79,7 @@ class ScalingConfig:
     """Memory the Q tables of all runs of one (learner, N) may take, in GiB (a sixth of a 24 GiB
     workstation, leaving room for other work); a learner whose tables would need more is skipped at that N."""
     evaluation_episodes: int = 100
-    """Episodes of each evaluation of what a run learned, learning off (glamas.learners.spec.EVALUATIONS)."""
+    """Episodes of each evaluation of what a run learned, learning off (glamas.training.EVALUATIONS)."""
 
     def __post_init__(self):
         checks.field_types(self)
@@ -189,7 +189,7 @@ class ScalingResult:
     over the agents), collisions, coordinations, capped episodes; NaN where skipped."""
     evaluated: np.ndarray
     """(methods, agents, runs, evaluations, METRICS): what each run learned, evaluated with learning
-    off (glamas.learners.spec.EVALUATIONS), means over ``config.evaluation_episodes`` episodes; NaN
+    off (glamas.training.EVALUATIONS), means over ``config.evaluation_episodes`` episodes; NaN
     where skipped."""
     episodes: np.ndarray
     """int (bins,): the episode count at the end of each block."""
@@ -203,8 +203,9 @@ class ScalingResult:
 
     def evaluation(self, method: str, n: int, metric: str, mode: str = "greedy") -> np.ndarray:
         """(runs,): one of METRICS, or ``completion`` (1 - capped), for one method and N under
-        evaluation ``mode`` of glamas.learners.spec.EVALUATIONS."""
-        rows = self.evaluated[self.names().index(method), list(self.agents).index(n), :, spec.EVALUATIONS.index(mode)]
+        evaluation ``mode`` of glamas.training.EVALUATIONS."""
+        rows = self.evaluated[self.names().index(method), list(self.agents).index(n), :,
+                              training.EVALUATIONS.index(mode)]
         if metric == "completion":
             return np.clip(1.0 - rows[:, METRICS.index("capped")], 0.0, 1.0)
         return rows[:, METRICS.index(metric)]
@@ -284,12 +285,12 @@ def sweep(config, gridmaps: list, cases: list, workers=None, progress=None) -> d
     samples = np.zeros((m, a), dtype=np.int64)
     needed = np.zeros((m, a), dtype=np.int64)
     log = np.full((m, a, config.runs, config.n_bins, len(METRICS)), np.nan)
-    evaluated = np.full((m, a, config.runs, len(spec.EVALUATIONS), len(METRICS)), np.nan)
+    evaluated = np.full((m, a, config.runs, len(training.EVALUATIONS), len(METRICS)), np.nan)
     budget = config.memory_budget_gib * 2 ** 30
     schedule = config.schedule()
     trainings = {}
     for j, (gridmap, case) in enumerate(zip(gridmaps, cases)):
-        evaluation = spec.evaluation_of(config.evaluation_episodes, config.q, gridmap)
+        evaluation = training.evaluation_of(config.evaluation_episodes, config.q, gridmap)
         for k, name in enumerate(config.learners):
             learner, setup = registry.get(name), config.setup(name)
             shapes[k, j] = [_as_int64(size) for size in learner.table_shape(gridmap.n_cells, gridmap.n_agents)]
@@ -297,9 +298,9 @@ def sweep(config, gridmaps: list, cases: list, workers=None, progress=None) -> d
             joints[k, j], samples[k, j] = learner.joint_room(setup, gridmap), learner.reward_samples(setup, gridmap)
             needed[k, j] = _as_int64(config.runs * learner.bytes_per_run(setup, gridmap))
             if needed[k, j] <= budget:
-                batch, outputs = spec.batch(learner, setup, gridmap, schedule, config.runs,
-                                            seeds.named(*case, name), bounce=config.bounce,
-                                            rewards=config.rewards, keep_q=False, evaluation=evaluation)
+                batch, outputs = training.batch(learner, setup, gridmap, schedule, config.runs,
+                                                seeds.named(*case, name), bounce=config.bounce,
+                                                rewards=config.rewards, keep_q=False, evaluation=evaluation)
                 trainings[k, j] = learner, setup, gridmap, batch, outputs
     # One run per job: runs differ widely in length (some spend most episodes at the step cap),
     # and small jobs keep every worker busy until the last runs are done.
@@ -308,7 +309,7 @@ def sweep(config, gridmaps: list, cases: list, workers=None, progress=None) -> d
         joints[k, j] = learner.joint_learned(outputs, setup, gridmap).mean()
         ran[k, j] = True
         log[k, j] = agent_means(outputs["log"])
-        evaluated[k, j] = agent_means(spec.evaluated(outputs))
+        evaluated[k, j] = agent_means(training.evaluated(outputs))
     return {"ran": ran, "table_shapes": shapes, "gla_parameters": glas, "joint_entries": joints,
             "reward_samples": samples, "bytes_needed": needed, "log": log, "evaluated": evaluated,
             "episodes": schedule.edges[1:]}
@@ -356,8 +357,8 @@ def trap(name: str, n: int, runs: int, episodes: int, seed: int = 0, config: Sca
     learner, gridmap = registry.get(name), config.gridmap(n)
     schedule = ep.Schedule(episodes, ep.uniform_edges(episodes, episodes // 10), config.max_steps)
     master_seed = seed_of(seed, name, n) if master_seed is None else master_seed
-    out = spec.train(learner, config.setup(name), gridmap, schedule, runs, master_seed, bounce=config.bounce,
-                     rewards=config.rewards, workers=workers)
+    out = training.train(learner, config.setup(name), gridmap, schedule, runs, master_seed, bounce=config.bounce,
+                         rewards=config.rewards, workers=workers)
     capped = ep.metric(out["log"], "capped")
     trapped = out["log"][:, -1, :n] >= TRAPPED * config.max_steps  # (runs, agents)
     aisle = aisle_cells(gridmap)

@@ -24,7 +24,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from glamas import checks, memory, parallel, seeds
+from glamas import checks, memory, parallel, seeds, training
 from glamas.errors import UserError
 from glamas.experiments.benchmark_maps.experiment import FORMULATIONS
 from glamas.experiments.gridworld.experiment import check_learners
@@ -236,7 +236,7 @@ def run(config: WarehousesConfig = WarehousesConfig(), seed: int = 0, workers=No
     short = np.full((f_, a_, l_, i_), np.nan)
     plans = np.zeros((a_, i_, 4), dtype=np.int64)
     budget = config.memory_budget_gib * 2 ** 30
-    evaluation = spec.Evaluation(config.evaluation_episodes, (1.0,), per_episode=True)
+    evaluation = training.Evaluation(config.evaluation_episodes, (1.0,), per_episode=True)
     for a, n in enumerate(config.agents):
         gridmaps = [config.gridmap(n, instance) for instance in range(i_)]
         for instance, gridmap in enumerate(gridmaps):
@@ -252,7 +252,7 @@ def run(config: WarehousesConfig = WarehousesConfig(), seed: int = 0, workers=No
                     continue
                 ran[f, a, k] = True
                 for instance, gridmap in enumerate(gridmaps):
-                    batches[f, k, instance] = spec.batch(
+                    batches[f, k, instance] = training.batch(
                         learner, setup, gridmap, config.schedule(), 1, seed_of(seed, formulation, n, instance, name),
                         bounce=config.bounce, rewards=config.rewards(formulation), keep_q=False, evaluation=evaluation)
         parallel.run_many([work for work, _ in batches.values()], workers=workers, progress=progress, chunk=1)
