@@ -1,6 +1,6 @@
 """Whole-process time of the Section 4 figure scripts (Fig. 5, 6, 7a, 7b) at paper scale, numba
 compilation included, against the plain-Python references of the same learning work
-(benchmarks.python_lineworld).
+(glamas.plain.lineworld).
 
 Each script runs as its own process, as `make figures` runs it, with an empty numba cache (so
 every kernel compiles) and empty output and result directories. The plain-Python side times the
@@ -18,7 +18,8 @@ import tempfile
 import time
 from pathlib import Path
 
-from benchmarks import python_lineworld, timing
+from benchmarks import timing
+from glamas.plain import lineworld as plain_lineworld
 from glamas import errors
 from glamas.experiments import and_network, single_gla, state_encoding
 from glamas.paths import REPO
@@ -64,8 +65,8 @@ def run_scripts(options: tuple) -> dict:
 
 def main():
     options = QUICK if timing.quick(__doc__) else ()
-    python = {"exp. 1": _per_iteration(python_lineworld.single_gla_run, single_gla.SingleGLAConfig),
-              "exp. 2": _per_iteration(python_lineworld.and_network_run, and_network.ANDNetworkConfig)}
+    python = {"exp. 1": _per_iteration(plain_lineworld.single_gla_run, single_gla.SingleGLAConfig),
+              "exp. 2": _per_iteration(plain_lineworld.and_network_run, and_network.ANDNetworkConfig)}
     for experiment, per_iteration in python.items():
         print(f"plain Python, {experiment}: {per_iteration * 1e6:6.1f} us per iteration "
               f"({REFERENCE_ITERATIONS:,} iterations timed)")

@@ -1,5 +1,5 @@
 """Experiment 1's learning loop (Section 4.2, eq. 12-15, joint context): the compiled run kernel
-against its plain-Python reference (benchmarks.python_lineworld.single_gla_run; tests/
+against its plain-Python reference (glamas.plain.lineworld.single_gla_run; tests/
 test_benchmark_references.py checks that it learns the kernel's parameters).
 
 The reference runs fewer iterations; both are timed in this process and compared per iteration of
@@ -10,7 +10,8 @@ on one thread and on all threads.
 import random
 import time
 
-from benchmarks import python_lineworld, timing
+from benchmarks import timing
+from glamas.plain import lineworld as plain_lineworld
 from glamas import errors, parallel
 from glamas.experiments.single_gla import SingleGLAConfig, run
 
@@ -25,7 +26,7 @@ def main():
         workers=parallel.Threads(1))  # compiles (or loads) the kernel in this process
     reference = SingleGLAConfig(runs=1, iterations=reference_iterations)
     start = time.perf_counter()
-    python_lineworld.single_gla_run(reference, random.Random(0))
+    plain_lineworld.single_gla_run(reference, random.Random(0))
     python = (time.perf_counter() - start, reference_iterations, f"1 run x {reference_iterations:,} iterations")
 
     def timed(workers):

@@ -1,7 +1,7 @@
 """The gridworld learners of Section 5.3 (independent, joint-state and MMDP Q-learners, 2observe of
 Alg. 4): the compiled run kernels against a plain-C reference
 of the same work (``reference_gridworld.c``, built here with ``cc -O2``) and their plain-Python
-references (benchmarks.python_gridworld).
+references (glamas.plain.gridworld).
 
 The C reference draws the same random numbers in the same order as the kernels, so a kernel and
 the C reference play the very same episodes: their logs must be identical, and this benchmark says
@@ -18,7 +18,8 @@ import time
 
 import numpy as np
 
-from benchmarks import c_reference, kernels, python_gridworld, timing
+from benchmarks import c_reference, kernels, timing
+from glamas.plain import gridworld as plain_gridworld
 from glamas import errors
 
 LEARNERS = ("independent", "joint_state", "mmdp", "two_observe")
@@ -53,7 +54,7 @@ def python_per_step(name: str, episodes: int) -> float:
     """The Python reference's seconds per step on one run, by the thread's CPU time."""
     reference = kernels.Workload(name, episodes)
     start = time.thread_time()
-    steps = python_gridworld.steps(python_gridworld.run(reference, random.Random(0)))
+    steps = plain_gridworld.steps(plain_gridworld.run(reference, random.Random(0)))
     return (time.thread_time() - start) / steps
 
 

@@ -1,5 +1,5 @@
 """Speed of the compiled gridworld rules (glamas.gridworld.rules.step) against plain Python
-(benchmarks.python_gridworld.World.step).
+(glamas.plain.gridworld.World.step).
 
 Both sides play the same pre-drawn random joint actions on TunnelToGoal, restarting from the
 starts whenever both agents are in the goal, and must end with the same totals (rewards,
@@ -11,7 +11,8 @@ import time
 
 import numpy as np
 
-from benchmarks import kernels, python_gridworld, timing
+from benchmarks import kernels, timing
+from glamas.plain import gridworld as plain_gridworld
 from glamas import errors
 from glamas.gridworld import rules, tunnel_to_goal
 
@@ -29,9 +30,9 @@ def main():
     kernels.walk_compiled(gridmap, "previous", actions)
     compiled_time = time.perf_counter() - start
 
-    world, reference_actions = python_gridworld.World(gridmap), actions[:reference_steps].tolist()
+    world, reference_actions = plain_gridworld.World(gridmap), actions[:reference_steps].tolist()
     start = time.perf_counter()
-    reference = python_gridworld.walk(world, reference_actions)
+    reference = plain_gridworld.walk(world, reference_actions)
     reference_time = time.perf_counter() - start
 
     check = kernels.walk_compiled(gridmap, "previous", actions[:reference_steps])

@@ -1,5 +1,5 @@
 """2observe for N agents (glamas.learners.two_observe.run, its group_step) on the four-agent warehouse: the
-compiled kernel against its plain-Python reference (benchmarks.python_gridworld.two_observe_group: the same
+compiled kernel against its plain-Python reference (glamas.plain.gridworld.two_observe_group: the same
 N-agent rules with bounce rounds, eq. 11, epsilon-greedy with random tie-breaking, the GLAs of eq.
 13-15 on the distance to the nearest other agent, the group coordination; tests/
 test_benchmark_references.py checks that it plays the kernel's episodes).

@@ -2,7 +2,7 @@
 per agent-step (one acting agent's move with its learning) of their compiled run kernels on the
 generated warehouses (glamas.gridworld.generate.warehouse(N, seed 0): about 0.1 agents per free
 cell at every N), and of a plain-Python reference of the same work at the smallest and the largest
-N (benchmarks.python_many_agents; it plays the kernels' episodes: tests/test_benchmark_references.py).
+N (glamas.plain.many_agents; it plays the kernels' episodes: tests/test_benchmark_references.py).
 
 Per step, an agent's work in the kernels depends on its neighbours and not on N: the rules and
 2observe's group step look agents up through an index of the cells (glamas.gridworld.rules.
@@ -32,7 +32,8 @@ from glamas.gridworld import generate
 from glamas.gridworld.maps import map_text
 from glamas.learners import episode as ep
 
-from benchmarks import kernels, python_many_agents, timing
+from benchmarks import kernels, timing
+from glamas.plain import many_agents as plain_many_agents
 
 LEARNERS = ("two_observe", "independent", "two_observe_rule")
 NOT_TIMED = ("cq", "sparse_maq")
@@ -93,9 +94,9 @@ def python_ns(learner: str, n_agents: int, episodes: int, max_steps: int) -> flo
     """The Python reference's ns per agent-step on one run, by the thread's CPU time, its episodes
     only (not its tables and lists, made before)."""
     work, rnd = workload(learner, n_agents, episodes, max_steps), random.Random(0)
-    prepared = python_many_agents.prepare(work, rnd)
+    prepared = plain_many_agents.prepare(work, rnd)
     start = time.thread_time()
-    log = python_many_agents.run(work, rnd, prepared)
+    log = plain_many_agents.run(work, rnd, prepared)
     seconds = time.thread_time() - start
     return seconds / sum(sum(row[:n_agents]) for row in log) * 1e9
 
@@ -120,7 +121,7 @@ def main():
     print("aim: 1024/32 within 1.25x (an agent's cost flat in N); 128/2 as measured (the two-agent paths)")
     print(f"{', '.join(NOT_TIMED)}: not timed here (their steps compare pairs of agents; bench_related_many_agents)")
     (small, (e_small, cap_small)), (large, (e_large, cap_large)) = size["python"].items()
-    print(f"\nplain Python reference (benchmarks.python_many_agents), one run: N={small} {e_small} episodes, "
+    print(f"\nplain Python reference (glamas.plain.many_agents), one run: N={small} {e_small} episodes, "
           f"N={large} {e_large} episode(s) of at most {cap_large} steps; the kernel timed on the same work; "
           "both without the runs' setup")
     print(f"{'learner':18s}{f'N={small}':>9s}{f'N={large}':>9s}{'128/2':>8s}   kernel N={small}, N={large}: "

@@ -1,5 +1,5 @@
 """The related-work learners (sparse tabular MAQ and CQ-learning) on TunnelToGoal: the compiled run
-kernels against their plain-Python references (benchmarks.python_gridworld.sparse_maq and .cq: the
+kernels against their plain-Python references (glamas.plain.gridworld.sparse_maq and .cq: the
 same rules, eq. 11, epsilon-greedy with random tie-breaking, sparse MAQ's four update cases (two
 agents' coordination graph is one pair), CQ-learning's phase alone, reward windows, test 1 per
 state-action, test 2 per other agent's cell and augmentations; tests/test_benchmark_references.py

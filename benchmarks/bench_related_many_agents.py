@@ -1,7 +1,7 @@
 """Sparse cooperative Q-learning over the coordination graph, its pairwise variant, and CQ-learning
 testing every other agent (glamas.learners.sparse_maq, glamas.learners.cq) on the four-agent
 warehouse: the compiled run kernels against their plain-Python references
-(benchmarks.python_gridworld.sparse_maq and .cq: the same N-agent rules, eq. 11, epsilon-greedy
+(glamas.plain.gridworld.sparse_maq and .cq: the same N-agent rules, eq. 11, epsilon-greedy
 with random tie-breaking, the coordination graph or the pair matching, variable elimination in
 groups of three or more, the agent-based update; CQ-learning's phase alone, reward windows, test 1
 per state-action, test 2 per other agent's cell and the nearest augmenting agent;

@@ -28,7 +28,9 @@ TWO_OBSERVE_SETTINGS = {"gla_bounding": "clip", "gla_need": "in_range", "gla_del
 
 class _World(ctypes.Structure):
     _fields_ = [("next_cell", ctypes.c_void_p), ("goal_of", ctypes.c_void_p), ("starts", ctypes.c_void_p),
-                ("bounce", ctypes.c_int64), ("n_cells", ctypes.c_int64), ("n_cols", ctypes.c_int64)]
+                ("bounce", ctypes.c_int64), ("n_cells", ctypes.c_int64), ("n_cols", ctypes.c_int64),
+                ("goal", ctypes.c_double), ("move", ctypes.c_double), ("bump", ctypes.c_double),
+                ("collision", ctypes.c_double), ("collision_replaces_move", ctypes.c_int64)]
 
 
 def _pointer(array, dtype):
@@ -58,7 +60,8 @@ class Reference:
         arrays = kernels.new_outputs(workload, 1)
         world_arrays = (np.ascontiguousarray(g.next_cell, np.int64), np.ascontiguousarray(g.goal_table(), np.uint8),
                         np.ascontiguousarray(g.starts, np.int64))
-        world = _World(*(a.ctypes.data for a in world_arrays), BOUNCE_MODES[workload.bounce], g.n_cells, g.n_cols)
+        world = _World(*(a.ctypes.data for a in world_arrays), BOUNCE_MODES[workload.bounce], g.n_cells, g.n_cols,
+                       *workload.rewards.kernel_bundle())
         double, state = ctypes.c_double, kernels.run_state(seed)
         common = (ctypes.byref(world), double(q_settings.q_learning_rate), double(q_settings.discount),
                   double(q_settings.exploit_prob))

@@ -18,6 +18,7 @@ from numba import njit
 
 from glamas import parallel, rng, training
 from glamas.gridworld import load_map, rules
+from glamas.gridworld.rewards import CHAPTER, Rewards
 from glamas.learners import cq, registry, spec
 from glamas.learners import episode as ep
 from glamas.qlearning import QSettings
@@ -42,6 +43,8 @@ class Workload:
     """Q-learning's settings (the experiments')."""
     bounce: str = "previous"
     """Where a collided agent goes (glamas.gridworld.rules)."""
+    rewards: Rewards = CHAPTER
+    """What the gridworld pays (glamas.gridworld.rewards): the chapter's."""
     max_steps: int = 10_000
     """Step cap per episode (the chapter's experiment's)."""
 
@@ -108,7 +111,8 @@ def run_compiled(workload: Workload, seed: int = 0, n_runs: int = 1, workers=Non
     """``n_runs`` runs of the workload's compiled kernel: in this thread (``workers`` None, timed
     by its CPU time) or on glamas.parallel ``workers`` (timed by the wall clock)."""
     learner, gridmap = registry.get(workload.learner), workload.gridmap()
-    inputs = spec.kernel_inputs(learner, workload.setup(), gridmap, workload.schedule(), workload.bounce)
+    inputs = spec.kernel_inputs(learner, workload.setup(), gridmap, workload.schedule(), workload.bounce,
+                                workload.rewards)
     arrays = new_outputs(workload, n_runs)
     if workers is None:
         start = time.thread_time()
@@ -122,10 +126,10 @@ def run_compiled(workload: Workload, seed: int = 0, n_runs: int = 1, workers=Non
     return Outputs(arrays, seconds, workload.block)
 
 
-def walk_compiled(gridmap, bounce: str, actions: np.ndarray) -> tuple:
-    """Play ``actions`` (n_steps, n_agents) with the compiled rules.step, restarting from the
-    starts whenever every agent is in the goal: (total reward, collisions, episodes)."""
-    return _walk(rules.world(gridmap, bounce), actions)
+def walk_compiled(gridmap, bounce: str, actions: np.ndarray, rewards: Rewards = CHAPTER) -> tuple:
+    """Play ``actions`` (n_steps, n_agents) with the compiled rules.step under ``rewards``, restarting
+    from the starts whenever every agent is in the goal: (total reward, collisions, episodes)."""
+    return _walk(rules.world(gridmap, bounce, rewards), actions)
 
 
 @njit(cache=True)

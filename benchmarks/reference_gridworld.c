@@ -21,13 +21,14 @@
 
 enum { STEPS = 0, REWARD = 2, LENGTH = 4, COLLISIONS = 5, COORDINATIONS = 6, CAPPED = 7, N_COLUMNS = 8 };
 enum { N_ACTIONS = 4, BOUNCE_PREVIOUS = 0 };
-static const double GOAL_REWARD = 100.0, COLLISION_PENALTY = -10.0, BUMP_PENALTY = -1.0;
-
+/* The world and what it pays (glamas.gridworld.rewards.Rewards, read from the workload). */
 typedef struct {
     const int64_t *next_cell;
     const uint8_t *goal_of;
     const int64_t *starts;
     int64_t bounce, n_cells, n_cols;
+    double goal, move, bump, collision;
+    int64_t collision_replaces_move;
 } World;
 
 typedef struct {
@@ -102,19 +103,20 @@ static int step(const World *w, Episode *e) {
         e->rewards[i] = 0.0;
         e->reached[i] = 0;
         e->new_cells[i] = e->done[i] ? e->cells[i] : w->next_cell[e->cells[i] * N_ACTIONS + e->actions[i]];
-        if (!e->done[i] && e->new_cells[i] == e->cells[i]) e->rewards[i] += BUMP_PENALTY;
+        if (!e->done[i]) e->rewards[i] = e->new_cells[i] == e->cells[i] ? w->bump : w->move;
     }
     collided = !e->done[0] && !e->done[1]
         && ((e->new_cells[0] == e->new_cells[1] && !goal_of_both(w, e->new_cells[0]))
             || (e->new_cells[0] == e->cells[1] && e->new_cells[1] == e->cells[0]));
     for (i = 0; i < 2; i++) {
         if (collided) {
-            e->rewards[i] += COLLISION_PENALTY;
+            e->rewards[i] += w->collision;
+            if (w->collision_replaces_move) e->rewards[i] = w->collision;
             e->new_cells[i] = w->bounce == BOUNCE_PREVIOUS ? e->cells[i] : w->starts[i];
         }
         if (!e->done[i] && is_goal_of(w, i, e->new_cells[i])) {
             e->reached[i] = 1;
-            e->rewards[i] += GOAL_REWARD;
+            e->rewards[i] += w->goal;
         }
     }
     return collided;
@@ -229,9 +231,9 @@ void run_mmdp(const World *w, double alpha, double gamma, double exploit, int64_
             int any_reached = 0;
             for (int i = 0; i < 2; i++) {
                 shared += e.rewards[i];
-                if (e.reached[i]) { shared -= GOAL_REWARD; any_reached = 1; }
+                if (e.reached[i]) { shared -= w->goal; any_reached = 1; }
             }
-            if (finished && any_reached) shared += GOAL_REWARD;
+            if (finished && any_reached) shared += w->goal;
             q_update(q, JOINT_ACTIONS, joint, action, shared, e.new_cells[0] * w->n_cells + e.new_cells[1],
                      finished, alpha, gamma);
             end_step(&e, ++t, collisions);

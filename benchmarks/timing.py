@@ -6,7 +6,8 @@ import dataclasses
 import random
 import time
 
-from benchmarks import kernels, python_gridworld
+from benchmarks import kernels
+from glamas.plain import gridworld as plain_gridworld
 from glamas import parallel
 
 
@@ -39,7 +40,7 @@ def compare_gridworld(label: str, reference: kernels.Workload, workload: kernels
     if reference.learner == "cq":
         reference.t_critical()  # CQ-learning's table, made outside the timing as the kernel's is
     start = time.perf_counter()
-    steps = python_gridworld.steps(python_gridworld.run(reference, random.Random(0)))
+    steps = plain_gridworld.steps(plain_gridworld.run(reference, random.Random(0)))
     python = (time.perf_counter() - start, steps, f"1 run x {reference.episodes:,} episodes = {steps:,} steps")
 
     def compiled(workers):

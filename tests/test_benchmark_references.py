@@ -1,5 +1,5 @@
-"""The benchmarks' plain-Python references do the work of the compiled kernels they are timed
-against (benchmarks/python_*.py).
+"""The plain-Python steps of the algorithms (glamas.plain) do the work of the compiled kernels,
+which the benchmarks time against them.
 
 A reference draws its random numbers from whatever source it is given; here it gets glamas.rng's
 own generator (:class:`KernelStream`), started from the state of the kernel's run.
@@ -11,12 +11,17 @@ and, for the line-world experiments, its learned parameters equal the kernel's n
 import numpy as np
 import pytest
 
-from benchmarks import bench_many_agents, kernels, python_gridworld, python_lineworld, python_many_agents
+from benchmarks import bench_many_agents, kernels
 from glamas import parallel, rng, seeds
 from glamas.experiments import and_network, single_gla
 from glamas.gridworld import BOUNCE_MODES, rules
+from glamas.gridworld.rewards import CHAPTER, FIELD
 from glamas.learners import cq
 from glamas.learners import episode as ep
+from glamas.plain import gridworld as plain_gridworld
+from glamas.plain import lineworld as plain_lineworld
+from glamas.plain import many_agents as plain_many_agents
+
 
 class KernelStream:
     """glamas.rng's stream as a reference's random source: ``random()`` is glamas.rng.uniform on
@@ -34,7 +39,7 @@ def test_the_python_stream_is_glamas_rng():
     python = KernelStream(state)
     for n in (1, 2, 3, 4, 16):
         assert [rng.uniform(state) for _ in range(200)] == [python.random() for _ in range(200)]
-        assert [rng.integer(state, n) for _ in range(200)] == [python_gridworld.below(python, n) for _ in range(200)]
+        assert [rng.integer(state, n) for _ in range(200)] == [plain_gridworld.below(python, n) for _ in range(200)]
 
 
 TUNNEL = "tunnel_to_goal"
@@ -75,6 +80,13 @@ WORKLOADS = {
     "sparse_maq, goals by pairs": kernels.Workload("sparse_maq", 20, PAIRED_GOALS, max_steps=SCALING),
     "sparse_maq_pairs, goals by pairs": kernels.Workload("sparse_maq_pairs", 20, PAIRED_GOALS, max_steps=SCALING),
     "cq, goals by pairs": kernels.Workload("cq", 60, PAIRED_GOALS, own=cq.Settings(cq_solo_episodes=10), max_steps=SCALING),
+    "independent, the field's rewards": kernels.Workload("independent", 100, rewards=FIELD),
+    "mmdp, the field's rewards": kernels.Workload("mmdp", 300, rewards=FIELD),
+    "two_observe, the field's rewards": kernels.Workload("two_observe", 300, rewards=FIELD),
+    "two_observe, 4 agents, the field's rewards": kernels.Workload("two_observe", 20, WAREHOUSE, max_steps=SCALING,
+                                                                  rewards=FIELD),
+    "cq, 4 agents, the field's rewards": kernels.Workload("cq", 100, WAREHOUSE, own=cq.Settings(cq_solo_episodes=20),
+                                                         max_steps=SCALING, rewards=FIELD),
 }
 COORDINATING = ("two_observe", "sparse_maq", "sparse_maq_pairs", "cq")
 
@@ -84,7 +96,7 @@ def test_gridworld_reference_plays_the_kernels_episodes(case):
     workload = WORKLOADS[case]
     compiled = kernels.run_compiled(workload, seed=5)
     log = compiled.log[0]
-    np.testing.assert_array_equal(python_gridworld.run(workload, KernelStream(kernels.run_state(5))), log)
+    np.testing.assert_array_equal(plain_gridworld.run(workload, KernelStream(kernels.run_state(5))), log)
     assert ep.metric(log, "collisions").sum() > 0  # the episodes have collisions
     if workload.learner in COORDINATING:
         assert ep.metric(log, "coordinations").sum() > 0  # and coordinated steps
@@ -96,22 +108,22 @@ def test_the_sparse_maq_reference_plays_groups_by_variable_elimination(monkeypat
     """Groups of three or more agents coordinate in the four-agent runs above: the reference's
     variable elimination is what plays the kernel's episodes there."""
     eliminations = []
-    run = python_gridworld.Elimination.run
-    monkeypatch.setattr(python_gridworld.Elimination, "run", lambda self: eliminations.append(1) or run(self))
+    run = plain_gridworld.Elimination.run
+    monkeypatch.setattr(plain_gridworld.Elimination, "run", lambda self: eliminations.append(1) or run(self))
     workload = WORKLOADS["sparse_maq, 4 agents"]
-    log = python_gridworld.run(workload, KernelStream(kernels.run_state(5)))
+    log = plain_gridworld.run(workload, KernelStream(kernels.run_state(5)))
     np.testing.assert_array_equal(log, kernels.run_compiled(workload, seed=5).log[0])
     assert len(eliminations) > 100
 
 
-@pytest.mark.parametrize("learner", sorted(python_many_agents.REFERENCES))
+@pytest.mark.parametrize("learner", sorted(plain_many_agents.REFERENCES))
 @pytest.mark.parametrize("n_agents, episodes, bounce", [(2, 100, "previous"), (16, 3, "start"), (128, 1, "previous")])
 def test_many_agent_reference_plays_the_kernels_episodes(learner, n_agents, episodes, bounce):
     """bench_many_agents' plain-Python reference (the index of cells in lists) plays the kernel's
     episodes on its generated warehouses, at its smallest and largest number of agents too."""
     workload = bench_many_agents.workload(learner, n_agents, episodes, max_steps=200, bounce=bounce)
     log = kernels.run_compiled(workload, seed=5).log[0]
-    np.testing.assert_array_equal(python_many_agents.run(workload, KernelStream(kernels.run_state(5))), log)
+    np.testing.assert_array_equal(plain_many_agents.run(workload, KernelStream(kernels.run_state(5))), log)
     assert ep.metric(log, "collisions").sum() > 0
     if learner != "independent":
         assert ep.metric(log, "coordinations").sum() > 0
@@ -119,11 +131,12 @@ def test_many_agent_reference_plays_the_kernels_episodes(learner, n_agents, epis
 
 @pytest.mark.parametrize("map_file", [TUNNEL, WAREHOUSE, SWAP, PAIRED_GOALS])
 @pytest.mark.parametrize("bounce", sorted(BOUNCE_MODES))
-def test_rules_reference_ends_with_the_compiled_totals(map_file, bounce):
+@pytest.mark.parametrize("rewards", [CHAPTER, FIELD], ids=["chapter", "field"])
+def test_rules_reference_ends_with_the_compiled_totals(map_file, bounce, rewards):
     gridmap = kernels.Workload("independent", 1, map_file).gridmap()
     actions = np.random.default_rng(0).integers(0, rules.N_ACTIONS, size=(20_000, gridmap.n_agents))
-    compiled = kernels.walk_compiled(gridmap, bounce, actions)
-    python = python_gridworld.walk(python_gridworld.World(gridmap, bounce), actions.tolist())
+    compiled = kernels.walk_compiled(gridmap, bounce, actions, rewards)
+    python = plain_gridworld.walk(plain_gridworld.World(gridmap, bounce, rewards), actions.tolist())
     assert python == compiled
     assert compiled[1] > 0 and compiled[2] > 0  # collisions and finished episodes
 
@@ -132,7 +145,7 @@ def test_rules_reference_ends_with_the_compiled_totals(map_file, bounce):
 def test_experiment_1_reference_learns_the_kernels_parameters(init_scale):
     config = single_gla.SingleGLAConfig(runs=1, iterations=4000, record_points=1, init_scale=init_scale)
     result = single_gla.run(config, seed=7, workers=parallel.Threads(1))
-    total, u = python_lineworld.single_gla_run(config, KernelStream(kernels.run_state(seeds.named(7, "single_gla"))))
+    total, u = plain_lineworld.single_gla_run(config, KernelStream(kernels.run_state(seeds.named(7, "single_gla"))))
     np.testing.assert_array_equal(np.array(u), result.params[0])
     assert total / config.iterations == result.reward[0, 0]
 
@@ -140,6 +153,6 @@ def test_experiment_1_reference_learns_the_kernels_parameters(init_scale):
 def test_experiment_2_reference_learns_the_kernels_parameters():
     config = and_network.ANDNetworkConfig(runs=1, iterations=4000, record_points=2)
     result = and_network.run(config, seed=7, workers=parallel.Threads(1))
-    _, u = python_lineworld.and_network_run(config, KernelStream(kernels.run_state(seeds.named(7, "and_network"))))
+    _, u = plain_lineworld.and_network_run(config, KernelStream(kernels.run_state(seeds.named(7, "and_network"))))
     context = len(u[0][0][0])
     np.testing.assert_array_equal(np.array(u), result.params[0, ..., :context])

@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 
 from benchmarks import c_reference, kernels
+from glamas.gridworld.rewards import CHAPTER, FIELD
 from glamas.learners import episode as ep
 from glamas.learners import two_observe
 
@@ -23,8 +24,9 @@ def reference(tmp_path_factory):
 @pytest.mark.parametrize("name", c_reference.LEARNERS)
 @pytest.mark.parametrize("bounce", ["previous", "start"])
 @pytest.mark.parametrize("map_file", ["tunnel_to_goal", "isr"])  # one goal shared, or each its own
-def test_c_reference_plays_the_kernels_episodes(reference, name, bounce, map_file):
-    workload = kernels.Workload(name, 1500, map_file, block=75, bounce=bounce)
+@pytest.mark.parametrize("rewards", [CHAPTER, FIELD], ids=["chapter", "field"])  # read from Rewards, as the kernels'
+def test_c_reference_plays_the_kernels_episodes(reference, name, bounce, map_file, rewards):
+    workload = kernels.Workload(name, 1500, map_file, block=75, bounce=bounce, rewards=rewards)
     kernel, c = kernels.run_compiled(workload, seed=11), reference.run(workload, seed=11)
     log = kernel.log[0]
     assert ep.metric(log, "length").min() >= 1 and ep.metric(log, "collisions").sum() > 0  # episodes with collisions

@@ -183,12 +183,12 @@ def test_nearest_other_by_rings_is_the_nearest_of_all_pairs(density):
 
 def test_group_coordination_through_the_index_is_the_all_pairs_one():
     """coordinate_group, which tries only the agents aiming at an agent's target or on it, gives
-    the actions and draws of the coordination over all pairs (benchmarks.python_gridworld), on
+    the actions and draws of the coordination over all pairs (glamas.plain.gridworld), on
     crowds of 64 agents with random choices and preferences."""
     from glamas import rng
     from glamas.gridworld import generate
 
-    from benchmarks import python_gridworld
+    from glamas.plain import gridworld as plain_gridworld
 
     class Stream:
         def __init__(self, state):
@@ -198,7 +198,7 @@ def test_group_coordination_through_the_index_is_the_all_pairs_one():
             return rng.uniform(self.state)
 
     g = generate.warehouse(64, seed=4, density=0.4)
-    world = python_gridworld.World(g)
+    world = plain_gridworld.World(g)
     free = np.flatnonzero(~g.blocked)
     draws = np.random.default_rng(5)
     yielded = 0
@@ -207,7 +207,7 @@ def test_group_coordination_through_the_index_is_the_all_pairs_one():
         done = draws.random(g.n_agents) < 0.2
         choices = np.where(draws.random(g.n_agents) < 0.7, COORDINATE, ACT_ALONE)
         preferred = draws.integers(0, 4, g.n_agents)
-        expected = python_gridworld.coordinate_group(world, cells.tolist(), done.tolist(), choices.tolist(),
+        expected = plain_gridworld.coordinate_group(world, cells.tolist(), done.tolist(), choices.tolist(),
                                                      preferred.tolist(), Stream(state.copy()))
         _, actions = _coordinate(g, cells, done, choices, preferred, state)
         assert actions.tolist() == expected

@@ -60,7 +60,7 @@ sum of squares: one per agent and state-action for test 1 (filled first alone, w
 stays as the record of ER), and, for test 2, one per agent, state-action and other's cell, allocated
 for the whole run (:func:`reward_samples`, :func:`window_bytes`).
 
-Plain-Python reference: ``cq`` in ``benchmarks/python_gridworld.py``.
+Plain-Python reference: ``cq`` in ``lib/glamas/plain/gridworld.py``.
 """
 
 import functools

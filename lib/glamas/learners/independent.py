@@ -11,7 +11,7 @@ Alg. 3 as each agent i runs it here, every step of an episode while it is not in
    with no future value once s'_i is its goal.
 
 Plain-Python reference of the same steps, on the same random numbers: ``independent`` in
-``benchmarks/python_gridworld.py``."""
+``lib/glamas/plain/gridworld.py``."""
 
 from numba import njit
 

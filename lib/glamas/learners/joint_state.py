@@ -5,7 +5,7 @@ Every step, with s = (s_1, s_2) the joint cell: each agent i not in its goal sel
 epsilon-greedily from Q_i(s, .); the agents move together; each updates by eq. 11 on the joint
 cells, Q_i(s, a_i) <- (1 - alpha) Q_i(s, a_i) + alpha [r_i + gamma max_a' Q_i(s', a')].
 
-Plain-Python reference: ``joint_state`` in ``benchmarks/python_gridworld.py``."""
+Plain-Python reference: ``joint_state`` in ``lib/glamas/plain/gridworld.py``."""
 
 from numba import njit
 

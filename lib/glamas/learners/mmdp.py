@@ -8,7 +8,7 @@ the goal", :func:`glamas.gridworld.rules.shared_reward`); eq. 11 on the joint ta
 Q(s, a) <- (1 - alpha) Q(s, a) + alpha [R + gamma max_a' Q(s', a')], with no future value once every
 agent is in.
 
-Plain-Python reference: ``mmdp`` and ``shared_reward`` in ``benchmarks/python_gridworld.py``."""
+Plain-Python reference: ``mmdp`` and ``shared_reward`` in ``lib/glamas/plain/gridworld.py``."""
 
 from numba import njit
 

@@ -51,7 +51,7 @@ coordinates with at most one other, its nearest; this was the N-agent learner be
 With two agents the graph and the matching are the same single pair, and both learners are the
 two-agent learner.
 
-Plain-Python reference: ``sparse_maq`` in ``benchmarks/python_gridworld.py`` (variable elimination
+Plain-Python reference: ``sparse_maq`` in ``lib/glamas/plain/gridworld.py`` (variable elimination
 in its ``Elimination``).
 """
 

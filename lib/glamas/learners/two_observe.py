@@ -17,7 +17,7 @@ distance):
    bounding term toward h(u), eq. 14).
 
 Plain-Python reference: ``two_observe`` (and ``two_observe_group`` for N agents) in
-``benchmarks/python_gridworld.py``, with the GLA of ``benchmarks/python_gla.py``.
+``lib/glamas/plain/gridworld.py``, with the GLA of ``lib/glamas/plain/gla.py``.
 
 The GLAs' feedback r_c (Fig. 10) is lost. It is rebuilt as ``table[choice, need]`` plus the
 chapter's ``0 - delta/10`` when both coordinated without need (Section 5.3), where "need" is one of

@@ -1,5 +1,5 @@
-"""Generalized learning automata (Section 4.1, eq. 12-15) in plain Python for the references: the
-arithmetic of glamas.gla in its order, with 'clip' bounding (the experiments' setting)."""
+"""Generalized learning automata (Section 4.1, eq. 12-15) in plain Python: the arithmetic of
+glamas.gla in its order, with 'clip' bounding (the experiments' setting)."""
 
 import math
 

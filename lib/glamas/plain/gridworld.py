@@ -1,10 +1,11 @@
-"""Plain-Python references of the gridworld learners (lists, loops and one random source; no
-NumPy, nothing compiled): the rules of glamas.gridworld.rules, eq. 11 with epsilon-greedy and
+"""The gridworld learners step by step in plain Python (lists, loops and one random source; no
+NumPy, nothing compiled): the rules of glamas.gridworld.rules under any reward formulation
+(glamas.gridworld.rewards), eq. 11 with epsilon-greedy and
 random tie-breaking, the GLAs of eq. 13-15 ('clip' bounding, need 'in_range', delta in cells: the
 experiments' settings), 2observe (Alg. 4) and its N-agent form, sparse tabular MAQ and
 CQ-learning.
 
-Each reference does what its compiled kernel does, step for step: it draws the same random numbers
+Each learner's step does what its compiled kernel does, step for step: it draws the same random numbers
 in the same order (``rnd.random()`` for a uniform in [0, 1), :func:`below` for glamas.rng.integer)
 and does the same arithmetic in the same order. Given a stream equal to the kernel's (the tests
 drive it with glamas.rng's xoshiro256** in Python) it plays the kernel's very episodes; the
@@ -14,7 +15,7 @@ blocks of one episode: a row per episode in the columns of glamas.learners.episo
 
 import math
 
-from benchmarks import python_gla
+from glamas.plain import gla as plain_gla
 from glamas.gridworld.rewards import CHAPTER
 from glamas.gridworld.rules import N_ACTIONS
 from glamas.learners.two_observe import box
@@ -34,8 +35,8 @@ class World:
     Each agent has its own goals (``goals[i]``, a set of cells); agents entering a goal of both
     together do not collide."""
 
-    def __init__(self, gridmap, bounce="previous"):
-        self.gridmap = gridmap
+    def __init__(self, gridmap, bounce="previous", rewards=CHAPTER):
+        self.gridmap, self.rewards = gridmap, rewards
         self.next_cell = gridmap.next_cell.tolist()
         self.goals = [set(gridmap.goal_cells(i)) for i in range(gridmap.n_agents)]
         self.shared_goal = gridmap.shared_goal.tolist()
@@ -46,6 +47,17 @@ class World:
 
     def distance(self, a, b):
         return abs(a // self.n_cols - b // self.n_cols) + abs(a % self.n_cols - b % self.n_cols)
+
+    def move_reward(self, cell, done, new):
+        """What an acting agent's move pays before collisions and the goal (rules.move_reward)."""
+        return 0.0 if done else self.rewards.bump if new == cell else self.rewards.move
+
+    def settle(self, reward, hit, arrived):
+        """An acting agent's reward for the step (rules.settle): the collision's alone if it collided
+        and a collision replaces the move's reward, plus the goal's if it arrived."""
+        if hit and self.rewards.collision_replaces_move:
+            reward = self.rewards.collision
+        return reward + self.rewards.goal if arrived else reward
 
     def bounced(self, cells):
         """Where collided agents go: their start cells or the cells they came from."""
@@ -76,43 +88,35 @@ class World:
         (c0, c1), (d0, d1) = cells, done
         new0 = c0 if d0 else self.next_cell[c0][actions[0]]
         new1 = c1 if d1 else self.next_cell[c1][actions[1]]
-        r0 = CHAPTER.bump if not d0 and new0 == c0 else 0.0
-        r1 = CHAPTER.bump if not d1 and new1 == c1 else 0.0
+        r0, r1 = self.move_reward(c0, d0, new0), self.move_reward(c1, d1, new1)
         hit = not d0 and not d1 and ((new0 == new1 and not self.both_goal(0, 1, new0)) or (new0 == c1 and new1 == c0))
         if hit:
-            r0 += CHAPTER.collision
-            r1 += CHAPTER.collision
+            r0 += self.rewards.collision
+            r1 += self.rewards.collision
             new0, new1 = self.bounced(cells)
         reached = [not d0 and new0 in self.goals[0], not d1 and new1 in self.goals[1]]
-        if reached[0]:
-            r0 += CHAPTER.goal
-        if reached[1]:
-            r1 += CHAPTER.goal
-        return [new0, new1], [r0, r1], reached, int(hit)
+        return [new0, new1], [self.settle(r0, hit, reached[0]), self.settle(r1, hit, reached[1])], reached, int(hit)
 
     def step(self, cells, done, actions):
         """One joint move of any number of agents, bounce rounds included (rules.step)."""
         n = len(cells)
         new = [c if d else self.next_cell[c][a] for c, d, a in zip(cells, done, actions)]
-        rewards = [CHAPTER.bump if not d and m == c else 0.0 for c, d, m in zip(cells, done, new)]
+        rewards = [self.move_reward(c, d, m) for c, d, m in zip(cells, done, new)]
         pairs = [(i, j) for i in range(n) for j in range(i + 1, n) if not done[i] and not done[j]]
         found = [(i, j) for i, j in pairs if (new[i] == new[j] and not self.both_goal(i, j, new[i]))
                  or (new[i] == cells[j] and new[j] == cells[i])]
         collided, collisions, back = [False] * n, 0, self.bounced(cells)
         while found:  # bounced agents may land where another agent now is
             for i, j in found:
-                rewards[i] += CHAPTER.collision
-                rewards[j] += CHAPTER.collision
+                rewards[i] += self.rewards.collision
+                rewards[j] += self.rewards.collision
                 collided[i] = collided[j] = True
             collisions += len(found)
             new = [back[i] if collided[i] else new[i] for i in range(n)]
             found = [(i, j) for i, j in pairs if new[i] == new[j] and not self.both_goal(i, j, new[i])
                      and not (collided[i] and collided[j])]
         reached = [not d and m in self.goals[i] for i, (d, m) in enumerate(zip(done, new))]
-        for i in range(n):
-            if reached[i]:
-                rewards[i] += CHAPTER.goal
-        return new, rewards, reached, collisions
+        return new, [self.settle(r, hit, arrived) for r, hit, arrived in zip(rewards, collided, reached)], reached, collisions
 
 
 def walk(world, actions):
@@ -184,11 +188,11 @@ class Automata:
 
     def act(self, i, x):
         """(choice, probabilities) of agent i's GLA in context x."""
-        return python_gla.act(self.u[i], x, self.temperature, self.L, self.rnd)
+        return plain_gla.act(self.u[i], x, self.temperature, self.L, self.rnd)
 
     def learn(self, i, x, choice, probs, need, both, delta):
         beta = gla_feedback(self.feedback, self.penalty, choice, need, both, delta)
-        python_gla.update(self.u[i], x, choice, beta, probs, self.rate, self.temperature, self.K, self.L)
+        plain_gla.update(self.u[i], x, choice, beta, probs, self.rate, self.temperature, self.K, self.L)
 
 
 def yield_action(preferred, rnd):
@@ -238,17 +242,17 @@ def joint_state(world, workload, rnd):
     return step
 
 
-def shared_reward(rewards, reached, finished):
-    """The MMDP learner's reward (rules.shared_reward): penalties summed, +100 when the last agent
-    enters its goal."""
+def shared_reward(goal, rewards, reached, finished):
+    """The MMDP learner's reward (rules.shared_reward): the agents' rewards summed without their
+    goal's reward ``goal``, which is paid once when the last agent enters its goal."""
     total, arrived = 0.0, False
     for r, entered in zip(rewards, reached):
         total += r
         if entered:
-            total -= CHAPTER.goal
+            total -= goal
             arrived = True
     if finished and arrived:
-        total += CHAPTER.goal
+        total += goal
     return total
 
 
@@ -263,8 +267,8 @@ def mmdp(world, workload, rnd):
         actions = [joint // N_ACTIONS, joint % N_ACTIONS]
         new, rewards, reached, collisions = world.step_two(cells, done, actions)
         finished = all(done[i] or reached[i] for i in range(2))
-        q_update(q, s, joint, shared_reward(rewards, reached, finished), new[0] * n_cells + new[1], finished,
-                 alpha, gamma)
+        shared = shared_reward(world.rewards.goal, rewards, reached, finished)
+        q_update(q, s, joint, shared, new[0] * n_cells + new[1], finished, alpha, gamma)
         return new, rewards, reached, collisions, 0
     return step
 
@@ -811,7 +815,7 @@ def play(world, episodes, max_steps, step):
 def run(workload, rnd):
     """One run of the workload's learner in plain Python, drawing from ``rnd``: its log, a row per
     episode."""
-    world = World(workload.gridmap(), workload.bounce)
+    world = World(workload.gridmap(), workload.bounce, workload.rewards)
     step = LEARNERS[workload.learner](world, workload, rnd)
     return play(world, workload.episodes, workload.max_steps, step)
 

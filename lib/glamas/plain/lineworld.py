@@ -2,22 +2,22 @@
 source): experiment 1's single GLAs with the joint context (glamas.learners.single_gla.learn)
 and experiment 2's AND networks (glamas.learners.and_network.learn).
 
-As the gridworld references (``python_gridworld``), each draws the same random numbers in the same
+As the gridworld references (``plain_gridworld``), each draws the same random numbers in the same
 order as its kernel and does the same arithmetic: on a stream equal to the kernel's it learns the
 very same parameters. Each returns (total feedback, final GLA parameters).
 """
 
-from benchmarks import python_gla
+from glamas.plain import gla as plain_gla
 
 
 def act(u, x, config, rnd):
     """Eq. 12 with the experiment's settings: (action, probabilities)."""
-    return python_gla.act(u, x, config.temperature, config.L, rnd)
+    return plain_gla.act(u, x, config.temperature, config.L, rnd)
 
 
 def update(u, x, action, beta, probs, config):
     """Eq. 13 with the experiment's settings."""
-    python_gla.update(u, x, action, beta, probs, config.learning_rate, config.temperature, config.K, config.L)
+    plain_gla.update(u, x, action, beta, probs, config.learning_rate, config.temperature, config.K, config.L)
 
 
 def restart(rnd):

@@ -6,7 +6,7 @@ ring by ring, coming collisions among the agents aiming at its target or standin
 range" on the cells in range of its own.
 
 They do the kernels' work in the kernels' order and draw the kernels' random numbers (the helpers
-of benchmarks.python_gridworld: eq. 11, epsilon-greedy with random tie-breaking, the GLAs of eq.
+of glamas.plain.gridworld: eq. 11, epsilon-greedy with random tie-breaking, the GLAs of eq.
 13-15 with 'clip' bounding, need 'in_range', delta in cells: the experiments' settings), so on the
 kernel's stream they play the kernel's very episodes (tests/test_benchmark_references.py). They
 take the general step whenever agents act, also when one or two do, where the kernels take their
@@ -14,14 +14,14 @@ one- and two-agent paths (rules.step_alone, rules.step_pair, the pair steps): th
 same, so the reference's cost per agent-step measures the index's work at every number of agents
 (benchmarks.bench_many_agents).
 
-:func:`run` returns the log the kernel writes with blocks of one episode (benchmarks.python_gridworld.play).
+:func:`run` returns the log the kernel writes with blocks of one episode (glamas.plain.gridworld.play).
 """
 
 from glamas.gridworld import rules
 from glamas.gridworld.rewards import CHAPTER
 from glamas.gridworld.rules import N_ACTIONS
 
-from benchmarks.python_gridworld import (
+from glamas.plain.gridworld import (
     COORDINATE,
     Automata,
     World,
@@ -41,8 +41,8 @@ class IndexedWorld(World):
     and what the group step looks up around an agent: the rings of cells at each distance, the
     cells in range of each cell."""
 
-    def __init__(self, gridmap, bounce="previous"):
-        super().__init__(gridmap, bounce)
+    def __init__(self, gridmap, bounce="previous", rewards=CHAPTER):
+        super().__init__(gridmap, bounce, rewards)
         self.n_rows = gridmap.n_rows
         self.occupant = [NOBODY] * self.n_cells  # the acting agents by cell during a step
         first, near = rules.in_range_lists(gridmap.next_cell, gridmap.shared_goal)
@@ -70,14 +70,14 @@ class IndexedWorld(World):
         cells, rewards, reached, collisions)."""
         n = len(cells)
         new = [c if d else self.next_cell[c][a] for c, d, a in zip(cells, done, actions)]
-        rewards = [CHAPTER.bump if not d and m == c else 0.0 for c, d, m in zip(cells, done, new)]
+        rewards = [self.move_reward(c, d, m) for c, d, m in zip(cells, done, new)]
         aiming = self.index(cells, done, actions)
         collided, queue, back = [False] * n, [], self.bounced(cells)
         collisions = 0
 
         def collide(i, j):
-            rewards[i] += CHAPTER.collision
-            rewards[j] += CHAPTER.collision
+            rewards[i] += self.rewards.collision
+            rewards[j] += self.rewards.collision
             for k in (i, j):
                 if not collided[k]:
                     collided[k] = True
@@ -111,10 +111,7 @@ class IndexedWorld(World):
             first = last
         self.clear(cells, done)
         reached = [not d and m in self.goals[i] for i, (d, m) in enumerate(zip(done, new))]
-        for i in range(n):
-            if reached[i]:
-                rewards[i] += CHAPTER.goal
-        return new, rewards, reached, collisions
+        return new, [self.settle(r, hit, arrived) for r, hit, arrived in zip(rewards, collided, reached)], reached, collisions
 
     def nearest(self, cells, acting, i):
         """(nearest other acting agent, its distance) of acting agent i, the lowest number among
@@ -229,14 +226,14 @@ def two_observe(world, workload, rnd):
 
 REFERENCES = {"independent": independent, "two_observe": two_observe, "two_observe_rule": two_observe}
 """The learners with a reference here, by registry name. CQ-learning and sparse MAQ have
-all-pairs references in benchmarks.python_gridworld; theirs go here once their kernels step
+all-pairs references in glamas.plain.gridworld; theirs go here once their kernels step
 through the index."""
 
 
 def prepare(workload, rnd):
     """The run's world and its step (tables, GLAs drawn from ``rnd``, the index's lists): what
     :func:`run` does before the episodes."""
-    world = IndexedWorld(workload.gridmap(), workload.bounce)
+    world = IndexedWorld(workload.gridmap(), workload.bounce, workload.rewards)
     return world, REFERENCES[workload.learner](world, workload, rnd)
 
 
