@@ -8,7 +8,8 @@ import numpy as np
 from glamas.experiments.scaling.analysis import final_with_band
 from glamas.experiments.scaling.experiment import ScalingConfig, ScalingResult, label
 from glamas.learners.spec import BYTES_PER_VALUE
-from glamas.plotting import greedy_legend_entry, learner_style, legend_right, mark_greedy, plot_mean_band
+from glamas.plotting import (data_bounds, greedy_legend_entry, learner_style, legend_right, mark_greedy,
+                             plot_mean_band)
 from glamas.errors import UserError
 
 
@@ -103,6 +104,8 @@ def plot_greedy(ax, result: ScalingResult, metric: str, legend: bool = True):
                     linewidth=1.2, label=label(method), **learner_style(method, marker=True))
     _agents_axis(ax, result)
     ax.set_ylabel(GREEDY_LABELS[metric])
+    if metric == "completion":
+        data_bounds(ax, (0.0, 1.0))
     if legend:
         legend_right(ax)
 
