@@ -5,7 +5,8 @@ from glamas.experiments import gridworld
 
 
 def main(argv=None):
-    with figures.figure(gridworld.EXPERIMENT, "fig12a", __doc__, argv) as (ax, result, config):
+    with figures.figure(gridworld.EXPERIMENT, "fig12a", __doc__, argv,
+                        claims=gridworld.curve_collision_claims()) as (ax, result, config):
         gridworld.plot_collisions(ax, result, gridworld.optimum(config))
 
 

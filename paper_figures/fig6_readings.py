@@ -9,12 +9,17 @@ from glamas import errors, figures
 from glamas.experiments import state_encoding
 
 
+BOX_WORDS = {"fig5": "box L of Fig. 5 for every encoding", "two": "box L = 2 for every encoding",
+             "input_range": "box L scaled with each encoding's largest input"}
+"""Each reading of the box (glamas.experiments.state_encoding.BOX_READINGS) in words."""
+
+
 def main(argv=None):
     with figures.figure(state_encoding.FIG6_READINGS, "fig6_readings", __doc__, argv, size=(11.0, 4.0),
                         ncols=2) as (axes, readings, _):
         for ax, (box, results) in zip(axes, readings.items()):
             state_encoding.plot_expected_curves(ax, results)
-            ax.set_title(f"box: {box}", fontsize="medium")
+            ax.set_title(BOX_WORDS[box], fontsize="medium")
 
 
 if __name__ == "__main__":

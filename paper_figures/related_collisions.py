@@ -5,7 +5,8 @@ from glamas.experiments import gridworld, related_work
 
 
 def main(argv=None):
-    with figures.figure(related_work.EXPERIMENT, "related_collisions", __doc__, argv) as (ax, result, config):
+    with figures.figure(related_work.EXPERIMENT, "related_collisions", __doc__, argv,
+                        size=(6.0, 5.0)) as (ax, result, config):
         related_work.plot_curve(ax, result, config, gridworld.plot_collisions)
 
 

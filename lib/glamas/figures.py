@@ -27,15 +27,17 @@ from glamas.experiments.registry import Experiment
 
 @contextlib.contextmanager
 def figure(experiment: Experiment, name: str, description: str, argv=None, size: tuple = (6.0, 4.0), *,
-           nrows: int = 1, ncols: int = 1, min_runs: int = 1):
+           nrows: int = 1, ncols: int = 1, min_runs: int = 1, claims: list = ()):
     """Figure ``name`` drawn from ``experiment``: parses ``argv`` (:func:`parse`; ``description``
     is the script's docstring), loads or runs the experiment (:func:`load_or_run`), yields
     ``(axes, result, config)`` to draw on (the axes of :func:`glamas.plotting.new_figure` for
-    ``size`` in inches, ``nrows`` by ``ncols``), then saves the figure to --out."""
+    ``size`` in inches, ``nrows`` by ``ncols``), then saves the figure to --out. ``claims``
+    (glamas.claims.Claim) are judged on this figure: their levels must be drawn
+    (:func:`glamas.plotting.shows_claims`)."""
     with errors.reported():
         args, config = parse(description, experiment, argv, min_runs)
         result = load_or_run(args, experiment, config)
-        with _saved(name, args.out, size, nrows, ncols) as axes:
+        with _saved(name, args.out, size, nrows, ncols, claims) as axes:
             yield axes, result, config
 
 
@@ -104,11 +106,13 @@ def fixed_figure(name: str, description: str, argv=None, size: tuple = (6.0, 4.0
 
 
 @contextlib.contextmanager
-def _saved(name: str, out, size: tuple, nrows: int, ncols: int):
-    """New axes; once drawn, the figure saved as ``name`` (PNG and PDF) in ``out`` and the paths
-    printed. The figure is closed in any case: a script's ``main`` may be called many times."""
+def _saved(name: str, out, size: tuple, nrows: int, ncols: int, claims: list = ()):
+    """New axes (of a figure showing ``claims``); once drawn, the figure saved as ``name`` (PNG and
+    PDF) in ``out`` and the paths printed. The figure is closed in any case: a script's ``main``
+    may be called many times."""
     matplotlib.use("Agg")  # into files, never on a screen; here, not at import: notebooks import the experiments
     fig, axes = plotting.new_figure(*size, nrows=nrows, ncols=ncols)
+    plotting.shows_claims(fig, claims)
     try:
         yield axes
         for path in plotting.save_figure(fig, out, name):

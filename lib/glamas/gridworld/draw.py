@@ -82,7 +82,8 @@ def _draw_indices(ax, rows: int, cols: int):
 
 
 def draw_paths(ax, gridmap: GridMap, cells: np.ndarray, numbered: bool = False, wait_label: str | None = None):
-    """The agents' cells over an episode (array (n_steps + 1, n_agents)) as offset polylines.
+    """The agents' cells over an episode (array (n_steps + 1, n_agents)) as offset polylines, a dot
+    on each cell passed through (none on a start or a goal, which their disc and letter mark).
 
     ``numbered``: the step at which each agent enters each cell next to it (a range "5-6" where it
     stays, the entry step alone in its goal), each agent's numbers in a corner of its own
@@ -94,8 +95,10 @@ def draw_paths(ax, gridmap: GridMap, cells: np.ndarray, numbered: bool = False, 
         offset = 0.12 * (agent - (n - 1) / 2)
         colour = agent_colour(agent)
         points = np.array([gridmap.row_col(int(c)) for c in cells[:, agent]], dtype=float)
+        # a dot on each cell passed through; the starts' discs and the goals' letters mark their own cells
+        passed = [t for t, c in enumerate(cells[:, agent]) if c not in gridmap.starts and not gridmap.is_goal[c]]
         ax.plot(points[:, 1] + 0.5 + offset, points[:, 0] + 0.5 + offset, marker="o", markersize=3,
-                color=colour, linewidth=1.5, zorder=4, label=f"agent {agent + 1}")
+                markevery=passed, color=colour, linewidth=1.5, zorder=4, label=f"agent {agent + 1}")
         stays = _stays(cells[:, agent])
         if numbered:
             _number_steps(ax, gridmap, stays, agent, colour)
@@ -115,7 +118,10 @@ def _stays(path: np.ndarray) -> list[tuple[int, int, int]]:
 
 
 _NUMBER_CORNERS = ((0.2, 0.22), (0.78, 0.8), (0.78, 0.22), (0.2, 0.8))
-"""Where in a cell agents 1 to 4 write their step numbers (x, y from the upper left)."""
+"""In which corner of a cell agents 1 to 4 write their step numbers (x, y from the upper left)."""
+INSET = 0.05
+"""How far (a share of a cell) step numbers stand from their corner's edges: in the corner, clear
+of the path through the cell's middle, the letter of a goal and the ring of a wait."""
 
 
 def _number_steps(ax, gridmap, stays, agent, colour):
@@ -130,7 +136,8 @@ def _number_steps(ax, gridmap, stays, agent, colour):
         visits.setdefault(cell, []).append(str(first) if once else f"{first}-{last}")
     for cell, labels in visits.items():
         r, c = gridmap.row_col(cell)
-        ax.text(c + dx, r + dy, ", ".join(labels), ha="center", va="center", fontsize=6, color=colour,
+        ax.text(c + (INSET if dx < 0.5 else 1 - INSET), r + (INSET if dy < 0.5 else 1 - INSET), ", ".join(labels),
+                ha="left" if dx < 0.5 else "right", va="top" if dy < 0.5 else "bottom", fontsize=6, color=colour,
                 fontweight="bold", zorder=6, path_effects=ON_LINES)
 
 
@@ -139,7 +146,7 @@ def _mark_waits(ax, gridmap, stays, agent, offset, label):
     waits = [cell for first, last, cell in stays if last > first and not gridmap.is_goal_of(agent, cell)]
     for k, cell in enumerate(waits):
         r, c = gridmap.row_col(cell)
-        ax.plot(c + 0.5 + offset, r + 0.5 + offset, marker="o", markersize=13, markerfacecolor="none",
+        ax.plot(c + 0.5 + offset, r + 0.5 + offset, marker="o", markersize=11, markerfacecolor="none",
                 markeredgecolor="black", markeredgewidth=1.5, linestyle="none", zorder=5,
                 label=label if k == 0 else None)
 

@@ -5,7 +5,7 @@ import numpy as np
 
 from glamas.experiments.and_network.analysis import stuck_runs, wilson_interval
 from glamas.experiments.and_network.experiment import ANDNetworkConfig, ANDNetworkResult, SweepResult, left_map
-from glamas.plotting import legend_below
+from glamas.plotting import data_bounds, legend_below
 
 
 def plot_parabola(ax, config: ANDNetworkConfig):
@@ -67,12 +67,16 @@ def plot_prob_left(ax, result: ANDNetworkResult):
 
 
 def plot_stuck_fraction(ax, result: SweepResult):
-    """Fraction of runs stuck in 'R everywhere' against region II's reward, with 95 % Wilson bands."""
+    """Fraction of runs stuck in 'R everywhere' against region II's reward (the rewards swept
+    labelled), with 95 % Wilson intervals over the runs, the legend saying so."""
     n = result.stuck.shape[1]
     fractions = result.stuck.mean(axis=1)
     low, high = wilson_interval(fractions, n)
     ax.errorbar(result.reward_outside, fractions, yerr=[fractions - low, high - fractions],
-                marker="o", capsize=3)
+                marker="o", capsize=3, label=f"fraction of the {n} runs; bars: its 95 % Wilson interval")
+    ax.set_xticks(result.reward_outside, [f"{reward:g}" for reward in result.reward_outside])
     ax.set_xlabel("reward of (R, R) in region II")
     ax.set_ylabel("fraction of runs stuck in 'R everywhere'")
     ax.set_ylim(-0.02, 1.02)
+    data_bounds(ax, (0.0, 1.0))
+    ax.legend(loc="upper left", fontsize="small")

@@ -17,7 +17,7 @@ from glamas.experiments.faces import plots_on_first_use
 from glamas.experiments.registry import Experiment, register
 from glamas.paths import RESULTS
 
-PLOTS = ("plot_table", "plot_curves", "plot_optimum", "plot_plan", "plot_budgets", "map_panels")
+PLOTS = ("plot_table", "plot_curves", "plot_optimum", "plot_plan", "plot_budgets", "map_panels", "map_title")
 """The drawing functions of :mod:`.plots` this face hands on."""
 __getattr__ = plots_on_first_use(__name__, PLOTS)
 

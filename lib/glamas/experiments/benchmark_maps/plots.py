@@ -3,20 +3,31 @@ policies against the optimum, the learning curves on every map, the maps with th
 episodes and plans, and the budget axis."""
 
 import numpy as np
+from matplotlib.ticker import NullLocator
 
 from glamas.experiments.benchmark_maps.analysis import excess_grid, measure
 from glamas.experiments.benchmark_maps.budgets import BudgetsResult, solved_counts
 from glamas.experiments.benchmark_maps.experiment import BenchmarkResult
 from glamas.experiments.gridworld.analysis import COMPLETION
+from glamas.experiments.scaling.plots import CURVE_LABELS
 from glamas.gridworld import draw, plans
 from glamas.gridworld.rewards import CHAPTER, PRESETS
 from glamas.learners import registry
-from glamas.plotting import greedy_legend_entry, learner_style, legend_below_figure, mark_greedy, plot_mean_band
+from glamas.plotting import (data_bounds, greedy_legend_entry, learner_style, legend_below_figure, mark_greedy,
+                             plot_mean_band)
 
-BUDGET_SHIFT = 0.06
-"""How far apart (in maps) the budget figure draws learners that solve as many maps."""
+BUDGET_SHIFT = 0.03
+"""How far apart (in decades of the budget axis) the budget figure sets the learners at one budget."""
 GREEDY_AT = 2.0
 """Where the greedy values stand: this many times the last episode, right of the curves' end."""
+MAP_TITLES = {"tunnel_to_goal": "TunnelToGoal", "tunnel_to_goal_3": "TunnelToGoal 3",
+              "tunnel_to_goal_4": "TunnelToGoal 4", "isr": "ISR", "cit": "CIT", "cmu": "CMU"}
+"""The field's maps as the literature names them; another map by its name, spaced."""
+
+
+def map_title(name: str) -> str:
+    """Map ``name`` as a reader knows it (MAP_TITLES)."""
+    return MAP_TITLES.get(name, name.replace("_", " "))
 
 
 def plot_table(ax, result: BenchmarkResult):
@@ -36,7 +47,7 @@ def plot_table(ax, result: BenchmarkResult):
             else:
                 text, colour = f"x{grid[k, j]:.2f}\n{m[f'greedy_collisions_{key}']:.2f} coll.", "black"
             ax.text(j, k, text, ha="center", va="center", fontsize="x-small", color=colour)
-    ax.set_xticks(range(len(maps)), maps, rotation=20, fontsize="small")
+    ax.set_xticks(range(len(maps)), [map_title(name) for name in maps], rotation=20, fontsize="small")
     ax.set_yticks(range(len(names)), [registry.label(name) for name in names], fontsize="small")
     under = "" if result.config.rewards == CHAPTER else f" under the {_formulation(result.config.rewards)} rewards"
     ax.set_title(f"greedy policy after {result.config.episodes} episodes{under}: episode length over the optimum's, "
@@ -69,9 +80,9 @@ def plot_curves(axes, result: BenchmarkResult, metric: str = "collisions"):
         for name in ran:
             mark_greedy(ax, x, result.evaluation(name, map_name, metric).mean(), name)
         ax.set_xlim(right=x * 1.4)
-        ax.set_title(map_name, fontsize="small")
+        ax.set_title(map_title(map_name), fontsize="small")
         ax.set_xlabel("episode", fontsize="small")
-        ax.set_ylabel(metric, fontsize="small")
+        ax.set_ylabel(CURVE_LABELS[metric], fontsize="small")
     greedy_legend_entry(np.ravel(axes)[0])
 
 
@@ -92,7 +103,7 @@ def plot_optimum(ax, result: BenchmarkResult, map_name: str):
     draw.draw_map(ax, gridmap)
     draw.draw_paths(ax, gridmap, result.optimum_episode(map_name), numbered=gridmap.n_agents <= 3)
     steps = ", ".join(str(int(s)) for s in result.optimum_steps[result.map_names().index(map_name)] if s >= 0)
-    ax.set_title(f"{map_name}: optimal steps {steps}", fontsize="small")
+    ax.set_title(f"{map_title(map_name)}: optimal steps {steps}", fontsize="small")
 
 
 def plot_plan(ax, result: BenchmarkResult, map_name: str):
@@ -104,27 +115,32 @@ def plot_plan(ax, result: BenchmarkResult, map_name: str):
     draw.draw_map(ax, gridmap)
     if cost["steps"] is None:
         bound_cost, bound_makespan = plans.lower_bounds(gridmap)
-        ax.set_title(f"{map_name}: too large for an exact plan\n(lower bounds: sum of costs {bound_cost}, "
-                     f"makespan {bound_makespan})", fontsize="small")
+        ax.set_title(f"{map_title(map_name)}: too large for an exact plan\n(lower bounds: sum of costs "
+                     f"{bound_cost}, makespan {bound_makespan})", fontsize="small")
         return
     draw.draw_paths(ax, gridmap, result.plan_episode(map_name), numbered=gridmap.n_agents <= 3)
     other = ("the same plan" if span["steps"] == cost["steps"] else
              f"steps {', '.join(map(str, span['steps']))}, sum of costs {span['sum_of_costs']}")
-    ax.set_title(f"{map_name}: least sum of costs {cost['sum_of_costs']} (steps {', '.join(map(str, cost['steps']))})"
-                 f"\nleast makespan {span['makespan']}: {other}", fontsize="small")
+    ax.set_title(f"{map_title(map_name)}: least sum of costs {cost['sum_of_costs']} "
+                 f"(steps {', '.join(map(str, cost['steps']))})\nleast makespan {span['makespan']}: {other}",
+                 fontsize="small")
 
 
 def plot_budgets(axes, result: BudgetsResult):
     """One panel per formulation of a budget axis (:mod:`.budgets`): the maps each learner's greedy
-    policy solves (a collision-free solution) after each budget of training episodes, each
-    learner's line shifted by a multiple of BUDGET_SHIFT."""
+    policy solves (a collision-free solution) after each budget of training episodes, the budgets
+    labelled as run; the learners set side by side at each budget (BUDGET_SHIFT), each with its
+    own marker, so that learners solving as many maps stay visible and every count stays whole."""
     names = list(map(str, result.learners))
     for ax, formulation in zip(np.ravel(axes), map(str, result.formulations)):
         for k, (name, counts) in enumerate(zip(names, solved_counts(result, formulation))):
-            shift = (k - (len(names) - 1) / 2) * BUDGET_SHIFT  # so that equal counts stay visible
-            ax.plot(result.budgets, counts + shift, marker="o", label=registry.label(name), **learner_style(name))
+            shift = 10.0 ** ((k - (len(names) - 1) / 2) * BUDGET_SHIFT)
+            ax.plot(result.budgets * shift, counts, label=registry.label(name), **learner_style(name, marker=True))
         ax.set_xscale("log")
+        ax.set_xticks(result.budgets, [f"{budget:,}" for budget in result.budgets])
+        ax.xaxis.set_minor_locator(NullLocator())  # the budgets alone
         ax.set_ylim(-0.3, result.maps.size + 0.3)
+        data_bounds(ax, (0, result.maps.size))
         ax.set_xlabel("training episodes per run", fontsize="small")
         ax.set_ylabel(f"maps solved (of {result.maps.size})", fontsize="small")
         ax.set_title(f"the {formulation}'s formulation: greedy policy collision-free and completing "

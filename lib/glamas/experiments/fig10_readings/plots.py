@@ -4,6 +4,7 @@ coordinate at each distance, and the final collisions, reading by reading."""
 import numpy as np
 
 from glamas.experiments.fig10_readings.experiment import READINGS
+from glamas.experiments.gridworld.plots import collision_levels
 from glamas.plotting import GREEDY_LABEL, legend_below
 
 
@@ -50,17 +51,26 @@ def plot_coordination(ax, rows: list[dict]):
 
 
 def plot_collisions(ax, rows: list[dict]):
-    """Final collisions per episode under each reading (log axis), against the chapter's "zero
-    collisions" (at most one per 20 episodes, the claim's threshold), and the greedy policy's after
-    training (black diamonds; at the axis' left edge where none collided)."""
+    """Final collisions per episode under each reading (a dot in the reading's colour, on a log
+    axis: no bar, whose length a log axis would measure from an arbitrary floor), against the
+    chapter's "zero collisions" (at most one per 20 episodes, the claim's level), and the greedy
+    policy's after training (diamonds; a left-pointing triangle at the axis' left edge where it
+    never collided, which a log axis cannot place)."""
     y = np.arange(len(rows))[::-1]
-    ax.barh(y, [row["collisions"] for row in rows], color=[_colour(row) for row in rows])
+    ax.scatter([row["collisions"] for row in rows], y, c=[_colour(row) for row in rows], s=60, zorder=3,
+               label="final collisions per episode while learning")
     greedy = np.array([row["greedy_collisions"] for row in rows])
-    left = min([row["collisions"] for row in rows] + list(greedy[greedy > 0])) / 3
-    ax.plot(np.maximum(greedy, left), y, "D", color="white", markeredgecolor="black", linestyle="none",
+    ax.plot(greedy[greedy > 0], y[greedy > 0], "D", color="white", markeredgecolor="black", linestyle="none",
             label=GREEDY_LABEL)
-    ax.set_yticks(y, [_label(k, row) for k, row in enumerate(rows)], fontsize="small")
-    ax.axvline(0.05, color="black", linestyle="--", linewidth=1, label="zero collisions (claim: <= 0.05)")
     ax.set_xscale("log")
+    if (greedy == 0).any():
+        edge = ax.get_xlim()[0]
+        ax.plot(np.full((greedy == 0).sum(), edge), y[greedy == 0], "<", color="white",
+                markeredgecolor="black", linestyle="none", clip_on=False, label="greedy policy: no collision")
+        ax.set_xlim(left=edge)
+    ax.set_yticks(y, [_label(k, row) for k, row in enumerate(rows)], fontsize="small")
+    ax.grid(axis="y", color="0.9", linewidth=0.8)
+    level, = collision_levels()
+    ax.axvline(level, color="black", linestyle="--", linewidth=1, label=f"zero collisions (claim: <= {level:g})")
     ax.set_xlabel("final collisions per episode")
     legend_below(ax, ncols=1)

@@ -6,8 +6,8 @@ from pathlib import Path
 
 from glamas.experiments.faces import plots_on_first_use
 from glamas.experiments.gridworld.analysis import (claim_rows, convergence_comparison, convergence_report,
-                                                   convergence_spread, coordination_probability, evaluation_table,
-                                                   in_range_share,
+                                                   convergence_spread, coordination_probability, curve_collision_claims,
+                                                   evaluation_table, in_range_share,
                                                    measure, need_probability, optimum, state_action_spaces,
                                                    state_action_table, stuck_by_start, summary_table, with_learner,
                                                    zero_collisions_table)
@@ -17,12 +17,13 @@ from glamas.experiments.registry import Experiment, register
 from glamas.paths import RESULTS
 
 PLOTS = ("plot_steps", "plot_reward", "plot_collisions", "plot_coordinations", "plot_feedback_table",
-         "plot_coordination_probability", "step_ticks")
+         "plot_coordination_probability", "step_ticks", "collision_levels")
 """The drawing functions of :mod:`.plots` this face hands on."""
 __getattr__ = plots_on_first_use(__name__, PLOTS)
 
 __all__ = ["CHAPTER_LEARNERS", "EXPERIMENT", "GridworldConfig", "GridworldResult", "claim_rows", "convergence_comparison",
-           "convergence_report", "convergence_spread", "coordination_probability", "evaluation_table", "in_range_share",
+           "convergence_report", "convergence_spread", "coordination_probability", "curve_collision_claims",
+           "evaluation_table", "in_range_share",
            "learner_bytes", "load", "measure", "need_probability", "optimum", "result_of",
            "run", "seed_of", "state_action_spaces", "state_action_table", "stuck_by_start", "summary_table", "trainings",
            "with_learner", "zero_collisions_table", *PLOTS]

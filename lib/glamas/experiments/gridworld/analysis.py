@@ -22,6 +22,9 @@ from glamas.portable import weighted_sum
 ZERO_COLLISIONS = 0.05
 """The learning curves' "zero collisions": at most one collision per 20 episodes. Exploration
 keeps a learner that has found a collision-free path colliding now and then."""
+CURVE_COLLISION_CLAIMS = ("mmdp_no_collisions", "two_observe_no_collisions")
+"""The claims of zero collisions judged on Fig. 12a's learning curves, at a level of collisions per
+episode (their threshold in data/chapter/section5.json)."""
 ZERO_COLLISION_LEVELS = (0.02, 0.05, 0.1)
 """The levels of "zero collisions" the notebook shows the fast-to-zero claims at."""
 COMPLETION = 0.95
@@ -31,6 +34,11 @@ not, has found no solution."""
 SATURATED = 1e-3
 """A GLA is saturated at a distance when its less likely choice has probability below this:
 eq. 13's gradient, proportional to that probability, has all but vanished there."""
+
+
+def curve_collision_claims() -> list[chapter.Claim]:
+    """The claims of CURVE_COLLISION_CLAIMS as data/chapter holds them (their level: ``threshold``)."""
+    return [claim for claim in chapter.load("gridworld") if claim.id in CURVE_COLLISION_CLAIMS]
 
 
 def measure(result: GridworldResult) -> dict:

@@ -4,12 +4,13 @@ GLAs learned, each drawn on a given matplotlib Axes in the styles of :mod:`glama
 import numpy as np
 from matplotlib.ticker import MaxNLocator, NullFormatter
 
-from glamas.experiments.gridworld.analysis import coordination_probability, first_level_settings, need_probability
+from glamas.experiments.gridworld.analysis import (coordination_probability, curve_collision_claims,
+                                                   first_level_settings, need_probability)
 from glamas.experiments.gridworld.experiment import GridworldConfig
 from glamas.gridworld import dp
 from glamas.learners import registry
-from glamas.plotting import (drawn_underneath, greedy_legend_entry, legend_below, learner_style, mark_greedy,
-                             plot_mean_band)
+from glamas.plotting import (draw_claim_level, drawn_underneath, greedy_legend_entry, legend_below, learner_style,
+                             mark_greedy, plot_mean_band)
 
 
 def _line_style(name: str) -> dict:
@@ -106,13 +107,9 @@ def _plot_step_tail(ax, result, optimum, ticks):
     """An inset in the empty upper right (every curve is below twice the shortest path there): the
     steps from TAIL_FROM on, on a linear steps axis at ``ticks``, its range widened to every curve
     where a learner that fails on another map stays far above them (then at round ticks)."""
-    tail = ax.inset_axes([0.5, 0.4, 0.47, 0.5])
-    keep = result.episodes >= TAIL_FROM
-    for name in sorted(result.names(), key=lambda name: not drawn_underneath(name)):
-        plot_mean_band(tail, result.episodes[keep], result.steps(name)[:, keep], registry.label(name), **_line_style(name))
+    tail, keep = _tail(ax, result, result.steps, [0.5, 0.35, 0.47, 0.48])
     if optimum is not None:
         tail.axhline(optimum["steps"], color="black", linestyle="--", linewidth=1)
-    tail.set_xscale("log")
     means = [result.steps(name)[:, keep].mean(axis=0) for name in result.names()]
     low, high = min(ticks[0], *(m.min() for m in means)), max(*(m.max() for m in means))
     if high <= ticks[-1] + 2:
@@ -122,8 +119,20 @@ def _plot_step_tail(ax, result, optimum, ticks):
         tail.yaxis.set_major_locator(MaxNLocator(nbins=5, integer=True))
         tail.set_ylim(low - 0.5, high * 1.05)
     tail.grid(axis="y", linewidth=0.4, color="0.85")
-    tail.tick_params(labelsize="x-small")
     tail.set_title(f"from episode {TAIL_FROM}, steps on a linear axis", fontsize="x-small")
+
+
+def _tail(ax, result, curves, box) -> tuple:
+    """An inset of ``ax`` at ``box`` (axes fractions; clear of a value written under the top edge,
+    glamas.plotting.mark_greedy): each learner's ``curves(name)`` from episode TAIL_FROM on (mean
+    and band over runs) on a log axis of episodes. Returns the inset and the episodes it shows."""
+    tail = ax.inset_axes(box)
+    keep = result.episodes >= TAIL_FROM
+    for name in sorted(result.names(), key=lambda name: not drawn_underneath(name)):
+        plot_mean_band(tail, result.episodes[keep], curves(name)[:, keep], registry.label(name), **_line_style(name))
+    tail.set_xscale("log")
+    tail.tick_params(labelsize="x-small")
+    return tail, keep
 
 
 def plot_reward(ax, result, optimum=None):
@@ -134,10 +143,38 @@ def plot_reward(ax, result, optimum=None):
 
 
 def plot_collisions(ax, result, optimum=None):
-    """Fig. 12a: agent-agent collisions per episode."""
+    """Fig. 12a: agent-agent collisions per episode, with the level the claims of zero collisions
+    are judged at (:func:`collision_levels`); from episode TAIL_FROM on, zoomed in an inset on a
+    linear axis a few times that level high, where a curve's place against the level shows."""
     _plot_learners(ax, result, lambda name: result.curves(name, "collisions"), "collisions per episode",
                    None if optimum is None else optimum["collisions"])
+    levels = collision_levels()
+    for level in levels:
+        draw_claim_level(ax, level, f"zero collisions, the claims' level: <= {level:g}")
     _finish(ax, result, "collisions")
+    if result.episodes[-1] >= TAIL_FROM:
+        _plot_collision_tail(ax, result, levels)
+
+
+def collision_levels() -> list[float]:
+    """The levels of collisions per episode the claims of zero collisions are judged at, read from
+    data/chapter (glamas.experiments.gridworld.analysis.curve_collision_claims)."""
+    return sorted({claim.threshold for claim in curve_collision_claims()})
+
+
+LEVEL_ZOOM = 4.0
+"""Fig. 12a's inset reaches this many times the claims' level: room above it for a curve that misses it."""
+
+
+def _plot_collision_tail(ax, result, levels):
+    """An inset in the empty upper right: the collisions from TAIL_FROM on, on a linear axis from 0
+    to LEVEL_ZOOM times the highest level, with the levels; a curve above the inset's top (the
+    independent learners' three collisions) leaves it."""
+    tail, _ = _tail(ax, result, lambda name: result.curves(name, "collisions"), [0.5, 0.4, 0.47, 0.45])
+    for level in levels:
+        draw_claim_level(tail, level, None)
+    tail.set_ylim(-0.05 * LEVEL_ZOOM * max(levels), LEVEL_ZOOM * max(levels))
+    tail.set_title(f"from episode {TAIL_FROM}, collisions up to {LEVEL_ZOOM * max(levels):g}", fontsize="x-small")
 
 
 CHAPTER_COORDINATIONS = 4.0
@@ -182,7 +219,7 @@ def plot_feedback_table(ax, config: GridworldConfig):
     table = ax.table(cellText=cells, rowLabels=["act alone", "coordinate"],
                      colLabels=[f"no need ({no_need})", f"need ({need})"], loc="center", cellLoc="center")
     table.scale(1, 2)
-    ax.set_title(f"Fig. 10, reconstructed: 2observe's GLA feedback (need = {settings.gla_need})", fontsize="medium")
+    ax.set_title("Fig. 10, reconstructed: 2observe's GLA feedback", fontsize="medium")
 
 
 def plot_coordination_probability(ax, result, config: GridworldConfig):
@@ -198,7 +235,7 @@ def plot_coordination_probability(ax, result, config: GridworldConfig):
     ax.step(deltas, (deltas <= 2).astype(float), where="mid", color="black", linestyle="--",
             label="coordinate when delta <= 2 (could collide)")
     ax.plot(deltas, need_probability(result)[1:], "s:", color="tab:gray",
-            label=f"P(need | delta), observed ({first_level_settings(config).gla_need})")
+            label=f"P(need | delta), observed (need: {NEED_LABELS[first_level_settings(config).gla_need][1]})")
     ax.set_xlabel("delta (Manhattan distance between the agents)")
     ax.set_ylabel("probability")
     ax.set_ylim(-0.03, 1.03)

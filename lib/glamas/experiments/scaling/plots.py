@@ -8,7 +8,8 @@ import numpy as np
 from glamas.experiments.scaling.analysis import final_with_band
 from glamas.experiments.scaling.experiment import ScalingConfig, ScalingResult, label
 from glamas.learners.spec import BYTES_PER_VALUE
-from glamas.plotting import greedy_legend_entry, learner_style, legend_right, mark_greedy, plot_mean_band
+from glamas.plotting import (data_bounds, greedy_legend_entry, learner_style, legend_right, mark_greedy,
+                             plot_mean_band)
 from glamas.errors import UserError
 
 
@@ -19,6 +20,11 @@ COINCIDE = 1.1
 on a log axis: :func:`plot_sizes` sets them side by side and says so."""
 DODGE = 0.1
 """Horizontal distance, in agents, between methods drawn side by side at one N."""
+OFF_SCALE_DECADES = 20
+""":func:`plot_sizes`' axis reaches this many decades above the most any learner that ran stores
+(or the workstation's memory, if more); a skipped learner's table beyond it (10^85 values) is an
+open triangle at the axis' top, its size in the legend: drawn at its value, it would squeeze every
+learner that ran into the bottom of the axis."""
 
 
 def plot_sizes(ax, result: ScalingResult, config: ScalingConfig | None = None, legend: bool = True):
@@ -28,24 +34,38 @@ def plot_sizes(ax, result: ScalingResult, config: ScalingConfig | None = None, l
     Methods that store nearly the same (within COINCIDE) are drawn side by side, with a note."""
     params = result.parameters()
     shifts, groups = _coinciding_shifts(params)
+    workstation = MACHINE_MEMORY_GIB * 2 ** 30 / BYTES_PER_VALUE
+    top = 10.0 ** OFF_SCALE_DECADES * max(workstation, params[result.ran & np.isfinite(params)].max(initial=0.0))
+    off = ~(params <= top)  # beyond the axis, or too many to count (infinite)
     for k, method in enumerate(result.names()):
         x = result.agents + shifts[k]
         ax.plot(x, params[k], "-", **learner_style(method))
         ax.plot([], [], "-", label=label(method), **learner_style(method, marker=True))  # the legend's entry
-        ok = result.ran[k]
-        ax.plot(x[ok], params[k, ok], linestyle="none", **learner_style(method, marker=True))
-        ax.plot(x[~ok], params[k, ~ok], linestyle="none", mfc="none", **learner_style(method, marker=True))
-        for n in result.agents[~np.isfinite(params[k])]:
-            digits = math.log10(math.prod(result.shape(method, n)))
-            ax.plot([], [], " ", label=f"off the axis: {label(method)}, N = {n}, about 10^{digits:.0f} values")
+        ok, shown = result.ran[k], ~off[k]
+        ax.plot(x[ok & shown], params[k, ok & shown], linestyle="none", **learner_style(method, marker=True))
+        ax.plot(x[~ok & shown], params[k, ~ok & shown], linestyle="none", mfc="none",
+                **learner_style(method, marker=True))
+        if off[k].any():
+            sizes = ", ".join(f"10^{math.log10(math.prod(result.shape(method, n))):.0f} (N = {n})"
+                              for n in result.agents[off[k]])
+            ax.plot([], [], " ", label=f"off the axis: {label(method)}, about {sizes} values")
     ax.plot([], [], "o", color="0.4", mfc="none", linestyle="none", label="open: skipped (tables computed, not run)")
-    ax.axhline(MACHINE_MEMORY_GIB * 2 ** 30 / BYTES_PER_VALUE, color="black", linestyle=":", linewidth=1,
+    ax.axhline(workstation, color="black", linestyle=":", linewidth=1,
                label=f"a {MACHINE_MEMORY_GIB} GiB workstation, one run")
     if config is not None:
         entries = config.memory_budget_gib * 2 ** 30 / BYTES_PER_VALUE / config.runs
         ax.axhline(entries, color="black", linestyle="--", linewidth=1,
                    label=f"memory budget ({config.memory_budget_gib:g} GiB for {config.runs} runs)")
     ax.set_yscale("log")
+    if np.isfinite(params[off]).any():  # a table beyond the axis: at its top, as an open triangle
+        ax.set_ylim(top=top)
+        for j, n in enumerate(result.agents):  # the methods off the axis at one N side by side
+            beyond = np.flatnonzero(off[:, j])
+            for i, k in enumerate(beyond):
+                ax.plot(n * (1 + DODGE * (i - (beyond.size - 1) / 2)), top, linestyle="none", clip_on=False,
+                        mfc="none", **{**learner_style(result.names()[k]), "marker": "^"})
+        ax.plot([], [], "^", color="0.4", mfc="none", linestyle="none",
+                label="open triangle at the top: off the axis")
     _agents_axis(ax, result)
     ax.set_ylabel("values stored per run")
     if groups:
@@ -84,6 +104,8 @@ def plot_greedy(ax, result: ScalingResult, metric: str, legend: bool = True):
                     linewidth=1.2, label=label(method), **learner_style(method, marker=True))
     _agents_axis(ax, result)
     ax.set_ylabel(GREEDY_LABELS[metric])
+    if metric == "completion":
+        data_bounds(ax, (0.0, 1.0))
     if legend:
         legend_right(ax)
 

@@ -29,7 +29,8 @@ def plot_regions(ax, region3_reward: str = "move_apart"):
 
 def plot_learned_lines(ax, result: SingleGLAResult, run_index: int, grid: int = 200):
     """Fig. 5b: each agent's learned line (u_L - u_R).x = 0 (joint context) and the most
-    probable joint action in each cell of the partition the two lines make."""
+    probable joint action in each cell of the partition the two lines make, written where the cell
+    is farthest from every line drawn and from the square's edges (so that no line crosses it)."""
     if result.config.context != "joint":
         raise UserError(f"learned lines are drawn in the (x1, x2) plane: they need the joint "
                          f"context, this result used {result.config.context!r}")
@@ -43,12 +44,17 @@ def plot_learned_lines(ax, result: SingleGLAResult, run_index: int, grid: int = 
     for agent, (name, colour) in enumerate((("A", "tab:red"), ("B", "tab:purple"))):
         w = hu[agent, 0] - hu[agent, 1]
         _draw_line(ax, w, t, colour, f"agent {name}")
+    lines = [hu[agent, 0] - hu[agent, 1] for agent in range(2)] + [
+        np.array([1.0, -1.0, c]) for offsets, _ in REFERENCE_LINES[result.config.region3_reward] for c in offsets]
+    clear = np.min([np.abs(weighted_sum(xs, w)) / np.hypot(w[0], w[1]) for w in lines]
+                   + [1 - np.abs(x1), 1 - np.abs(x2)], axis=0)  # and from the square's edges
     for left_a in (True, False):
         for left_b in (True, False):
             cell = (prefers_left[0] == left_a) & (prefers_left[1] == left_b)
             if cell.mean() > 0.02:  # label cells large enough to hold text
                 label = f"({'L' if left_a else 'R'}, {'L' if left_b else 'R'})"
-                ax.text(x1[cell].mean(), x2[cell].mean(), label, ha="center", va="center", path_effects=ON_LINES)
+                at = np.flatnonzero(cell)[np.argmax(clear[cell])]  # the cell's point farthest from every line
+                ax.text(x1[at], x2[at], label, ha="center", va="center", path_effects=ON_LINES)
     legend_below(ax, ncols=2)
     _square(ax)
 
