@@ -1,5 +1,15 @@
 """Tables for a reader: a header and rows of cells that print as aligned text in a terminal and
-render as a table in a notebook (and in the book built from the notebooks)."""
+render as a table in a notebook (and in the book built from the notebooks). A column of numbers is
+right-aligned, any other left-aligned."""
+
+import re
+
+NUMBER = re.compile(r"^(?:[<>]=? ?)?(?:[-+]?\d|[-+]?\.\d|-$|[-+]?inf|nan)", re.IGNORECASE)
+"""A cell that reads as a number, a bound (> 1000) or a number's placeholder ('-', inf, nan)."""
+
+
+def _numeric(rows, column: int) -> bool:
+    return bool(rows) and all(NUMBER.match(row[column]) for row in rows)
 
 
 def _line(cells) -> str:
@@ -8,16 +18,15 @@ def _line(cells) -> str:
 
 
 def markdown(header, rows) -> str:
-    """A Markdown table of ``rows`` under ``header``: the first column left-aligned (it names the
-    row), the others right-aligned (they hold numbers)."""
-    rule = "|---|" + "---:|" * (len(header) - 1)
+    """A Markdown table of ``rows`` (each a list of cells) under ``header``."""
+    rows = [[str(cell) for cell in row] for row in rows]
+    rule = "|" + "".join("---:|" if _numeric(rows, k) else "---|" for k in range(len(header)))
     return "\n".join([_line(header), rule, *map(_line, rows)])
 
 
 class Table(str):
     """A table that is also its text: as a string (printed, searched, split into lines) its rows
-    aligned in columns, the first left-aligned and the others right-aligned; shown as a notebook
-    cell's value, a rendered Markdown table (:func:`markdown`)."""
+    aligned in columns; shown as a notebook cell's value, a rendered Markdown table (:func:`markdown`)."""
 
     header: list[str]
     rows: list[list[str]]
@@ -28,9 +37,10 @@ class Table(str):
         if any(len(row) != len(header) for row in rows):
             raise ValueError(f"every row of a table needs {len(header)} cells, one per column")
         widths = [max(map(len, column)) for column in zip(header, *rows)]
+        right = [_numeric(rows, k) for k in range(len(header))]
         text = "\n".join(
-            "  ".join(cell.ljust(width) if i == 0 else cell.rjust(width)
-                      for i, (cell, width) in enumerate(zip(row, widths))).rstrip()
+            "  ".join(cell.rjust(width) if numeric else cell.ljust(width)
+                      for cell, width, numeric in zip(row, widths, right)).rstrip()
             for row in [header, *rows])
         table = super().__new__(cls, text)
         table.header, table.rows = header, rows
