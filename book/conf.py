@@ -11,6 +11,7 @@ external_toc_path = "book/_toc.yml"
 include_patterns = ["README.md", "notebooks/*.ipynb", "docs/*.md"]
 
 nb_execution_mode = "off"  # the committed outputs, from the paper-scale runs
+nb_render_markdown_format = "gfm"  # Markdown outputs hold tables (verdicts, measurements)
 myst_heading_anchors = 6  # the pages link to headings by GitHub's anchors (#the-tests-time)
 
 html_theme = "sphinx_book_theme"

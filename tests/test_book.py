@@ -2,7 +2,8 @@
 book/_toc.yml is built, every relative link, image, script and style sheet of every page reaches a
 file of the site (and its #anchor an element of that page), every notebook page shows each image
 its notebook's outputs hold, and in a real browser (headless chromium, where installed) every image
-of the front page and of a notebook's page loads.
+of the front page and of a notebook's page loads. Every Markdown table of a notebook, in its cells
+and its outputs, is rendered as a table.
 
 `make book-check` runs this file (`make test` leaves it out: the book is built in an environment
 of its own, .venv-book, made on first use)."""
@@ -32,7 +33,7 @@ class _Page(HTMLParser):
 
     def __init__(self):
         super().__init__()
-        self.targets, self.ids, self.images = [], set(), []
+        self.targets, self.ids, self.images, self.tables = [], set(), [], 0
 
     def handle_starttag(self, tag, attrs):
         attrs = dict(attrs)
@@ -42,6 +43,7 @@ class _Page(HTMLParser):
                 self.targets.append(attrs[key])
         if tag == "img" and attrs.get("src"):
             self.images.append(attrs["src"])
+        self.tables += tag == "table"
 
 
 def _parse(path: Path) -> _Page:
@@ -87,6 +89,20 @@ def output_images(notebook: Path) -> int:
                for cell in cells for output in cell.get("outputs", []))
 
 
+RULE = re.compile(r"^\|(?:\s*:?-+:?\s*\|)+\s*$", re.MULTILINE)
+"""The rule under a Markdown table's header."""
+
+
+def markdown_tables(notebook: Path) -> int:
+    """How many Markdown tables ``notebook`` holds: in its Markdown cells and its Markdown outputs
+    (the verdict tables and glamas.tables)."""
+    cells = json.loads(notebook.read_text())["cells"]
+    texts = ["".join(cell["source"]) for cell in cells if cell["cell_type"] == "markdown"]
+    texts += ["".join(output["data"]["text/markdown"]) for cell in cells for output in cell.get("outputs", [])
+              if "text/markdown" in output.get("data", {})]
+    return sum(len(RULE.findall(text)) for text in texts)
+
+
 @pytest.fixture(scope="module")
 def site(tmp_path_factory) -> Path:
     """The book as `make book` builds it (any Sphinx warning fails the build)."""
@@ -119,6 +135,12 @@ def test_every_notebook_page_shows_its_images(site):
                for p in sorted((REPO / "notebooks").glob("*.ipynb"))
                if shown[f"notebooks/{p.stem}"] < output_images(p)]
     assert missing == []
+
+
+def test_every_markdown_table_of_a_notebook_is_rendered_as_a_table(site):
+    shown = {p.stem: _parse(site / "notebooks" / f"{p.stem}.html").tables for p in (REPO / "notebooks").glob("*.ipynb")}
+    assert [f"{p.stem}: {shown[p.stem]} of {markdown_tables(p)}" for p in sorted((REPO / "notebooks").glob("*.ipynb"))
+            if shown[p.stem] < markdown_tables(p)] == []
 
 
 def test_the_link_checker_finds_what_is_broken(tmp_path):
