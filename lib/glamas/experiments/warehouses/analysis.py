@@ -14,6 +14,7 @@ import numpy as np
 from glamas.curves import mean_and_band
 from glamas.experiments.warehouses.experiment import HIGH_ISR, WarehousesResult
 from glamas.learners import registry
+from glamas.tables import Table
 
 PLAN_COLUMNS = ("sum_of_costs", "makespan", "bound_sum_of_costs", "bound_makespan")
 """The columns of ``WarehousesResult.plans``."""
@@ -89,21 +90,19 @@ COLUMNS = (("csr", "CSR", True), ("isr", "ISR", True), ("soc_ratio", "SoC / plan
 """The columns of :func:`table`: measure, heading, shown as a percentage."""
 
 
-def table(result: WarehousesResult, formulation: str) -> str:
+def table(result: WarehousesResult, formulation: str) -> Table:
     """Per N and learner (rows): the greedy policies' CSR, ISR, sum of costs and makespan over the
     plan's (completed episodes only, '-' where none completed), collisions per episode, and the
     learning curve's ISR at its end; each the mean over instances with its 95 % interval; a learner
     whose tables exceed the memory budget is marked skipped."""
-    width = max(len(registry.get(name).n_agent_label or registry.label(name)) for name in result.names()) + 9
-    lines = [f"{formulation + ' formulation':{width}s}" + "".join(f"{heading:>21s}" for _, heading, _ in COLUMNS)]
+    rows = []
     for n in result.agents.tolist():
         for learner in result.names():
-            label = f"N = {n:<4d} {registry.label(learner)}"
             found = summary(result, formulation, n, learner)
             cells = ["skipped"] + [""] * (len(COLUMNS) - 1) if found is None else \
                 [_cell(found[key], percent) for key, _, percent in COLUMNS]
-            lines.append(f"{label:{width}s}" + "".join(f"{cell:>21s}" for cell in cells).rstrip())
-    return "\n".join(lines)
+            rows.append([f"N = {n}, {registry.label(learner)}", *cells])
+    return Table([f"{formulation} formulation", *(heading for _, heading, _ in COLUMNS)], rows)
 
 
 def plans_table(result: WarehousesResult) -> str:
@@ -154,18 +153,15 @@ def _by_learner_and_n(result: WarehousesResult, formulation: str, header: str, c
 
 
 def coordination_table(result: WarehousesResult, learners: tuple = ("two_observe", "two_observe_rule",
-                                                                      "independent")) -> str:
+                                                                      "independent")) -> Table:
     """2observe's coordination in a crowd: per formulation, N and learner of ``learners``,
     coordinations per agent-step of the greedy episodes beside their ISR (the independent learners,
     which never coordinate, as the reference)."""
-    lines = [f"{'formulation':12s} {'N':>5s} " + "".join(f"{registry.label(name) + ': coord., ISR':>36s}"
-                                                          for name in learners if name in result.names())]
+    learners = [name for name in learners if name in result.names()]
+    rows = []
     for formulation in result.formulations.tolist():
         for n in result.agents.tolist():
-            cells = []
-            for learner in (name for name in learners if name in result.names()):
-                found = summary(result, formulation, n, learner)
-                cells.append("-" if found is None else
-                             f"{found['coordinations'][0]:.3f}, {found['isr'][0]:.0%}")
-            lines.append(f"{formulation:12s} {n:5d} " + "".join(f"{cell:>36s}" for cell in cells))
-    return "\n".join(lines)
+            found = [summary(result, formulation, n, learner) for learner in learners]
+            rows.append([formulation, n, *("-" if f is None else f"{f['coordinations'][0]:.3f}, {f['isr'][0]:.0%}"
+                                           for f in found)])
+    return Table(["formulation", "N", *(f"{registry.label(name)}: coord., ISR" for name in learners)], rows)
