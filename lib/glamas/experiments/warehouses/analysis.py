@@ -105,20 +105,20 @@ def table(result: WarehousesResult, formulation: str) -> Table:
     return Table([f"{formulation} formulation", *(heading for _, heading, _ in COLUMNS)], rows)
 
 
-def plans_table(result: WarehousesResult) -> str:
+def plans_table(result: WarehousesResult) -> Table:
     """Per N: the plans over the lower bounds (sum of costs and makespan, the mean over instances
     and the worst), and their mean sizes."""
-    lines = [f"{'N':>5s} {'instances':>9s} {'plan SoC':>9s} {'SoC / bound: mean':>17s} {'worst':>6s} "
-             f"{'plan makespan':>13s} {'makespan / bound: mean':>22s} {'worst':>6s}"]
+    rows = []
     for n in result.agents.tolist():
         plan = result.plan(n).astype(float)
         soc, makespan = plan[:, 0] / plan[:, 2], plan[:, 1] / plan[:, 3]
-        lines.append(f"{n:5d} {plan.shape[0]:9d} {plan[:, 0].mean():9.0f} {soc.mean():17.3f} {soc.max():6.3f} "
-                     f"{plan[:, 1].mean():13.1f} {makespan.mean():22.3f} {makespan.max():6.3f}")
-    return "\n".join(lines)
+        rows.append([n, plan.shape[0], f"{plan[:, 0].mean():.0f}", f"{soc.mean():.3f}", f"{soc.max():.3f}",
+                     f"{plan[:, 1].mean():.1f}", f"{makespan.mean():.3f}", f"{makespan.max():.3f}"])
+    return Table(["N", "instances", "plan SoC", "SoC / bound: mean", "worst", "plan makespan",
+                  "makespan / bound: mean", "worst"], rows)
 
 
-def reached_table(result: WarehousesResult, formulation: str) -> str:
+def reached_table(result: WarehousesResult, formulation: str) -> Table:
     """The budget axis: per learner and N, on how many instances the learning curve's ISR held
     HIGH_ISR over a window within the budget, and the median episodes it took there ('> budget'
     where no instance got there, '-' where the learner did not run)."""
@@ -129,7 +129,7 @@ def reached_table(result: WarehousesResult, formulation: str) -> str:
     return _by_learner_and_n(result, formulation, f"episodes to ISR >= {HIGH_ISR:.0%} ({formulation})", cell)
 
 
-def causes_table(result: WarehousesResult, formulation: str) -> str:
+def causes_table(result: WarehousesResult, formulation: str) -> Table:
     """Why agents stay out: per learner and N, the share of the agents that the last greedy episode
     leaves short of their goal, and among those the share that never reached their goal in any
     training episode (their tables hold no value from it); means over instances."""
@@ -140,16 +140,14 @@ def causes_table(result: WarehousesResult, formulation: str) -> str:
     return _by_learner_and_n(result, formulation, f"agents out / never in while learning ({formulation})", cell)
 
 
-def _by_learner_and_n(result: WarehousesResult, formulation: str, header: str, cell) -> str:
+def _by_learner_and_n(result: WarehousesResult, formulation: str, header: str, cell) -> Table:
     """A table of learners (rows) by N (columns): ``cell(index)`` of each (formulation, N, learner)
     index of the result's arrays, '-' where the learner did not run."""
-    width = max(len(header), *map(len, map(registry.label, result.names()))) + 2
-    lines = [f"{header:{width}s}" + "".join(f"{f'N = {n}':>16s}" for n in result.agents.tolist())]
-    for learner in result.names():
-        indexes = [result.index(formulation, n, learner) for n in result.agents.tolist()]
-        cells = [cell(index) if result.ran[index] else "-" for index in indexes]
-        lines.append(f"{registry.label(learner):{width}s}" + "".join(f"{text:>16s}" for text in cells))
-    return "\n".join(lines)
+    rows = [[registry.label(learner), *(cell(index) if result.ran[index] else "-"
+                                        for index in (result.index(formulation, n, learner)
+                                                      for n in result.agents.tolist()))]
+            for learner in result.names()]
+    return Table([header, *(f"N = {n}" for n in result.agents.tolist())], rows)
 
 
 def coordination_table(result: WarehousesResult, learners: tuple = ("two_observe", "two_observe_rule",
