@@ -19,3 +19,5 @@ html_title = "glamas"
 html_theme_options = {"show_toc_level": 2}
 html_show_sphinx = False
 html_extra_path = ["extra"]  # index.html, which opens the front page (README.html)
+html_static_path = ["static"]
+html_css_files = ["tables.css"]
