@@ -8,7 +8,7 @@ READY := $(VENV)/.installed
 EXTRAS := $(VENV)/.extras-installed
 NOTEBOOKS := $(sort $(wildcard notebooks/*.ipynb))
 
-.PHONY: figures test unit notebooks-check notebooks lab ledger benchmark mutations benchmark-maps benchmark-budgets warehouses pogema-crosscheck reproduce verify clean-env clean-cache
+.PHONY: figures test unit notebooks-check notebooks lab book book-check ledger benchmark mutations benchmark-maps benchmark-budgets warehouses pogema-crosscheck reproduce verify clean-env clean-cache
 
 $(READY): requirements.txt pyproject.toml
 	@$(PYTHON) -c 'import sys; sys.exit(sys.version_info < (3, 11) and "glamas needs Python >= 3.11: set PYTHON=python3.11")'
@@ -37,12 +37,15 @@ TEST_WORKERS ?= auto
 NBVAL := --nbval --nbval-current-env --nbval-sanitize-with notebooks/sanitize.cfg
 CHECKED_BY_PRECOMPILE := --deselect tests/test_portable_results.py::test_a_small_run_gives_the_committed_bits
 
+# The book's test builds the book in an environment of its own: `make book-check` runs it.
+BOOK_TEST := --ignore=tests/test_book.py
+
 test: $(READY) $(EXTRAS)
 	$(PY) -m glamas.precompile --check
-	$(PY) -m pytest -p no:cacheprovider -n $(TEST_WORKERS) $(NBVAL) $(CHECKED_BY_PRECOMPILE) tests $(NOTEBOOKS)
+	$(PY) -m pytest -p no:cacheprovider -n $(TEST_WORKERS) $(NBVAL) $(CHECKED_BY_PRECOMPILE) $(BOOK_TEST) tests $(NOTEBOOKS)
 
 unit: $(READY) $(EXTRAS)
-	$(PY) -m pytest -p no:cacheprovider -n $(TEST_WORKERS) tests
+	$(PY) -m pytest -p no:cacheprovider -n $(TEST_WORKERS) $(BOOK_TEST) tests
 
 notebooks-check: $(READY)
 	$(PY) -m pytest -p no:cacheprovider -n $(TEST_WORKERS) $(NBVAL) $(NOTEBOOKS)
@@ -55,6 +58,29 @@ notebooks: $(READY)
 lab: $(READY)
 	$(PY) -m pip install --quiet -e '.[lab]'
 	$(PY) -m jupyter lab notebooks/
+
+## book: the whole reproduction as one site in $(BOOK_OUT)/html (open $(BOOK_OUT)/html/index.html):
+## the README as its front page, the notebooks in reading order with their committed outputs (nothing
+## is executed), the ledger, the reproduction notes and docs/ (book/_toc.yml). Built by Sphinx in
+## $(BOOK_VENV), made on first use from requirements-book.txt; any warning, a broken internal link
+## included, fails it.
+BOOK_VENV := .venv-book
+BOOK_OUT ?= out/book
+export BOOK_OUT
+
+$(BOOK_VENV)/.installed: requirements-book.txt
+	$(PYTHON) -m venv $(BOOK_VENV)
+	$(BOOK_VENV)/bin/python -m pip install --quiet -r requirements-book.txt
+	touch $@
+
+book: $(BOOK_VENV)/.installed
+	$(BOOK_VENV)/bin/python -m sphinx -W --keep-going -q -b html -c book -d "$$BOOK_OUT/doctrees" . "$$BOOK_OUT/html"
+
+## book-check: tests/test_book.py: the book built, every page, image and internal link of its HTML
+## checked, and (where chromium is installed) every image of its front page and of a notebook's page
+## seen loaded in a headless browser
+book-check: $(READY) $(BOOK_VENV)/.installed
+	$(PY) -m pytest -p no:cacheprovider tests/test_book.py
 
 ## ledger: write docs/ledger.md, every claim's verdict, and README.md's count of verdicts from the committed results
 ledger: $(READY)
@@ -148,7 +174,7 @@ pogema-crosscheck: $(READY) $(POGEMA_VENV)/.installed
 	$(POGEMA_VENV)/bin/python benchmarks/pogema_replay.py "$(POGEMA_OUT)/tasks.json"
 
 clean-env:
-	rm -rf "$(VENV)" "$(POGEMA_VENV)"
+	rm -rf "$(VENV)" "$(POGEMA_VENV)" "$(BOOK_VENV)"
 
 ## clean-cache: drop numba's compiled-kernel cache (glamas also drops it itself when its sources change)
 clean-cache:

@@ -15,7 +15,8 @@ from glamas.paths import REPO
 README = REPO / "README.md"
 PAGES = [README, *sorted((REPO / "docs").glob("*.md"))]
 NOTEBOOKS = sorted((REPO / "notebooks").glob("*.ipynb"))
-README_LINES, LINE_CHARS = 210, 300
+README_LINES, LINE_CHARS, ROW_CHARS = 210, 300, 340
+"""The README's most lines, and its longest line of prose and of a table (a row cannot be wrapped)."""
 KNOWN_SITES = ("pypi.org", "numpy.org", "numba.pydata.org", "matplotlib.org", "joblib.readthedocs.io",
                "docs.dask.org", "pettingzoo.farama.org", "jupyter.org", "doi.org", "link.springer.com")
 """Sites a page may link to: package sites, and where the chapter is published."""
@@ -105,7 +106,8 @@ def test_nothing_refers_outside_the_repository(path):
 def test_the_readme_is_a_page_a_reader_finishes():
     lines = README.read_text().splitlines()
     assert len(lines) <= README_LINES
-    assert [n for n, line in enumerate(lines, 1) if len(line) > LINE_CHARS] == []
+    assert [n for n, line in enumerate(lines, 1)
+            if len(line) > (ROW_CHARS if line.startswith("|") else LINE_CHARS)] == []
 
 
 def test_the_readme_links_every_page_of_docs():

@@ -52,9 +52,10 @@ def test_the_summary_counts_by_source_and_names_the_chapter_claims_that_fail():
 def test_the_figure_table_judges_each_figure_on_its_own_claims():
     text = ledger.summary(ROWS)
     fig11 = next(line for line in text.splitlines() if line.startswith("| Fig. 11 "))
-    assert "| 1 of 3 chapter; 1 of 1 inferred |" in fig11  # r reads another source: not counted here
+    # r reads another source: not counted here
+    assert "| 1 of 3 chapter claims reproduced; 1 of 1 inferred claim reproduced |" in fig11
     fig6 = next(line for line in text.splitlines() if line.startswith("| Fig. 6 "))
-    assert "| 1 of 1 chapter (1 fragile) |" in fig6
+    assert "| 1 of 1 chapter claim reproduced (1 fragile) |" in fig6
 
 
 def test_every_chapter_claim_tests_exactly_one_of_the_figures():

@@ -195,7 +195,8 @@ def _figure_row(figure: Figure, ledger_rows: list[tuple[str, dict]]) -> str:
             held = sum(row["verdict"] == claims.REPRODUCED for row in kind_rows)
             fragile = sum(bool(claims.fragility(row)) for row in kind_rows if row["verdict"] == claims.REPRODUCED)
             note = f" ({fragile} fragile)" if fragile else ""
-            parts.append(f"{held} of {len(kind_rows)} {'chapter' if kind == 'chapter' else 'inferred'}{note}")
+            claims_word = "claim" if len(kind_rows) == 1 else "claims"
+            parts.append(f"{held} of {len(kind_rows)} {kind} {claims_word} reproduced{note}")
     verdict = "; ".join(parts) if parts else "no claim"
     images = ", ".join(f"[{image}](paper_figures/output/{image}.png)" for image in figure.images)
     return (f"| {figure.name} ({images}) | {figure.says} | {verdict} | "

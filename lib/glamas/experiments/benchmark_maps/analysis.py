@@ -14,6 +14,7 @@ from glamas.experiments.gridworld.analysis import COMPLETION
 from glamas.gridworld import plans
 from glamas.gridworld.rewards import Rewards
 from glamas.learners import registry
+from glamas.tables import Table
 
 TUNNEL_3 = "tunnel_to_goal_3"
 """The map where the field reports the independent learners doing well, by luck of exploration."""
@@ -98,18 +99,14 @@ def margin_table(formulations: dict, distances=range(1, 9)) -> str:
 
 
 def formulations_table(results: dict, learner: str, metrics=("greedy_completion", "greedy_solution_collisions",
-                                                             "collisions")) -> str:
+                                                             "collisions")) -> Table:
     """One learner's measurements (:func:`measure`) per map under each formulation: ``results``
     maps a formulation's name to the benchmark's result under it."""
     measured = {name: measure(result) for name, result in results.items()}
     maps = next(iter(results.values())).map_names()
-    width = max(10, *map(len, maps)) + 2
-    lines = [f"{registry.label(learner):36s}" + "".join(f"{name:>{width}s}" for name in maps)]
-    for metric in metrics:
-        for name, m in measured.items():
-            cells = [f"{m.get(f'{metric}_{learner}_{map_name}', math.nan):{width}.3f}" for map_name in maps]
-            lines.append(f"{metric + ' (' + name + ')':36s}" + "".join(cells))
-    return "\n".join(lines)
+    return Table([registry.label(learner), *maps],
+                 [[f"{metric} ({name})", *(f"{m.get(f'{metric}_{learner}_{map_name}', math.nan):.3f}" for map_name in maps)]
+                  for metric in metrics for name, m in measured.items()])
 
 
 SOLVED_COLLISIONS = 0.05
@@ -143,18 +140,13 @@ def field_claim_rows(result: BenchmarkResult, config=None) -> list[dict]:
     return chapter.verdicts(chapter.load("benchmark_maps_field"), measure(result))
 
 
-def table(result: BenchmarkResult, metric: str = "greedy_solution_collisions") -> str:
+def table(result: BenchmarkResult, metric: str = "greedy_solution_collisions") -> Table:
     """One measurement of :func:`measure` per learner (rows) and map (columns); '-' where the
     learner did not run (its tables exceed the memory budget)."""
-    m = measure(result)
-    maps, labels = result.map_names(), [registry.label(name) for name in result.names()]
-    first, width = max(len(metric), *map(len, labels)) + 2, max(10, *map(len, maps)) + 2
-    lines = [f"{metric:{first}s}" + "".join(f"{name:>{width}s}" for name in maps)]
-    for name, label in zip(result.names(), labels):
-        cells = [f"{m[f'{metric}_{name}_{map_name}']:{width}.3f}" if f"{metric}_{name}_{map_name}" in m
-                 else f"{'-':>{width}s}" for map_name in maps]
-        lines.append(f"{label:{first}s}" + "".join(cells))
-    return "\n".join(lines)
+    m, maps = measure(result), result.map_names()
+    return Table([metric, *maps], [[registry.label(name), *(f"{m[key]:.3f}" if (key := f"{metric}_{name}_{map_name}") in m
+                                                            else "-" for map_name in maps)]
+                                   for name in result.names()])
 
 
 def optimum_table(result: BenchmarkResult) -> str:
@@ -170,22 +162,20 @@ def optimum_table(result: BenchmarkResult) -> str:
     return "\n".join(lines)
 
 
-def plans_table(result: BenchmarkResult) -> str:
+def plans_table(result: BenchmarkResult) -> Table:
     """Each map's optimal plans as path finding counts them (glamas.gridworld.plans): the least sum
     of costs and the least makespan, each agent's steps, and the lower bounds (each agent's shortest
     path alone); '-' where the joint tables do not fit."""
-    lines = [f"{'map':18s} {'least sum of costs: steps':>26s} {'sum':>5s} {'makespan':>9s}   "
-             f"{'least makespan: steps':>22s} {'sum':>5s} {'makespan':>9s}   {'bounds: sum':>11s} {'makespan':>9s}"]
+    header = ["map", "least sum of costs: steps", "sum", "makespan", "least makespan: steps", "sum", "makespan",
+              "bounds: sum", "makespan"]
+    rows = []
     for map_name in result.map_names():
-        cost, span = result.plan(map_name, "sum_of_costs"), result.plan(map_name, "makespan")
-        cells = []
-        for plan, width in ((cost, 26), (span, 22)):
+        row = [map_name]
+        for plan in (result.plan(map_name, "sum_of_costs"), result.plan(map_name, "makespan")):
             known = plan["steps"] is not None
-            cells.append(f"{', '.join(map(str, plan['steps'])) if known else '-':>{width}s} "
-                         f"{plan['sum_of_costs'] if known else '-':>5} {plan['makespan'] if known else '-':>9}")
-        bound_cost, bound_makespan = plans.lower_bounds(result.config.gridmap(map_name))
-        lines.append(f"{map_name:18s} {cells[0]}   {cells[1]}   {bound_cost:11d} {bound_makespan:9d}")
-    return "\n".join(lines)
+            row += [", ".join(map(str, plan["steps"])), plan["sum_of_costs"], plan["makespan"]] if known else ["-"] * 3
+        rows.append(row + list(plans.lower_bounds(result.config.gridmap(map_name))))
+    return Table(header, rows)
 
 
 def excess_grid(result: BenchmarkResult) -> np.ndarray:

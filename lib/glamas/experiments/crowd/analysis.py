@@ -6,6 +6,7 @@ greedy episodes), then the mean over instances with a 95 % interval (instances r
 from glamas.experiments.crowd.experiment import COORDINATION, MEASURES, CrowdResult
 from glamas.experiments.warehouses.analysis import interval
 from glamas.learners import registry
+from glamas.tables import Table
 
 
 def per_instance(result: CrowdResult, formulation: str, n: int, learner: str, coordination: str) -> dict:
@@ -23,20 +24,14 @@ COLUMNS = (("in_goal", "ISR"), ("completed", "CSR"), ("revisits", "revisits"), (
 """The columns of :func:`table`: measure and heading, each a percentage."""
 
 
-def table(result: CrowdResult, formulation: str) -> str:
+def table(result: CrowdResult, formulation: str) -> Table:
     """Per N, learner and coordination (rows): the greedy episodes' ISR and CSR, the share of steps
     that come back to a joint state (revisits) and of agent-steps on which the coordination
     replaced the preferred action (yields); each the mean over instances with its 95 % interval."""
-    width = max(len(registry.label(name)) for name in result.names()) + 24
-    lines = [f"{formulation + ' formulation':{width}s}" + "".join(f"{heading:>19s}" for _, heading in COLUMNS)]
-    for n in result.agents.tolist():
-        for learner in result.names():
-            for coordination in COORDINATION:
-                found = summary(result, formulation, n, learner, coordination)
-                label = f"N = {n:<4d} {registry.label(learner)}, coord. {coordination}"
-                cells = [_percent(found[key]) for key, _ in COLUMNS]
-                lines.append(f"{label:{width}s}" + "".join(f"{cell:>19s}" for cell in cells))
-    return "\n".join(lines)
+    rows = [[f"N = {n}, {registry.label(learner)}, coord. {coordination}",
+             *(_percent(summary(result, formulation, n, learner, coordination)[key]) for key, _ in COLUMNS)]
+            for n in result.agents.tolist() for learner in result.names() for coordination in COORDINATION]
+    return Table([f"{formulation} formulation", *(heading for _, heading in COLUMNS)], rows)
 
 
 def _percent(value: tuple) -> str:

@@ -11,6 +11,7 @@ from glamas.experiments.fig10_readings.experiment import ReadingsConfig, Reading
 from glamas.experiments.gridworld import analysis as gw_analysis
 from glamas.experiments.gridworld.experiment import GridworldConfig, GridworldResult
 from glamas.learners import two_observe
+from glamas.tables import Table
 
 
 def deltas(config: GridworldConfig) -> np.ndarray:
@@ -54,34 +55,30 @@ def coordinating_share(result: GridworldResult, config: GridworldConfig) -> np.n
     return (gw_analysis.coordination_probability(result, config, deltas(config)) > 0.5).mean(axis=(0, 1))
 
 
-def table(rows: list[dict]) -> str:
-    """The readings side by side: final values, the share of GLAs coordinating at each distance,
-    the shares of stuck GLAs at the start and the end, and the claim count."""
-    head = (f"{'reading':36s} {'steps':>6s} {'reward':>6s} {'collis.':>7s} {'coord.':>6s}  "
-            f"coordinating at delta = {', '.join(str(d) for d in rows[0]['deltas'])}   stuck start/end")
+def table(rows: list[dict]) -> Table:
+    """The readings side by side, numbered: final values, the share of GLAs coordinating at each
+    distance, the shares of stuck GLAs at the start and the end, and the claim count."""
+    header = ["#", "reading", "steps", "reward", "collisions", "coord.",
+              f"coordinating at delta = {', '.join(str(d) for d in rows[0]['deltas'])}", "stuck start/end"]
     if "claims" in rows[0]:
-        head += "   claims reproduced"
-    lines = [head]
-    for row in rows:
-        shares = " ".join(f"{v:4.2f}" for v in row["coordinating"])
-        stuck = "   -   " if math.isnan(row["stuck_at_start"]) else f"{row['stuck_at_start']:.2f}/{row['stuck_at_end']:.2f}"
-        line = (f"{row['reading']:36s} {row['steps']:6.2f} {row['reward']:6.1f} {row['collisions']:7.3f} "
-                f"{row['coordinations']:6.2f}  {shares:48s} {stuck:>9s}")
+        header.append("claims reproduced")
+    lines = []
+    for k, row in enumerate(rows):
+        stuck = "-" if math.isnan(row["stuck_at_start"]) else f"{row['stuck_at_start']:.2f}/{row['stuck_at_end']:.2f}"
+        line = [k + 1, row["reading"], f"{row['steps']:.2f}", f"{row['reward']:.1f}", f"{row['collisions']:.3f}",
+                f"{row['coordinations']:.2f}", " ".join(f"{v:.2f}" for v in row["coordinating"]), stuck]
         if "claims" in row:
-            line += f"   {sum(r['holds'] for r in row['claims'])} of {len(row['claims'])}"
+            line.append(f"{sum(r['holds'] for r in row['claims'])} of {len(row['claims'])}")
         lines.append(line)
-    return "\n".join(lines)
+    return Table(header, lines)
 
 
-def verdict_table(rows: list[dict]) -> str:
-    """Claim by reading: R reproduced, - not reproduced, ? undecidable."""
+def verdict_table(rows: list[dict]) -> Table:
+    """Claim by reading, the readings numbered as in :func:`table`: R reproduced, - not reproduced,
+    ? undecidable."""
     claims = [r["claim"].id for r in rows[0]["claims"]]
-    lines = [f"{'claim':40s} " + " ".join(f"{k + 1:>2d}" for k in range(len(rows)))]
-    for c, claim in enumerate(claims):
-        marks = [_mark(row["claims"][c]) for row in rows]
-        lines.append(f"{claim:40s} " + " ".join(f"{m:>2s}" for m in marks))
-    lines.append("readings: " + "; ".join(f"{k + 1} = {row['reading']}" for k, row in enumerate(rows)))
-    return "\n".join(lines)
+    return Table(["claim", *(str(k + 1) for k in range(len(rows)))],
+                 [[claim, *(_mark(row["claims"][c]) for row in rows)] for c, claim in enumerate(claims)])
 
 
 def _mark(row: dict) -> str:

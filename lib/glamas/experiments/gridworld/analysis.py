@@ -17,6 +17,7 @@ from glamas.gridworld import GridMap, dp, rules
 from glamas.learners import episode as ep
 from glamas.learners import registry, two_observe
 from glamas.portable import weighted_sum
+from glamas.tables import Table
 
 
 ZERO_COLLISIONS = 0.05
@@ -96,19 +97,16 @@ def collisions_per_perturbation(result: GridworldResult, name: str) -> float:
     return ratio(float(extra.sum()), random_actions)
 
 
-def evaluation_table(result: GridworldResult) -> str:
+def evaluation_table(result: GridworldResult) -> Table:
     """Per learner, what it learned evaluated with learning off (:func:`evaluation_measures`, means
     over runs): the greedy policy's steps, reward, collisions, coordinations and completion; the
     frozen tables' collisions under the training's exploration; collisions per perturbation."""
     m = measure(result)
-    lines = [f"{'learner':24s} {'steps':>8s} {'reward':>9s} {'collisions':>10s} {'coord.':>6s} {'completed':>9s} "
-             f"{'exploring':>9s} {'per perturbation':>16s}"]
-    for name in result.names():
-        lines.append(f"{registry.label(name):24s} {m[f'greedy_steps_{name}']:8.2f} {m[f'greedy_reward_{name}']:9.1f} "
-                     f"{m[f'greedy_collisions_{name}']:10.3f} {m[f'greedy_coordinations_{name}']:6.2f} "
-                     f"{m[f'greedy_completion_{name}']:9.0%} {m[f'exploring_collisions_{name}']:9.3f} "
-                     f"{m[f'collisions_per_perturbation_{name}']:16.3f}")
-    return "\n".join(lines)
+    return Table(["learner", "steps", "reward", "collisions", "coord.", "completed", "exploring", "per perturbation"],
+                 [[registry.label(name), f"{m[f'greedy_steps_{name}']:.2f}", f"{m[f'greedy_reward_{name}']:.1f}",
+                   f"{m[f'greedy_collisions_{name}']:.3f}", f"{m[f'greedy_coordinations_{name}']:.2f}",
+                   f"{m[f'greedy_completion_{name}']:.0%}", f"{m[f'exploring_collisions_{name}']:.3f}",
+                   f"{m[f'collisions_per_perturbation_{name}']:.3f}"] for name in result.names()])
 
 
 def claim_rows(result: GridworldResult) -> list[dict]:
@@ -201,18 +199,15 @@ def stuck_by_start(result: GridworldResult) -> dict:
             "stuck at the end": int(end.sum()), "stuck at the end, saturated at the start": int((start & end).sum())}
 
 
-def summary_table(result: GridworldResult) -> str:
+def summary_table(result: GridworldResult) -> Table:
     """Final values (last 10 % of the episodes, mean over runs) and convergence episode (median
     over runs of each run's own, curves.convergence_episodes) per learner,
     rounded to what 20 runs resolve."""
     m = measure(result)
-    lines = [f"{'learner':24s} {'steps':>6s} {'reward':>7s} {'collisions':>10s} {'coordinations':>13s} "
-             f"{'converged by':>12s} {'capped/run':>10s}"]
-    for name in result.names():
-        lines.append(f"{registry.label(name):24s} {m[f'steps_{name}']:6.2f} {m[f'reward_{name}']:7.1f} "
-                     f"{m[f'collisions_{name}']:10.3f} {m[f'coordinations_{name}']:13.2f} "
-                     f"{m[f'convergence_{name}']:12.0f} {m[f'capped_episodes_{name}']:10.1f}")
-    return "\n".join(lines)
+    return Table(["learner", "steps", "reward", "collisions", "coordinations", "converged by", "capped/run"],
+                 [[registry.label(name), f"{m[f'steps_{name}']:.2f}", f"{m[f'reward_{name}']:.1f}",
+                   f"{m[f'collisions_{name}']:.3f}", f"{m[f'coordinations_{name}']:.2f}",
+                   f"{m[f'convergence_{name}']:.0f}", f"{m[f'capped_episodes_{name}']:.1f}"] for name in result.names()])
 
 
 def with_learner(result: GridworldResult, other: GridworldResult, name: str) -> GridworldResult:

@@ -9,6 +9,7 @@ from glamas.curves import final, mean_and_band, ratio
 from glamas.experiments.gridworld import analysis as gw_analysis
 from glamas.experiments.related_work.experiment import RELATED_LEARNERS, RelatedWorkConfig, RelatedWorkResult
 from glamas.learners import cq, registry
+from glamas.tables import Table
 
 
 def usable_joint_states(config: RelatedWorkConfig) -> int:
@@ -70,17 +71,14 @@ def fewest_flagged_collisions(config: RelatedWorkConfig) -> int:
     return cq.fewest_flagged_collisions(config.setup("cq").own)
 
 
-def summary_table(result: RelatedWorkResult, config: RelatedWorkConfig) -> str:
+def summary_table(result: RelatedWorkResult, config: RelatedWorkConfig) -> Table:
     """Per learner: final steps, reward, collisions and coordinations (last 10 % of the episodes,
     mean over runs), convergence episode, and what each agent stores (measured)."""
-    m = measure(result, config)
-    lines = [f"{'learner':24s} {'steps':>6s} {'reward':>7s} {'collisions':>10s} {'coordinations':>13s} "
-             f"{'converged by':>12s} {'Q entries/agent':>15s} {'samples/agent':>13s} {'GLA params/agent':>16s}"]
-    gridmap = config.gridmap()
-    for k, name in enumerate(result.names()):
-        gla_parameters = registry.get(name).gla_parameters(config.setup(name), gridmap) // gridmap.n_agents
-        lines.append(f"{registry.label(name):24s} {m[f'steps_{name}']:6.2f} {m[f'reward_{name}']:7.1f} "
-                     f"{m[f'collisions_{name}']:10.3f} {m[f'coordinations_{name}']:13.2f} "
-                     f"{m[f'convergence_{name}']:12.0f} {m[f'q_entries_{name}']:15.0f} "
-                     f"{result.reward_samples[k]:13d} {gla_parameters:16d}")
-    return "\n".join(lines)
+    m, gridmap = measure(result, config), config.gridmap()
+    header = ["learner", "steps", "reward", "collisions", "coordinations", "converged by", "Q entries/agent",
+              "samples/agent", "GLA params/agent"]
+    return Table(header, [[registry.label(name), f"{m[f'steps_{name}']:.2f}", f"{m[f'reward_{name}']:.1f}",
+                           f"{m[f'collisions_{name}']:.3f}", f"{m[f'coordinations_{name}']:.2f}",
+                           f"{m[f'convergence_{name}']:.0f}", f"{m[f'q_entries_{name}']:.0f}", result.reward_samples[k],
+                           registry.get(name).gla_parameters(config.setup(name), gridmap) // gridmap.n_agents]
+                          for k, name in enumerate(result.names())])

@@ -13,6 +13,7 @@ from glamas.errors import UserError
 from glamas.experiments.gridworld.analysis import COMPLETION
 from glamas.experiments.scaling.experiment import RELATED_METHODS, ScalingResult, label
 from glamas.gridworld import prioritized
+from glamas.tables import Table
 
 
 def growth(agents, values) -> dict:
@@ -217,14 +218,11 @@ def final_with_band(result: ScalingResult, method: str, n: int, metric: str) -> 
     return statistic(curves, result.episodes), float(low), float(high)
 
 
-def trap_table(traps: dict) -> str:
-    """The trap measured (:func:`glamas.experiments.scaling.experiment.trap`), one line per learner
+def trap_table(traps: dict) -> Table:
+    """The trap measured (:func:`glamas.experiments.scaling.experiment.trap`), one row per learner
     of ``traps`` (name -> its measurement)."""
-    w = max(22, *(len(label(name)) for name in traps))
-    lines = [(f"{'learner':{w}s} {'capped':>7s} {'(last tenth)':>12s} {'trapped agents':>14s} {'aisle values = 0':>16s} "
-              f"{'best on aisle: trapped':>22s} {'free':>6s} {'best elsewhere: trapped':>23s}")]
-    for name, t in traps.items():
-        lines.append(f"{label(name):{w}s} {t['capped']:7.1%} {t['capped_last']:12.1%} "
-                     f"{t['trapped']:7d} of {t['agents']:3d} {t['aisle_zero']:16.1%} {t['best_trapped']:22.1f} {t['best_free']:6.1f} "
-                     f"{t['elsewhere_trapped']:23.1f}")
-    return "\n".join(lines)
+    header = ["learner", "capped", "capped (last tenth)", "trapped agents", "aisle values = 0",
+              "best on aisle: trapped", "best on aisle: free", "best elsewhere: trapped"]
+    return Table(header, [[label(name), f"{t['capped']:.1%}", f"{t['capped_last']:.1%}",
+                           f"{t['trapped']} of {t['agents']}", f"{t['aisle_zero']:.1%}", f"{t['best_trapped']:.1f}",
+                           f"{t['best_free']:.1f}", f"{t['elsewhere_trapped']:.1f}"] for name, t in traps.items()])

@@ -14,6 +14,7 @@ import numpy as np
 from glamas.curves import mean_and_band
 from glamas.experiments.warehouses.experiment import HIGH_ISR, WarehousesResult
 from glamas.learners import registry
+from glamas.tables import Table
 
 PLAN_COLUMNS = ("sum_of_costs", "makespan", "bound_sum_of_costs", "bound_makespan")
 """The columns of ``WarehousesResult.plans``."""
@@ -89,37 +90,35 @@ COLUMNS = (("csr", "CSR", True), ("isr", "ISR", True), ("soc_ratio", "SoC / plan
 """The columns of :func:`table`: measure, heading, shown as a percentage."""
 
 
-def table(result: WarehousesResult, formulation: str) -> str:
+def table(result: WarehousesResult, formulation: str) -> Table:
     """Per N and learner (rows): the greedy policies' CSR, ISR, sum of costs and makespan over the
     plan's (completed episodes only, '-' where none completed), collisions per episode, and the
     learning curve's ISR at its end; each the mean over instances with its 95 % interval; a learner
     whose tables exceed the memory budget is marked skipped."""
-    width = max(len(registry.get(name).n_agent_label or registry.label(name)) for name in result.names()) + 9
-    lines = [f"{formulation + ' formulation':{width}s}" + "".join(f"{heading:>21s}" for _, heading, _ in COLUMNS)]
+    rows = []
     for n in result.agents.tolist():
         for learner in result.names():
-            label = f"N = {n:<4d} {registry.label(learner)}"
             found = summary(result, formulation, n, learner)
             cells = ["skipped"] + [""] * (len(COLUMNS) - 1) if found is None else \
                 [_cell(found[key], percent) for key, _, percent in COLUMNS]
-            lines.append(f"{label:{width}s}" + "".join(f"{cell:>21s}" for cell in cells).rstrip())
-    return "\n".join(lines)
+            rows.append([f"N = {n}, {registry.label(learner)}", *cells])
+    return Table([f"{formulation} formulation", *(heading for _, heading, _ in COLUMNS)], rows)
 
 
-def plans_table(result: WarehousesResult) -> str:
+def plans_table(result: WarehousesResult) -> Table:
     """Per N: the plans over the lower bounds (sum of costs and makespan, the mean over instances
     and the worst), and their mean sizes."""
-    lines = [f"{'N':>5s} {'instances':>9s} {'plan SoC':>9s} {'SoC / bound: mean':>17s} {'worst':>6s} "
-             f"{'plan makespan':>13s} {'makespan / bound: mean':>22s} {'worst':>6s}"]
+    rows = []
     for n in result.agents.tolist():
         plan = result.plan(n).astype(float)
         soc, makespan = plan[:, 0] / plan[:, 2], plan[:, 1] / plan[:, 3]
-        lines.append(f"{n:5d} {plan.shape[0]:9d} {plan[:, 0].mean():9.0f} {soc.mean():17.3f} {soc.max():6.3f} "
-                     f"{plan[:, 1].mean():13.1f} {makespan.mean():22.3f} {makespan.max():6.3f}")
-    return "\n".join(lines)
+        rows.append([n, plan.shape[0], f"{plan[:, 0].mean():.0f}", f"{soc.mean():.3f}", f"{soc.max():.3f}",
+                     f"{plan[:, 1].mean():.1f}", f"{makespan.mean():.3f}", f"{makespan.max():.3f}"])
+    return Table(["N", "instances", "plan SoC", "SoC / bound: mean", "worst", "plan makespan",
+                  "makespan / bound: mean", "worst"], rows)
 
 
-def reached_table(result: WarehousesResult, formulation: str) -> str:
+def reached_table(result: WarehousesResult, formulation: str) -> Table:
     """The budget axis: per learner and N, on how many instances the learning curve's ISR held
     HIGH_ISR over a window within the budget, and the median episodes it took there ('> budget'
     where no instance got there, '-' where the learner did not run)."""
@@ -130,7 +129,7 @@ def reached_table(result: WarehousesResult, formulation: str) -> str:
     return _by_learner_and_n(result, formulation, f"episodes to ISR >= {HIGH_ISR:.0%} ({formulation})", cell)
 
 
-def causes_table(result: WarehousesResult, formulation: str) -> str:
+def causes_table(result: WarehousesResult, formulation: str) -> Table:
     """Why agents stay out: per learner and N, the share of the agents that the last greedy episode
     leaves short of their goal, and among those the share that never reached their goal in any
     training episode (their tables hold no value from it); means over instances."""
@@ -141,31 +140,26 @@ def causes_table(result: WarehousesResult, formulation: str) -> str:
     return _by_learner_and_n(result, formulation, f"agents out / never in while learning ({formulation})", cell)
 
 
-def _by_learner_and_n(result: WarehousesResult, formulation: str, header: str, cell) -> str:
+def _by_learner_and_n(result: WarehousesResult, formulation: str, header: str, cell) -> Table:
     """A table of learners (rows) by N (columns): ``cell(index)`` of each (formulation, N, learner)
     index of the result's arrays, '-' where the learner did not run."""
-    width = max(len(header), *map(len, map(registry.label, result.names()))) + 2
-    lines = [f"{header:{width}s}" + "".join(f"{f'N = {n}':>16s}" for n in result.agents.tolist())]
-    for learner in result.names():
-        indexes = [result.index(formulation, n, learner) for n in result.agents.tolist()]
-        cells = [cell(index) if result.ran[index] else "-" for index in indexes]
-        lines.append(f"{registry.label(learner):{width}s}" + "".join(f"{text:>16s}" for text in cells))
-    return "\n".join(lines)
+    rows = [[registry.label(learner), *(cell(index) if result.ran[index] else "-"
+                                        for index in (result.index(formulation, n, learner)
+                                                      for n in result.agents.tolist()))]
+            for learner in result.names()]
+    return Table([header, *(f"N = {n}" for n in result.agents.tolist())], rows)
 
 
 def coordination_table(result: WarehousesResult, learners: tuple = ("two_observe", "two_observe_rule",
-                                                                      "independent")) -> str:
+                                                                      "independent")) -> Table:
     """2observe's coordination in a crowd: per formulation, N and learner of ``learners``,
     coordinations per agent-step of the greedy episodes beside their ISR (the independent learners,
     which never coordinate, as the reference)."""
-    lines = [f"{'formulation':12s} {'N':>5s} " + "".join(f"{registry.label(name) + ': coord., ISR':>36s}"
-                                                          for name in learners if name in result.names())]
+    learners = [name for name in learners if name in result.names()]
+    rows = []
     for formulation in result.formulations.tolist():
         for n in result.agents.tolist():
-            cells = []
-            for learner in (name for name in learners if name in result.names()):
-                found = summary(result, formulation, n, learner)
-                cells.append("-" if found is None else
-                             f"{found['coordinations'][0]:.3f}, {found['isr'][0]:.0%}")
-            lines.append(f"{formulation:12s} {n:5d} " + "".join(f"{cell:>36s}" for cell in cells))
-    return "\n".join(lines)
+            found = [summary(result, formulation, n, learner) for learner in learners]
+            rows.append([formulation, n, *("-" if f is None else f"{f['coordinations'][0]:.3f}, {f['isr'][0]:.0%}"
+                                           for f in found)])
+    return Table(["formulation", "N", *(f"{registry.label(name)}: coord., ISR" for name in learners)], rows)
