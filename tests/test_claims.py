@@ -17,7 +17,7 @@ from glamas.experiments import and_network, single_gla, state_encoding
 ALL_CLAIMS = [(name, claim) for name in claims.experiments() for claim in claims.load(name)]
 SECTION4 = ("single_gla", "state_encoding", "and_network", "and_network_sweep")
 
-CLAIM = {"id": "c", "where": "Fig. 0", "chapter": "x is large", "kind": "chapter",
+CLAIM = {"id": "c", "where": "Fig. 0", "chapter": "x is large", "kind": "chapter", "rule": "exact_property",
          "why": "x measures largeness", "metric": "x", "op": ">", "threshold": 1.0}
 
 
@@ -349,4 +349,27 @@ def test_a_claim_is_labelled_by_its_source(kind, source, label):
 def test_the_loader_refuses_a_claim_without_its_source_or_the_chapter_with_one(monkeypatch, tmp_path, change, message):
     _write_claims(monkeypatch, tmp_path, [{**CLAIM, **change}])
     with pytest.raises(ValueError, match=message):
+        claims.load("t")
+
+
+# ---- the rule book: every claim names a rule of docs/verdicts.md ----
+
+def test_every_claim_names_a_rule_of_the_rule_book_and_takes_its_metric_from_it():
+    from glamas.paths import REPO
+    from glamas.verdict_rules import RULES
+    book = (REPO / "docs" / "verdicts.md").read_text()
+    for _, claim in ALL_CLAIMS:
+        assert claim.rule in RULES and RULES[claim.rule].takes(claim.metric), claim.id
+    assert {f"### `{key}`" for key in RULES} <= {line.split(":")[0] for line in book.splitlines()}
+    assert {claim.rule for _, claim in ALL_CLAIMS} == set(RULES)
+
+
+@pytest.mark.parametrize("change, message", [
+    ({"rule": "taste"}, r"rule must be one of docs/verdicts.md's"),
+    ({"rule": "level_greedy"}, r"metric 'x' is not of rule 'level_greedy'"),
+    ({"band": ["high"]}, r"band must be a list of finite numbers"),
+])
+def test_the_loader_refuses_a_claim_without_a_rule_of_the_book(monkeypatch, tmp_path, change, message):
+    _write_claims(monkeypatch, tmp_path, [{**CLAIM, **change}])
+    with pytest.raises(UserError, match=message):
         claims.load("t")

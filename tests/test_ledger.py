@@ -13,7 +13,7 @@ README = f"# title\n\n{ledger.START}\nold count\n{ledger.END}\n\n## next\n"
 
 
 def _claim(id, kind="chapter", where="Sec. 5.3, Fig. 11a", source=""):
-    return claims.Claim(id=id, where=where, chapter=f"{id} holds (ours)", kind=kind, why="w", metric=id,
+    return claims.Claim(id=id, where=where, chapter=f"{id} holds (ours)", kind=kind, why="w", metric=id, rule="growth",
                         op=">", threshold=0.0, source=source)
 
 
