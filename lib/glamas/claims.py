@@ -240,7 +240,7 @@ def _points(c: Claim, sources: dict, at: Callable) -> list[tuple]:
                 continue
             labels = {"reading": name} | {k.name: k.text(v) for k, v in zip(varied, values)}
             value = float(measured[c.metric])
-            points += [({**labels, "threshold": f"{c.op} {t:g}"}, value, t, c.verdict(value, t))
+            points += [({**labels, "threshold": f"threshold {c.op} {t:g}"}, value, t, c.verdict(value, t))
                        for t in c.thresholds]
     return points
 
@@ -258,39 +258,48 @@ def varied(row: dict) -> set:
 
 
 def agreement(row: dict) -> str:
-    """How many of a row's points hold, e.g. '6 of 18 hold'."""
-    held = sum(verdict == REPRODUCED for *_, verdict in row["points"])
-    return f"{held} of {len(row['points'])} hold"
+    """How many of a row's points hold, e.g. '6 of 18 hold' (with how many are undecidable)."""
+    verdicts = [verdict for *_, verdict in row["points"]]
+    undecided = verdicts.count(UNDECIDABLE)
+    return (f"{verdicts.count(REPRODUCED)} of {len(verdicts)} hold"
+            + (f", {undecided} undecidable" if undecided else ""))
+
+
+_SAYS = {REPRODUCED: "holds at", NOT_REPRODUCED: "not at", UNDECIDABLE: "undecidable at"}
 
 
 def turns_on(row: dict) -> str:
     """What a row's verdict turns on: '' when every point agrees; else the reading, choice or
-    threshold whose values split the points most, e.g. 'holds at one collision per 10 episodes, not
-    at one collision per 20 episodes or one collision per 50 episodes'."""
+    threshold that alone decides it, e.g. 'holds at one collision per 10 episodes, not at one
+    collision per 20 episodes or one collision per 50 episodes'; failing one, how many points hold
+    at each value of the two that split them most."""
     if row["verdict"] != TURNS:
         return ""
-    best, spread = None, -1.0
-    for key in sorted(varied(row)):
-        shares = _shares(row["points"], key)
-        gap = max(s for s, _ in shares.values()) - min(s for s, _ in shares.values())
-        if gap > spread:
-            best, spread = key, gap
-    shares = _shares(row["points"], best)
-    if all(share in (0.0, 1.0) for share, _ in shares.values()):
-        held = [value for value, (share, _) in shares.items() if share == 1.0]
-        failed = [value for value, (share, _) in shares.items() if share == 0.0]
-        return f"holds at {_or(held)}, not at {_or(failed)}"
-    return "holds at " + ", ".join(f"{value} in {count}" for value, (_, count) in shares.items())
+    points = row["points"]
+    spread = {key: _spread(points, key) for key in sorted(varied(row))}
+    ranked = sorted(spread, key=lambda key: -spread[key])
+    by_value = _by_value(points, ranked[0])
+    if all(len(set(verdicts)) == 1 for verdicts in by_value.values()):
+        return ", ".join(f"{_SAYS[verdict]} {_or([v for v, found in by_value.items() if found[0] == verdict])}"
+                         for verdict in _SAYS if any(found[0] == verdict for found in by_value.values()))
+    return "; ".join("holds at " + ", ".join(f"{value} in {found.count(REPRODUCED)} of {len(found)}"
+                                             for value, found in _by_value(points, key).items())
+                     for key in ranked[:2] if spread[key] > 0)
 
 
-def _shares(points: list[tuple], key: str) -> dict:
-    """Per value of ``key``: (share of its points that hold, 'k of n')."""
+def _by_value(points: list[tuple], key: str) -> dict:
+    """Per value of ``key`` (in the points' order): the verdicts of its points."""
     out = {}
-    for value in dict.fromkeys(labels[key] for labels, *_ in points):
-        verdicts = [verdict for labels, *_, verdict in points if labels[key] == value]
-        held = sum(verdict == REPRODUCED for verdict in verdicts)
-        out[value] = (held / len(verdicts), f"{held} of {len(verdicts)}")
+    for labels, *_, verdict in points:
+        out.setdefault(labels[key], []).append(verdict)
     return out
+
+
+def _spread(points: list[tuple], key: str) -> float:
+    """How far the values of ``key`` differ in the shares of their points that hold and that are undecidable."""
+    shares = [(found.count(REPRODUCED) / len(found), found.count(UNDECIDABLE) / len(found))
+              for found in _by_value(points, key).values()]
+    return sum(max(share[k] for share in shares) - min(share[k] for share in shares) for k in (0, 1))
 
 
 def _or(items: list) -> str:
@@ -330,14 +339,15 @@ def measured_text(row: dict) -> str:
 
 def markdown(rows: list[dict]) -> str:
     """A Markdown claim table for a reader: the claim paraphrased with its place, who makes it, the
-    measured value against the claim's threshold, the verdict."""
-    lines = ["| claim | source | measured | verdict |", "|---|---|---|---|"]
+    measured value at the default point against the claim's threshold, how many points of its
+    multiverse hold, the verdict."""
+    lines = ["| claim | source | measured | points | verdict |", "|---|---|---|---|---|"]
     for row in rows:
         c = row["claim"]
         verdict = verdict_text(row)
         if row["verdict"] != REPRODUCED:
             verdict = f"**{verdict}**"
-        cells = [f"{c.chapter} ({c.where})", c.label, measured_text(row), verdict]
+        cells = [f"{c.chapter} ({c.where})", c.label, measured_text(row), agreement(row), verdict]
         lines.append("| " + " | ".join(cell.replace("|", "\\|") for cell in cells) + " |")
     return "\n".join(lines)
 

@@ -3,12 +3,13 @@ greedy policy does against the map's optimum, and the claims of ``data/chapter/b
 the field's reported outcomes on these maps (De Hauwere, Vrancx and Nowé, ICAART 2011) and the
 chapter's zero collisions carried to them."""
 
+import functools
 import math
 
 import numpy as np
 
 from glamas import claims as chapter
-from glamas.curves import final
+from glamas.curves import FINAL_FRACTION, final
 from glamas.experiments.benchmark_maps.experiment import BenchmarkResult
 from glamas.experiments.gridworld.analysis import COMPLETION
 from glamas.gridworld import plans
@@ -19,25 +20,26 @@ TUNNEL_3 = "tunnel_to_goal_3"
 """The map where the field reports the independent learners doing well, by luck of exploration."""
 
 
-def measure(result: BenchmarkResult) -> dict:
+def measure(result: BenchmarkResult, final_share: float = FINAL_FRACTION) -> dict:
     """Per (learner, map): final collisions and steps of the learning curves; the greedy policy's
     collisions, completion, episode length and its excess over the optimum's (NaN for a policy
     that does not complete), and the collisions of a greedy policy that completes (infinite
-    otherwise); the comparisons the claims are about."""
+    otherwise); the comparisons the claims are about. Final values average the last ``final_share``
+    of the episodes (a measurement choice of docs/verdicts.md)."""
     m = {}
     for k, name in enumerate(result.names()):
         for j, map_name in enumerate(result.map_names()):
             if result.ran[k, j]:
-                m.update(case_measures(result, name, map_name))
+                m.update(case_measures(result, name, map_name, final_share))
     m.update(claim_measures(result, m))
     return m
 
 
-def case_measures(result: BenchmarkResult, name: str, map_name: str) -> dict:
+def case_measures(result: BenchmarkResult, name: str, map_name: str, final_share: float = FINAL_FRACTION) -> dict:
     """The measurements of one learner on one map (:func:`measure`), keys ``<metric>_<learner>_<map>``."""
     key = f"{name}_{map_name}"
-    m = {f"collisions_{key}": final(result.curves(name, map_name, "collisions"), result.episodes),
-         f"steps_{key}": final(result.curves(name, map_name, "steps"), result.episodes)}
+    m = {f"collisions_{key}": final(result.curves(name, map_name, "collisions"), result.episodes, final_share),
+         f"steps_{key}": final(result.curves(name, map_name, "steps"), result.episodes, final_share)}
     for metric in ("collisions", "completion", "length", "reward", "coordinations"):
         m[f"greedy_{metric}_{key}"] = float(result.evaluation(name, map_name, metric).mean())
     completes = m[f"greedy_completion_{key}"] >= COMPLETION
@@ -133,14 +135,14 @@ def solved_table(result: BenchmarkResult) -> str:
 
 def claim_rows(result: BenchmarkResult, config=None) -> list[dict]:
     """The benchmark's claims (data/chapter/benchmark_maps.json) with verdicts computed from ``result``."""
-    return chapter.verdicts(chapter.load("benchmark_maps"), measure(result))
+    return chapter.verdicts(chapter.load("benchmark_maps"), functools.partial(measure, result))
 
 
 def field_claim_rows(result: BenchmarkResult, config=None) -> list[dict]:
     """The field's claims judged under the field's formulation (``benchmark_maps_field`` in
     data/chapter/benchmark_maps.json): the same measurements of a result of the field's rewards
     and learning settings."""
-    return chapter.verdicts(chapter.load("benchmark_maps_field"), measure(result))
+    return chapter.verdicts(chapter.load("benchmark_maps_field"), functools.partial(measure, result))
 
 
 def table(result: BenchmarkResult, metric: str = "greedy_solution_collisions") -> str:
