@@ -18,7 +18,7 @@ def _claim(id, kind="chapter", where="Sec. 5.3, Fig. 11a", source=""):
 
 
 def _rows():
-    """Ledger rows of every verdict and every source, one fragile."""
+    """Ledger rows of every verdict and every source, one turning on a reading."""
     chapter = [_claim("x"), _claim("y"), _claim("z"), _claim("f", where="Sec. 4.2, Fig. 6")]
     inferred = [_claim("i", kind="inferred"), _claim("r", kind="inferred", source="Kok and Vlassis 2004")]
     field = [_claim("p", kind="field", where="ICAART 2011", source="ICAART 2011")]
@@ -44,10 +44,11 @@ def test_the_summary_counts_by_source_and_names_the_chapter_claims_that_fail():
     assert "- inferred by us: 2; 2 reproduced, 0 not reproduced, 0 undecidable, 0 turn on a reading or choice" in text
     assert "- from the field's papers: 1; 0 reproduced, 1 not reproduced, 0 undecidable, 0 turn on a reading or " \
            "choice" in text
-    assert ledger.MARKS in text
+    assert " ".join(ledger.MARKS.split()) in " ".join(text.split())
     named = [line for line in text.splitlines() if line.startswith("- ") and "holds" in line]
     assert [line.split(" holds")[0] for line in named] == ["- y", "- z", "- f"]
-    assert "turns on a reading or choice (1 of 2 hold: holds at the default reading, not at other)" in text
+    assert "turns on a reading or choice (1 of 2 hold: holds at the default reading, not at other)" \
+        in " ".join(text.split())
     assert "[the claim ledger](docs/ledger.md)" in text
 
 
@@ -56,7 +57,7 @@ def test_the_figure_table_judges_each_figure_on_its_own_claims():
     fig11 = next(line for line in text.splitlines() if line.startswith("| Fig. 11 "))
     assert "| 1 of 3 chapter; 1 of 1 inferred |" in fig11  # r reads another source: not counted here
     fig6 = next(line for line in text.splitlines() if line.startswith("| Fig. 6 "))
-    assert "| 0 of 1 chapter (1 turning on a reading or choice) |" in fig6
+    assert "| 0 of 1 chapter |" in fig6
 
 
 def test_every_chapter_claim_tests_exactly_one_of_the_figures():

@@ -306,7 +306,7 @@ def _or(items: list) -> str:
     return items[0] if len(items) == 1 else ", ".join(items[:-1]) + " or " + items[-1]
 
 
-def fragility(row: dict) -> str:
+def turning_text(row: dict) -> str:
     """'' when every point of a row agrees, else how many hold and what the verdict turns on."""
     if row["verdict"] != TURNS:
         return ""
@@ -316,7 +316,7 @@ def fragility(row: dict) -> str:
 def verdict_text(row: dict) -> str:
     """The verdict as the tables print it: the verdict, what it turns on, why it is undecidable."""
     if row["verdict"] == TURNS:
-        return f"{TURNS} ({fragility(row)})"
+        return f"{TURNS} ({turning_text(row)})"
     why = row.get("why_undecidable", "") if row["verdict"] == UNDECIDABLE else ""
     return row["verdict"] + (f" ({why})" if why else "")
 

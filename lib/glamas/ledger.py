@@ -10,6 +10,7 @@ verdicts); ``--check`` exits 1 when either is stale. Each registered experiment 
 
 import argparse
 import re
+import textwrap
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -155,20 +156,21 @@ def _count(kind_rows: list[dict]) -> str:
 
 
 def summary(ledger_rows: list[tuple[str, dict]]) -> str:
-    """README.md's verdicts: the counts by source, the chapter's claims that do not reproduce (or
-    are undecidable or fragile) named, and the table of the chapter's figures (:data:`FIGURES`)."""
+    """README.md's verdicts: the counts by source, what the verdicts mean (MARKS), the chapter's
+    claims that do not simply reproduce named, and the table of the chapter's figures (:data:`FIGURES`)."""
     by_kind = {kind: [row for _, row in ledger_rows if row["claim"].kind == kind] for kind in claims.KINDS}
     lines = [f"**{len(ledger_rows)} claims**, by who makes them ([the claim ledger]({LEDGER_LINK}) has each "
              "with its metric and threshold):", "",
-             MARKS, ""]
+             *textwrap.wrap(MARKS, WIDTH), ""]
     lines += [f"- {SOURCES[kind]}: {len(kind_rows)}; {_count(kind_rows)}" for kind, kind_rows in by_kind.items()
               if kind_rows]
     lines.append("")
     notable = [row for row in by_kind["chapter"] if row["verdict"] != claims.REPRODUCED]
     if notable:
         lines.append("The chapter's claims that do not simply reproduce:")
-        lines += [f"- {_without_closing_remark(row['claim'].chapter)} ({row['claim'].where}): {claims.verdict_text(row)}, "
-                  f"measured {claims.measured_text(row)}." for row in notable]
+        lines += [line for row in notable for line in textwrap.wrap(
+            f"- {_without_closing_remark(row['claim'].chapter)} ({row['claim'].where}): {claims.verdict_text(row)}, "
+            f"measured {claims.measured_text(row)}.", WIDTH, subsequent_indent="  ", break_on_hyphens=False)]
         lines.append("")
     lines += ["| figure | the chapter says (paraphrased) | verdict of its claims | notebook |", "|---|---|---|---|"]
     lines += [_figure_row(figure, ledger_rows) for figure in FIGURES]
@@ -180,6 +182,8 @@ MARKS = ("A claim is *reproduced* or *NOT reproduced* only where every point of 
          "*turns on a reading or choice* gives how many points hold and what moves the verdict; *undecidable* "
          "is a claim no point decides.")
 """The sentence of the README's summary that says what the verdicts mean."""
+WIDTH = 100
+"""The width the summary's prose is wrapped to (a table's rows are not)."""
 
 
 def _without_closing_remark(text: str) -> str:
@@ -202,9 +206,7 @@ def _figure_row(figure: Figure, ledger_rows: list[tuple[str, dict]]) -> str:
         kind_rows = [row for row in tested if row["claim"].kind == kind]
         if kind_rows:
             held = sum(row["verdict"] == claims.REPRODUCED for row in kind_rows)
-            turning = sum(row["verdict"] == claims.TURNS for row in kind_rows)
-            note = f" ({turning} turning on a reading or choice)" if turning else ""
-            parts.append(f"{held} of {len(kind_rows)} {'chapter' if kind == 'chapter' else 'inferred'}{note}")
+            parts.append(f"{held} of {len(kind_rows)} {'chapter' if kind == 'chapter' else 'inferred'}")
     verdict = "; ".join(parts) if parts else "no claim"
     images = ", ".join(f"[{image}](paper_figures/output/{image}.png)" for image in figure.images)
     return (f"| {figure.name} ({images}) | {figure.says} | {verdict} | "
