@@ -7,6 +7,7 @@ import math
 
 import numpy as np
 
+from glamas import claims as chapter
 from glamas.experiments.fig10_readings.experiment import ReadingsConfig, ReadingsResult
 from glamas.experiments.gridworld import analysis as gw_analysis
 from glamas.experiments.gridworld.experiment import GridworldConfig, GridworldResult
@@ -74,7 +75,8 @@ def table(rows: list[dict]) -> str:
 
 
 def verdict_table(rows: list[dict]) -> str:
-    """Claim by reading: R reproduced, - not reproduced, ? undecidable."""
+    """Claim by reading: R reproduced, - not reproduced, ? undecidable, ~ turns on a measurement
+    choice of its rule (:func:`glamas.claims.verdicts`)."""
     claims = [r["claim"].id for r in rows[0]["claims"]]
     lines = [f"{'claim':40s} " + " ".join(f"{k + 1:>2d}" for k in range(len(rows)))]
     for c, claim in enumerate(claims):
@@ -84,7 +86,8 @@ def verdict_table(rows: list[dict]) -> str:
     return "\n".join(lines)
 
 
+_MARKS = {chapter.REPRODUCED: "R", chapter.NOT_REPRODUCED: "-", chapter.UNDECIDABLE: "?", chapter.TURNS: "~"}
+
+
 def _mark(row: dict) -> str:
-    if math.isnan(row["value"]):
-        return "?"
-    return "R" if row["holds"] else "-"
+    return _MARKS[row["verdict"]]
