@@ -276,12 +276,14 @@ def turns_on(row: dict) -> str:
     if row["verdict"] != TURNS:
         return ""
     points = row["points"]
-    spread = {key: _spread(points, key) for key in sorted(varied(row))}
-    ranked = sorted(spread, key=lambda key: -spread[key])
-    by_value = _by_value(points, ranked[0])
-    if all(len(set(verdicts)) == 1 for verdicts in by_value.values()):
+    keys = sorted(varied(row))
+    deciding = [key for key in keys if all(len(set(found)) == 1 for found in _by_value(points, key).values())]
+    if deciding:
+        by_value = _by_value(points, deciding[0])
         return ", ".join(f"{_SAYS[verdict]} {_or([v for v, found in by_value.items() if found[0] == verdict])}"
                          for verdict in _SAYS if any(found[0] == verdict for found in by_value.values()))
+    spread = {key: _spread(points, key) for key in keys}
+    ranked = sorted(keys, key=lambda key: -spread[key])
     return "; ".join("holds at " + ", ".join(f"{value} in {found.count(REPRODUCED)} of {len(found)}"
                                              for value, found in _by_value(points, key).items())
                      for key in ranked[:2] if spread[key] > 0)
