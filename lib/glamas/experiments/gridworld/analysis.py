@@ -109,10 +109,18 @@ def evaluation_table(result: GridworldResult) -> str:
     return "\n".join(lines)
 
 
-def claim_rows(result: GridworldResult) -> list[dict]:
+BOUNCE_READINGS = {"previous": "bounce to the previous cell", "start": "bounce to the start cell"}
+"""The readings of Sec. 5.3's "bounced back to their original position" (GridworldConfig.bounce) by
+name, as a verdict names them."""
+
+
+def claim_rows(result: GridworldResult, readings: dict | None = None) -> list[dict]:
     """The chapter's Section 5.3 claims with their verdicts, computed from ``result`` at every
-    measurement choice of their rules."""
-    return chapter.verdicts(chapter.load("gridworld"), functools.partial(measure, result))
+    measurement choice of their rules and under the results of the other readings (``readings``:
+    name -> result; :func:`glamas.experiments.gridworld.other_bounce`)."""
+    other = {name: functools.partial(measure, found) for name, found in (readings or {}).items()}
+    return chapter.verdicts(chapter.load("gridworld"), functools.partial(measure, result), readings=other,
+                            reading=BOUNCE_READINGS[result.config.bounce])
 
 
 def convergence_metrics(result: GridworldResult, name: str, base: str, tolerance: float | None = None,
