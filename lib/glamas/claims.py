@@ -323,11 +323,11 @@ def verdict_text(row: dict) -> str:
     return row["verdict"] + (f" ({why})" if why else "")
 
 
-def value_text(value: float, digits: int) -> str:
-    """A measured value as a reader sees it: rounded, '-' when there is none (NaN), 'no solution'
-    when it is infinite (a greedy policy that does not complete its episodes)."""
+def value_text(value: float, digits: int, missing: str = "-") -> str:
+    """A measured value as a reader sees it: rounded, ``missing`` when there is none (NaN), 'no
+    solution' when it is infinite (a greedy policy that does not complete its episodes)."""
     if math.isnan(value):
-        return "-"
+        return missing
     if math.isinf(value):
         return "no solution"
     return f"{value:.{digits}f}"

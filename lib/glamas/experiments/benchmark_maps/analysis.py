@@ -102,14 +102,16 @@ def margin_table(formulations: dict, distances=range(1, 9)) -> str:
 def formulations_table(results: dict, learner: str, metrics=("greedy_completion", "greedy_solution_collisions",
                                                              "collisions")) -> str:
     """One learner's measurements (:func:`measure`) per map under each formulation: ``results``
-    maps a formulation's name to the benchmark's result under it."""
+    maps a formulation's name to the benchmark's result under it ('no solution' where the greedy
+    policy does not complete, '-' where the learner did not run)."""
     measured = {name: measure(result) for name, result in results.items()}
     maps = next(iter(results.values())).map_names()
     width = max(10, *map(len, maps)) + 2
     lines = [f"{registry.label(learner):36s}" + "".join(f"{name:>{width}s}" for name in maps)]
     for metric in metrics:
         for name, m in measured.items():
-            cells = [f"{m.get(f'{metric}_{learner}_{map_name}', math.nan):{width}.3f}" for map_name in maps]
+            cells = [f"{chapter.value_text(m.get(f'{metric}_{learner}_{map_name}', math.nan), 3):>{width}s}"
+                     for map_name in maps]
             lines.append(f"{metric + ' (' + name + ')':36s}" + "".join(cells))
     return "\n".join(lines)
 
@@ -147,14 +149,15 @@ def field_claim_rows(result: BenchmarkResult, config=None) -> list[dict]:
 
 def table(result: BenchmarkResult, metric: str = "greedy_solution_collisions") -> str:
     """One measurement of :func:`measure` per learner (rows) and map (columns); '-' where the
-    learner did not run (its tables exceed the memory budget)."""
+    learner did not run (its tables exceed the memory budget), 'no solution' where its greedy policy
+    does not complete (the measurement's NaN or infinity)."""
     m = measure(result)
     maps, labels = result.map_names(), [registry.label(name) for name in result.names()]
     first, width = max(len(metric), *map(len, labels)) + 2, max(10, *map(len, maps)) + 2
     lines = [f"{metric:{first}s}" + "".join(f"{name:>{width}s}" for name in maps)]
     for name, label in zip(result.names(), labels):
-        cells = [f"{m[f'{metric}_{name}_{map_name}']:{width}.3f}" if f"{metric}_{name}_{map_name}" in m
-                 else f"{'-':>{width}s}" for map_name in maps]
+        cells = [f"{chapter.value_text(m[f'{metric}_{name}_{map_name}'], 3, 'no solution'):>{width}s}"
+                 if f"{metric}_{name}_{map_name}" in m else f"{'-':>{width}s}" for map_name in maps]
         lines.append(f"{label:{first}s}" + "".join(cells))
     return "\n".join(lines)
 

@@ -105,7 +105,7 @@ def evaluation_table(result: GridworldResult) -> str:
         lines.append(f"{registry.label(name):24s} {m[f'greedy_steps_{name}']:8.2f} {m[f'greedy_reward_{name}']:9.1f} "
                      f"{m[f'greedy_collisions_{name}']:10.3f} {m[f'greedy_coordinations_{name}']:6.2f} "
                      f"{m[f'greedy_completion_{name}']:9.0%} {m[f'exploring_collisions_{name}']:9.3f} "
-                     f"{m[f'collisions_per_perturbation_{name}']:16.3f}")
+                     f"{chapter.value_text(m[f'collisions_per_perturbation_{name}'], 3, 'no solution'):>16s}")
     return "\n".join(lines)
 
 
