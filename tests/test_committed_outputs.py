@@ -8,7 +8,8 @@ byte) and laid out cleanly (:func:`glamas.plotting.layout_faults`); drawn twice 
 figure has the same bytes (one figure with log axes stands for all: every figure is drawn by the
 same code path). Ten of the hundred runs of the fast experiments (Fig. 5, 6 and 7, and Fig. 6 and
 7 under their other readings) are recomputed at paper scale and compared with those of
-``data/results``; at paper scale the claims read those other readings from there. The slow ones
+``data/results``; at paper scale the claims read those other readings (and the gridworld's literal
+bounce) from there. The slow ones
 (the gridworld, the Fig. 10 readings, related work, scaling, and the Fig. 7 sweep) are recomputed
 by ``make verify``; ``tests/test_portable_results.py`` recomputes a small run of each against
 committed digests.
@@ -22,7 +23,7 @@ import numpy as np
 import pytest
 
 from glamas import figure_files, plotting, reproduce
-from glamas.experiments import and_network, registry, state_encoding
+from glamas.experiments import and_network, gridworld, registry, state_encoding
 from glamas.paths import REPO, RESULTS
 
 OUTPUT = REPO / "paper_figures" / "output"
@@ -121,3 +122,10 @@ def test_at_paper_scale_the_claims_read_the_other_readings_from_the_committed_re
             assert all(np.array_equal(committed[key], value) for key, value in stored.items())
         with pytest.raises(AssertionError, match="recomputed"):
             read.__wrapped__(experiment.configure(2, 100))  # any other scale is computed
+    bounce = dataclasses.replace(gridworld.BOUNCE_START, run=recomputed)
+    monkeypatch.setattr(gridworld, "BOUNCE_START", bounce)
+    (stored,) = gridworld.other_bounce(gridworld.EXPERIMENT.paper_scale()).values()
+    with np.load(bounce.file(RESULTS)) as committed:
+        assert all(np.array_equal(committed[key], value) for key, value in bounce.arrays(stored).items())
+    with pytest.raises(AssertionError, match="recomputed"):
+        gridworld.other_bounce(gridworld.EXPERIMENT.configure(2, 100))

@@ -45,19 +45,30 @@ def test_an_absolute_distance_close_to_the_others_is_not_clearly_worst():
     assert next(row for row in rows if row["claim"].id == "absolute_clearly_worst")["verdict"] == "NOT reproduced"
 
 
-def _initialisation_verdict(first, rerun) -> dict:
+def _initialisation_verdict(first, rerun, claim_id="initialisation_decides_outcome") -> dict:
     measured = and_analysis.init_dependence(np.array(first, dtype=bool), np.array(rerun, dtype=bool), draws=2000)
-    claim = next(c for c in claims.load("and_network_sweep") if c.id == "outcome_depends_on_initialisation")
+    claim = next(c for c in claims.load("and_network_sweep") if c.id == claim_id)
     return claims.verdicts([claim], measured)[0]
 
 
-def test_the_initialisation_claim_is_decided_only_when_its_interval_clears_one_half():
+def test_the_stronger_initialisation_claim_is_decided_only_when_its_interval_clears_one_half():
     decided = _initialisation_verdict([True] * 30 + [False] * 70, [True] * 30 + [False] * 70)
     assert decided["verdict"] == "reproduced"
     against = _initialisation_verdict([True, False] * 50, [False, True] * 25 + [True, False] * 25)
     assert against["verdict"] == "NOT reproduced"
     few = _initialisation_verdict([True] * 3 + [False] * 7, [True] * 2 + [False] * 8)  # ten runs: too wide
     assert few["verdict"] == "undecidable" and "reaches both sides of 0.5" in few["why_undecidable"]
+
+
+def test_the_dependence_on_the_initialisation_is_a_share_decided_above_zero():
+    # 100 runs, keeping the initialisation keeps 80 of 100 outcomes where other initialisations keep about half
+    first = [True] * 50 + [False] * 50
+    rerun = [True] * 40 + [False] * 10 + [True] * 10 + [False] * 40
+    depends = _initialisation_verdict(first, rerun, "outcome_depends_on_initialisation")
+    assert depends["verdict"] == "reproduced" and 0.5 < depends["value"] < 0.7
+    assert _initialisation_verdict(first, rerun)["verdict"] == "undecidable"  # 0.6: not clearly above one half
+    alike = _initialisation_verdict(first, first[25:] + first[:25], "outcome_depends_on_initialisation")
+    assert alike["verdict"] != "reproduced"
 
 
 @pytest.mark.parametrize("gap, verdict", [(26.7, "reproduced"), (4.0, "NOT reproduced")])

@@ -1,6 +1,6 @@
 """An experiment is added in one place: a toy experiment registered in this file, with a claims
 file and a figure script of its own (written here into temporary copies of ``data/chapter`` and
-``paper_figures``), goes through the memory check, ``glamas.reproduce``, the ledger and
+``paper_figures``) and a rule of its own, goes through the memory check, ``glamas.reproduce``, the ledger and
 ``glamas.verify`` without an edit of any library module."""
 
 import dataclasses
@@ -11,7 +11,7 @@ from dataclasses import dataclass
 import numpy as np
 import pytest
 
-from glamas import claims, ledger, memory, reproduce, verify
+from glamas import claims, ledger, memory, reproduce, verdict_rules, verify
 from glamas.experiments import registry
 from glamas.experiments.registry import Experiment, register
 
@@ -44,7 +44,8 @@ def claim_rows(result: CoinResult, config: CoinConfig) -> list[dict]:
 
 
 CLAIMS = {"claims": {"coin": [{"id": "fair_coin", "where": "nowhere", "chapter": "a coin is fair", "kind": "inferred",
-                               "why": "a toy", "metric": "heads_share", "op": "<", "threshold": 0.6}]}}
+                               "why": "a toy", "rule": "coin_share", "metric": "heads_share", "op": "<",
+                               "threshold": 0.6}]}}
 SCRIPT = '''
     """A toy figure: the share of heads per run."""
 
@@ -70,6 +71,8 @@ def coin(tmp_path, monkeypatch):
     (tmp_path / "scripts").mkdir()
     (tmp_path / "scripts" / "coin_figure.py").write_text(textwrap.dedent(SCRIPT))
     monkeypatch.setattr(claims, "DATA", tmp_path)
+    monkeypatch.setitem(verdict_rules.RULES, "coin_share", verdict_rules.Rule(
+        "coin_share", "a coin falls heads at most so often", "learning curves", r"^heads_share$"))
     monkeypatch.setattr(reproduce, "SCRIPTS", tmp_path / "scripts")
     experiment = register(Experiment("coin", CoinConfig, run, lambda runs, iterations: CoinConfig(runs, iterations),
                                      CoinConfig.runs, CoinConfig.iterations, CoinResult, claim_rows=claim_rows,

@@ -2,22 +2,30 @@
 
 Each claim names a metric that an experiment's analysis measures, a comparison and a threshold.
 The verdict is the comparison applied to the measured value: nothing here is typed in by hand.
+Each claim names the rule of docs/verdicts.md for its kind of sentence (:mod:`glamas.verdict_rules`)
+and is judged at every point of its multiverse: every documented reading of its setting, every
+value of its rule's measurement choices and every threshold of its band.
 A claim is of one of three kinds: what the chapter says, what we infer from it (our reading of a
 lost figure, or a consequence we derive), or what the sparse-interaction literature reports on the
 maps it shares with the chapter; ``why`` says which sentence it tests and why the metric measures it.
 """
 
+import itertools
 import json
 import math
 import operator
+from collections.abc import Callable
 from dataclasses import dataclass, fields
 
 from glamas.errors import UserError
 from glamas.paths import DATA
+from glamas.verdict_rules import RULES
 
 _OPS = {">": operator.gt, ">=": operator.ge, "<": operator.lt, "<=": operator.le}
 KINDS = ("chapter", "inferred", "field")
 REPRODUCED, NOT_REPRODUCED, UNDECIDABLE = "reproduced", "NOT reproduced", "undecidable"
+TURNS = "turns on a reading or choice"
+"""The verdict of a claim whose points do not all agree."""
 WHY_UNDECIDABLE = ":why_undecidable"
 """Suffix of the measurements key (``metric + WHY_UNDECIDABLE``) that says why a metric is NaN."""
 
@@ -38,11 +46,16 @@ class Claim:
     why: str
     """Which sentence of the chapter the claim tests and why the metric and threshold measure it."""
     metric: str
-    """Name of the measured quantity (a key of the experiment's measurements)."""
+    """Name of the measured quantity (a key of the experiment's measurements), of its rule's family."""
+    rule: str
+    """The key of the rule of docs/verdicts.md that judges it (:data:`glamas.verdict_rules.RULES`)."""
     op: str
     """How the measurement is compared with the threshold: one of > >= < <=."""
     threshold: float
     """The value the measurement is compared with."""
+    band: tuple = ()
+    """Further thresholds the claim's rule admits for the chapter's word (docs/verdicts.md); the
+    claim is judged at ``threshold`` and at each of them."""
     digits: int = 2
     """Decimals the experiment can resolve; the table rounds to them."""
     source: str = ""
@@ -59,17 +72,22 @@ class Claim:
             return self.source
         return f"inferred by us from {self.source}" if self.source else "inferred by us"
 
-    def holds(self, value: float) -> bool:
-        return bool(_OPS[self.op](value, self.threshold))
+    @property
+    def thresholds(self) -> tuple:
+        """The claim's threshold, then the others of its band."""
+        return (self.threshold, *self.band)
 
-    def verdict(self, value: float) -> str:
+    def holds(self, value: float, threshold: float | None = None) -> bool:
+        return bool(_OPS[self.op](value, self.threshold if threshold is None else threshold))
+
+    def verdict(self, value: float, threshold: float | None = None) -> str:
         """'reproduced', 'NOT reproduced', or 'undecidable' when the measurement is NaN."""
         if math.isnan(value):
             return UNDECIDABLE
-        return REPRODUCED if self.holds(value) else NOT_REPRODUCED
+        return REPRODUCED if self.holds(value, threshold) else NOT_REPRODUCED
 
 
-_REQUIRED = [f.name for f in fields(Claim) if f.name not in ("digits", "source")]
+_REQUIRED = [f.name for f in fields(Claim) if f.name not in ("digits", "source", "band")]
 
 
 def load(experiment: str) -> list[Claim]:
@@ -89,7 +107,8 @@ def _claim(entry, experiment: str) -> Claim:
     unknown = sorted(set(entry) - {f.name for f in fields(Claim)})
     if unknown:
         raise UserError(f"{where}: claim {name!r} of {experiment} has unknown keys {unknown}")
-    claim = Claim(**entry)
+    band = entry.get("band", ())
+    claim = Claim(**{**entry, "band": tuple(band) if isinstance(band, list) else band})
     if claim.op not in _OPS:
         raise UserError(f"{where}: claim {name!r} of {experiment}: op must be one of {sorted(_OPS)}, got {claim.op!r}")
     if claim.kind not in KINDS:
@@ -109,6 +128,16 @@ def _claim(entry, experiment: str) -> Claim:
     if isinstance(claim.digits, bool) or not isinstance(claim.digits, int) or not 0 <= claim.digits <= 12:
         raise UserError(f"{where}: claim {name!r} of {experiment}: digits must be a whole number from 0 to 12, "
                         f"got {claim.digits!r}")
+    if claim.rule not in RULES:
+        raise UserError(f"{where}: claim {name!r} of {experiment}: rule must be one of docs/verdicts.md's "
+                        f"{sorted(RULES)}, got {claim.rule!r}")
+    if not isinstance(claim.band, tuple) or not all(isinstance(t, (int, float)) and not isinstance(t, bool)
+                                                     and math.isfinite(t) for t in claim.band):
+        raise UserError(f"{where}: claim {name!r} of {experiment}: band must be a list of finite numbers, "
+                        f"got {entry.get('band')!r}")
+    if not RULES[claim.rule].takes(claim.metric):
+        raise UserError(f"{where}: claim {name!r} of {experiment}: metric {claim.metric!r} is not of rule "
+                        f"{claim.rule!r}'s family ({RULES[claim.rule].metrics}); correct the rule or the metric")
     return claim
 
 
@@ -158,62 +187,169 @@ def chapter_section_entry(kind: str, experiment: str):
     return found[experiment]
 
 
-def verdicts(claims: list[Claim], measured: dict, readings: dict | None = None) -> list[dict]:
-    """One row per claim: the claim, the measured value, whether it holds and the verdict
-    (with the reason a NaN measurement is undecidable, when the measurements give one).
+Measure = dict | Callable[..., dict]
+"""An experiment's measurements: a dict (judged at its rule's default choices only) or a function
+of the measurement choices (keywords of :class:`glamas.verdict_rules.Choice`) giving them."""
 
-    ``readings`` maps the name of each documented alternative reading of the chapter to its
-    measurements; a claim measured under them also gets ``readings`` (name -> verdict), and is
-    *fragile* when its verdict there is not the default reading's (:func:`fragility`)."""
-    missing = [f"{c.id} ({c.metric})" for c in claims if c.metric not in measured]
+
+def verdicts(claims: list[Claim], measured: Measure, readings: dict | None = None,
+             reading: str = "the default reading") -> list[dict]:
+    """One row per claim: the claim, its measured value at the default point, whether it holds and
+    the verdict over its multiverse (:func:`multiverse_verdict`), with the reason a NaN measurement
+    is undecidable, when the measurements give one.
+
+    The points are every reading (``reading`` names the default one; ``readings`` maps the name of
+    each documented alternative reading of the chapter to its measurements) times every value of
+    the claim's rule's choices (where the measurements are a function of them) times every
+    threshold of the claim's band. Each row keeps its ``points``: (labels, value, threshold, verdict)."""
+    sources = {reading: measured, **(readings or {})}
+    cache = {}
+
+    def at(name: str, choice: dict) -> dict:
+        key = (name, tuple(sorted(choice.items())))
+        if key not in cache:
+            source = sources[name]
+            cache[key] = source(**choice) if callable(source) else source
+        return cache[key]
+
+    default = at(reading, {})
+    missing = [f"{c.id} ({c.metric})" for c in claims if c.metric not in default]
     if missing:
         raise UserError(f"no measurement for the claims {', '.join(missing)}: a claim's metric must be one the "
                         "experiment's analysis measures; correct its metric in data/chapter")
     rows = []
     for c in claims:
-        value = float(measured[c.metric])
-        verdict = c.verdict(value)
-        under = {name: c.verdict(float(other[c.metric])) for name, other in (readings or {}).items()
-                 if c.metric in other}
+        value = float(default[c.metric])
+        points = _points(c, sources, at)
+        verdict = multiverse_verdict(points)
         rows.append({"claim": c, "value": value, "holds": verdict == REPRODUCED, "verdict": verdict,
-                     "why_undecidable": measured.get(c.metric + WHY_UNDECIDABLE, ""), "readings": under})
+                     "why_undecidable": default.get(c.metric + WHY_UNDECIDABLE, ""), "points": points})
     return rows
 
 
-def fragility(row: dict) -> str:
-    """'' when a row's verdict is the same under every documented reading it was measured under,
-    else e.g. 'fragile: not under 2 of 3 readings (name, name)'."""
-    under = row.get("readings") or {}
-    differ = [name for name, verdict in under.items() if verdict != row["verdict"]]
-    if not differ:
+def _points(c: Claim, sources: dict, at: Callable) -> list[tuple]:
+    """(labels, value, threshold, verdict) at every point of claim ``c``'s multiverse."""
+    choices = RULES[c.rule].choices
+    points = []
+    for name, source in sources.items():
+        varied = choices if callable(source) else ()
+        for values in itertools.product(*(choice.values for choice in varied)):
+            choice = {k.name: v for k, v in zip(varied, values) if v != k.values[0]}
+            measured = at(name, choice)
+            if c.metric not in measured:
+                continue
+            labels = {"reading": name} | {k.name: k.text(v) for k, v in zip(varied, values)}
+            value = float(measured[c.metric])
+            points += [({**labels, "threshold": f"threshold {c.op} {t:g}"}, value, t, c.verdict(value, t))
+                       for t in c.thresholds]
+    return points
+
+
+def multiverse_verdict(points: list[tuple]) -> str:
+    """The verdict every point gives, or TURNS when they differ."""
+    found = {verdict for *_, verdict in points}
+    return found.pop() if len(found) == 1 else TURNS
+
+
+def varied(row: dict) -> set:
+    """The names of what a row's points vary (readings, choices, thresholds)."""
+    labels = [labels for labels, *_ in row["points"]]
+    return {key for key in labels[0] if len({lab[key] for lab in labels}) > 1} if labels else set()
+
+
+def agreement(row: dict) -> str:
+    """How many of a row's points hold, e.g. '6 of 18 hold' (with how many are undecidable)."""
+    verdicts = [verdict for *_, verdict in row["points"]]
+    undecided = verdicts.count(UNDECIDABLE)
+    return (f"{verdicts.count(REPRODUCED)} of {len(verdicts)} hold"
+            + (f", {undecided} undecidable" if undecided else ""))
+
+
+_SAYS = {REPRODUCED: "holds at", NOT_REPRODUCED: "not at", UNDECIDABLE: "undecidable at"}
+
+
+def turns_on(row: dict) -> str:
+    """What a row's verdict turns on: '' when every point agrees; else the reading, choice or
+    threshold that alone decides it, e.g. 'holds at one collision per 10 episodes, not at one
+    collision per 20 episodes or one collision per 50 episodes'; failing one, how many points hold
+    at each value of the two that split them most."""
+    if row["verdict"] != TURNS:
         return ""
-    return f"fragile: not under {len(differ)} of {len(under) + 1} readings ({', '.join(differ)})"
+    points = row["points"]
+    keys = sorted(varied(row))
+    deciding = [key for key in keys if all(len(set(found)) == 1 for found in _by_value(points, key).values())]
+    if deciding:
+        by_value = _by_value(points, deciding[0])
+        return ", ".join(f"{_SAYS[verdict]} {_or([v for v, found in by_value.items() if found[0] == verdict])}"
+                         for verdict in _SAYS if any(found[0] == verdict for found in by_value.values()))
+    spread = {key: _spread(points, key) for key in keys}
+    ranked = sorted(keys, key=lambda key: -spread[key])
+    return "; ".join("holds at " + ", ".join(f"{value} in {found.count(REPRODUCED)} of {len(found)}"
+                                             for value, found in _by_value(points, key).items())
+                     for key in ranked[:2] if spread[key] > 0)
+
+
+def _by_value(points: list[tuple], key: str) -> dict:
+    """Per value of ``key`` (in the points' order): the verdicts of its points."""
+    out = {}
+    for labels, *_, verdict in points:
+        out.setdefault(labels[key], []).append(verdict)
+    return out
+
+
+def _spread(points: list[tuple], key: str) -> float:
+    """How far the values of ``key`` differ in the shares of their points that hold and that are undecidable."""
+    shares = [(found.count(REPRODUCED) / len(found), found.count(UNDECIDABLE) / len(found))
+              for found in _by_value(points, key).values()]
+    return sum(max(share[k] for share in shares) - min(share[k] for share in shares) for k in (0, 1))
+
+
+def _or(items: list) -> str:
+    return items[0] if len(items) == 1 else ", ".join(items[:-1]) + " or " + items[-1]
+
+
+def turning_text(row: dict) -> str:
+    """'' when every point of a row agrees, else how many hold and what the verdict turns on."""
+    if row["verdict"] != TURNS:
+        return ""
+    return f"{agreement(row)}: {turns_on(row)}"
 
 
 def verdict_text(row: dict) -> str:
-    """The verdict as the tables print it: the verdict, its fragility, why it is undecidable."""
-    notes = [note for note in (fragility(row), row.get("why_undecidable", "") if row["verdict"] == UNDECIDABLE
-                               else "") if note]
-    return row["verdict"] + (f" ({'; '.join(notes)})" if notes else "")
+    """The verdict as the tables print it: the verdict, what it turns on, why it is undecidable."""
+    if row["verdict"] == TURNS:
+        return f"{TURNS} ({turning_text(row)})"
+    why = row.get("why_undecidable", "") if row["verdict"] == UNDECIDABLE else ""
+    return row["verdict"] + (f" ({why})" if why else "")
+
+
+def value_text(value: float, digits: int, missing: str = "-") -> str:
+    """A measured value as a reader sees it: rounded, ``missing`` when there is none (NaN), 'no
+    solution' when it is infinite (a greedy policy that does not complete its episodes)."""
+    if math.isnan(value):
+        return missing
+    if math.isinf(value):
+        return "no solution"
+    return f"{value:.{digits}f}"
 
 
 def measured_text(row: dict) -> str:
-    """The measured value rounded to the claim's digits, beside what the claim needs."""
+    """The measured value at the default point rounded to the claim's digits, beside what the claim needs."""
     c = row["claim"]
-    value = "NaN" if math.isnan(row["value"]) else f"{row['value']:.{c.digits}f}"
-    return f"{value} (needs {c.op} {c.threshold:g})"
+    return f"{value_text(row['value'], c.digits)} (needs {c.op} {c.threshold:g})"
 
 
 def markdown(rows: list[dict]) -> str:
     """A Markdown claim table for a reader: the claim paraphrased with its place, who makes it, the
-    measured value against the claim's threshold, the verdict."""
-    lines = ["| claim | source | measured | verdict |", "|---|---|---|---|"]
+    measured value at the default point against the claim's threshold, how many points of its
+    multiverse hold, the verdict."""
+    lines = ["| claim | source | measured | points | verdict |", "|---|---|---|---|---|"]
     for row in rows:
         c = row["claim"]
         verdict = verdict_text(row)
-        if row["verdict"] != REPRODUCED or fragility(row):
+        if row["verdict"] != REPRODUCED:
             verdict = f"**{verdict}**"
-        cells = [f"{c.chapter} ({c.where})", c.label, measured_text(row), verdict]
+        cells = [f"{c.chapter} ({c.where})", c.label, measured_text(row), agreement(row), verdict]
         lines.append("| " + " | ".join(cell.replace("|", "\\|") for cell in cells) + " |")
     return "\n".join(lines)
 

@@ -40,17 +40,17 @@ def ratio(numerator: float, denominator: float) -> float:
     return numerator / denominator if denominator else math.nan
 
 
-def _final_weights(episodes: np.ndarray) -> np.ndarray:
-    """Each block's (ending at ``episodes``) number of episodes in the last FINAL_FRACTION."""
+def _final_weights(episodes: np.ndarray, fraction: float = FINAL_FRACTION) -> np.ndarray:
+    """Each block's (ending at ``episodes``) number of episodes in the last ``fraction``."""
     starts = np.concatenate([[0], episodes[:-1]])
-    cut = episodes[-1] * (1.0 - FINAL_FRACTION)
+    cut = episodes[-1] * (1.0 - fraction)
     return np.clip(episodes - np.maximum(starts, cut), 0, None)
 
 
-def final(curves: np.ndarray, episodes: np.ndarray) -> float:
-    """Mean over runs and over the last FINAL_FRACTION of the episodes: each block (ending at
+def final(curves: np.ndarray, episodes: np.ndarray, fraction: float = FINAL_FRACTION) -> float:
+    """Mean over runs and over the last ``fraction`` of the episodes: each block (ending at
     ``episodes``) weighted by how many of its episodes lie in that last part."""
-    weights = _final_weights(episodes)
+    weights = _final_weights(episodes, fraction)
     return float(weighted_sum(curves.mean(axis=0), weights) / weights.sum())
 
 

@@ -10,6 +10,7 @@ verdicts); ``--check`` exits 1 when either is stale. Each registered experiment 
 
 import argparse
 import re
+import textwrap
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -26,7 +27,7 @@ LEDGER = REPO / "docs" / "ledger.md"
 """The ledger's page, generated whole (:func:`page`)."""
 LEDGER_LINK = LEDGER.relative_to(README.parent).as_posix()
 """The ledger's page as README.md links to it."""
-VERDICTS = (claims.REPRODUCED, claims.NOT_REPRODUCED, claims.UNDECIDABLE)
+VERDICTS = (claims.REPRODUCED, claims.NOT_REPRODUCED, claims.UNDECIDABLE, claims.TURNS)
 SOURCES = {"chapter": "the chapter's own", "inferred": "inferred by us", "field": "from the field's papers"}
 """How the summary names the claims of each kind (:data:`glamas.claims.KINDS`)."""
 
@@ -110,8 +111,8 @@ def show(*experiments: str, results_dir: Path = RESULTS):
     return claims.show([row for _, row in rows(*experiments, results_dir=results_dir)])
 
 
-_HEADER = ("| experiment | claim | where | the claim (paraphrased) | source | metric, threshold | measured | verdict |\n"
-           "|---|---|---|---|---|---|---|---|")
+_HEADER = ("| experiment | claim | where | the claim (paraphrased) | source | rule | metric, threshold | measured | "
+           "points | verdict |\n|---|---|---|---|---|---|---|---|---|---|")
 
 
 def markdown(*experiments: str, results_dir: Path = RESULTS) -> str:
@@ -127,10 +128,12 @@ def table(ledger_rows: list[tuple[str, dict]]) -> str:
 def _row(experiment: str, row: dict) -> str:
     c = row["claim"]
     verdict = claims.verdict_text(row)
-    if row["verdict"] != claims.REPRODUCED or claims.fragility(row):
+    if row["verdict"] != claims.REPRODUCED:
         verdict = f"**{verdict}**"
-    cells = [experiment, f"`{c.id}`", c.where, c.chapter, c.label, f"`{c.metric}` {c.op} {c.threshold:g}",
-             claims.measured_text(row).split(" (")[0], verdict]
+    thresholds = " or ".join(f"{t:g}" for t in c.thresholds)
+    cells = [experiment, f"`{c.id}`", c.where, c.chapter, c.label, f"[`{c.rule}`](verdicts.md)",
+             f"`{c.metric}` {c.op} {thresholds}", claims.value_text(row["value"], c.digits), claims.agreement(row),
+             verdict]
     return "| " + " | ".join(cell.replace("|", "\\|") for cell in cells) + " |"
 
 
@@ -138,39 +141,49 @@ def page(ledger: str) -> str:
     """docs/ledger.md: a title, what the table is, the table ``ledger``."""
     return ("# Claim ledger\n\n"
             "Every claim of every experiment and its verdict, computed from the committed results in "
-            "`data/results/` by `python -m glamas.ledger --write` (`make ledger`): do not edit this "
+            "`data/results/` by `python -m glamas.ledger --write` (`make ledger`) at every point of the claim's "
+            "multiverse (its readings, its rule's measurement choices and thresholds: [the rule book](verdicts.md)), "
+            "the measured value at the default point, how many points hold, and the verdict: do not edit this "
             "page by hand.\n\n"
             f"{ledger}\n")
 
 
 def _count(kind_rows: list[dict]) -> str:
-    """'26 reproduced, 2 not reproduced, 1 undecidable' (with how many reproduce only under some readings)."""
+    """'20 reproduced, 2 not reproduced, 1 undecidable, 4 turn on a reading or choice'."""
     n = {verdict: sum(row["verdict"] == verdict for row in kind_rows) for verdict in VERDICTS}
-    fragile = sum(bool(claims.fragility(row)) for row in kind_rows if row["verdict"] == claims.REPRODUCED)
-    text = f"{n[claims.REPRODUCED]} reproduced"
-    if fragile:
-        text += f" ({fragile} of them not under every reading the notes document)"
-    return f"{text}, {n[claims.NOT_REPRODUCED]} not reproduced, {n[claims.UNDECIDABLE]} undecidable"
+    return (f"{n[claims.REPRODUCED]} reproduced, {n[claims.NOT_REPRODUCED]} not reproduced, "
+            f"{n[claims.UNDECIDABLE]} undecidable, {n[claims.TURNS]} turn on a reading or choice")
 
 
 def summary(ledger_rows: list[tuple[str, dict]]) -> str:
-    """README.md's verdicts: the counts by source, the chapter's claims that do not reproduce (or
-    are undecidable or fragile) named, and the table of the chapter's figures (:data:`FIGURES`)."""
+    """README.md's verdicts: the counts by source, what the verdicts mean (MARKS), the chapter's
+    claims that do not simply reproduce named, and the table of the chapter's figures (:data:`FIGURES`)."""
     by_kind = {kind: [row for _, row in ledger_rows if row["claim"].kind == kind] for kind in claims.KINDS}
     lines = [f"**{len(ledger_rows)} claims**, by who makes them ([the claim ledger]({LEDGER_LINK}) has each "
-             "with its metric and threshold):", ""]
+             "with its metric and threshold):", "",
+             *textwrap.wrap(MARKS, WIDTH), ""]
     lines += [f"- {SOURCES[kind]}: {len(kind_rows)}; {_count(kind_rows)}" for kind, kind_rows in by_kind.items()
               if kind_rows]
     lines.append("")
-    notable = [row for row in by_kind["chapter"] if row["verdict"] != claims.REPRODUCED or claims.fragility(row)]
+    notable = [row for row in by_kind["chapter"] if row["verdict"] != claims.REPRODUCED]
     if notable:
         lines.append("The chapter's claims that do not simply reproduce:")
-        lines += [f"- {_without_closing_remark(row['claim'].chapter)} ({row['claim'].where}): {claims.verdict_text(row)}, "
-                  f"measured {claims.measured_text(row)}." for row in notable]
+        lines += [line for row in notable for line in textwrap.wrap(
+            f"- {_without_closing_remark(row['claim'].chapter)} ({row['claim'].where}): {claims.verdict_text(row)}, "
+            f"measured {claims.measured_text(row)}.", WIDTH, subsequent_indent="  ", break_on_hyphens=False)]
         lines.append("")
     lines += ["| figure | the chapter says (paraphrased) | verdict of its claims | notebook |", "|---|---|---|---|"]
     lines += [_figure_row(figure, ledger_rows) for figure in FIGURES]
     return "\n".join(lines)
+
+
+MARKS = ("A claim is *reproduced* or *NOT reproduced* only where every point of its multiverse agrees (every "
+         "reading of its setting, every measurement choice and threshold its [rule](docs/verdicts.md) admits); "
+         "*turns on a reading or choice* gives how many points hold and what moves the verdict; *undecidable* "
+         "is a claim no point decides.")
+"""The sentence of the README's summary that says what the verdicts mean."""
+WIDTH = 100
+"""The width the summary's prose is wrapped to (a table's rows are not)."""
 
 
 def _without_closing_remark(text: str) -> str:
@@ -193,8 +206,8 @@ def _figure_row(figure: Figure, ledger_rows: list[tuple[str, dict]]) -> str:
         kind_rows = [row for row in tested if row["claim"].kind == kind]
         if kind_rows:
             held = sum(row["verdict"] == claims.REPRODUCED for row in kind_rows)
-            fragile = sum(bool(claims.fragility(row)) for row in kind_rows if row["verdict"] == claims.REPRODUCED)
-            note = f" ({fragile} fragile)" if fragile else ""
+            turning = sum(row["verdict"] == claims.TURNS for row in kind_rows)
+            note = f" ({turning} {'turns' if turning == 1 else 'turn'} on a reading or choice)" if turning else ""
             claims_word = "claim" if len(kind_rows) == 1 else "claims"
             parts.append(f"{held} of {len(kind_rows)} {kind} {claims_word} reproduced{note}")
     verdict = "; ".join(parts) if parts else "no claim"

@@ -41,7 +41,8 @@ from glamas.paths import DATA, RESULTS
 DIGESTS = DATA / "small_runs.json"
 SIZES = {"single_gla": (2, 2000, {}), "state_encoding": (2, 2000, {}), "state_encoding_readings": (2, 2000, {}),
          "and_network": (2, 2000, {}), "and_network_readings": (2, 2000, {}), "and_network_sweep": (2, 2000, {}),
-         "gridworld": (2, 300, {}), "fig10_readings": (2, 300, {}), "related_work": (2, 300, {}),
+         "gridworld": (2, 300, {}), "gridworld_bounce_start": (2, 300, {}), "fig10_readings": (2, 300, {}),
+         "related_work": (2, 300, {}),
          "scaling": (1, 100, {"agents": (2, 3), "evaluation_episodes": 5}),
          "many_agents": (1, 20, {"agents": (2, 8, 32), "evaluation_episodes": 2, "max_steps": 200}),
          "benchmark_maps": (2, 100, {"evaluation_episodes": 5, "memory_budget_gib": 0.1}),
@@ -61,8 +62,8 @@ only: the exact plans of TunnelToGoal 3, which the benchmark's own small run com
 most of their time."""
 SEED = 0
 RECOMPUTE_MINUTES = {"single_gla": 0.5, "state_encoding": 1, "state_encoding_readings": 0.5, "and_network": 0.5,
-                     "and_network_readings": 0.5, "and_network_sweep": 1, "gridworld": 1, "fig10_readings": 1,
-                     "related_work": 1, "scaling": 2, "many_agents": 1,
+                     "and_network_readings": 0.5, "and_network_sweep": 1, "gridworld": 1, "gridworld_bounce_start": 1,
+                     "fig10_readings": 1, "related_work": 1, "scaling": 2, "many_agents": 1,
                      "benchmark_maps": 1, "benchmark_maps_field": 0.5, "benchmark_maps_budgets": 14,
                      "warehouses": 24, "crowd": 11}
 """About how long each experiment's paper-scale recomputation takes on 2 cores (measured), for

@@ -2,10 +2,12 @@
 P(R) per region and the stuck runs (Fig. 7); for the sweep, the stuck fraction at each region II
 reward and how far the initialisation decides the outcome; the claims' verdicts."""
 
+import functools
+
 import numpy as np
 
 from glamas import claims
-from glamas.experiments.and_network.experiment import (ANDNetworkConfig, ANDNetworkResult, SweepResult,
+from glamas.experiments.and_network.experiment import (PARABOLA_READINGS, ANDNetworkConfig, ANDNetworkResult, SweepResult,
                                                        evaluation_points, final_left_by_region, left_maps,
                                                        region_means)
 
@@ -49,7 +51,9 @@ def claim_rows(result: ANDNetworkResult, readings: dict | None = None) -> list[d
     """The Fig. 7 claims (data/chapter/section4.json) with verdicts computed from ``result``, each
     also judged under the results of the other parabolas (``readings``: name -> result)."""
     other = {name: measure(found) for name, found in (readings or {}).items()}
-    return claims.verdicts(claims.load("and_network"), measure(result), readings=other)
+    own = (result.config.parabola_curvature, result.config.parabola_offset)
+    name = next((name for name, shape in PARABOLA_READINGS.items() if shape == own), "the configured parabola")
+    return claims.verdicts(claims.load("and_network"), measure(result), readings=other, reading=name)
 
 
 def stuck_runs(result: ANDNetworkResult) -> np.ndarray:
@@ -70,15 +74,17 @@ BOOTSTRAP_DRAWS = 10_000
 """Resamples of the runs for the 95 % interval of the initialisation's share of the outcome."""
 
 
-def measure_sweep(result: SweepResult) -> dict:
+def measure_sweep(result: SweepResult, stuck_threshold: float | None = None) -> dict:
     """Stuck fraction at each reward, at the chapter's 0.5, at the highest value, and the rise;
-    at the highest reward, how far the initialisation decides the outcome (:func:`init_dependence`)."""
-    fractions = result.stuck.mean(axis=1)
+    at the highest reward, how far the initialisation decides the outcome (:func:`init_dependence`).
+    A run is stuck when both agents' final P(L) in region I lie below ``stuck_threshold`` (the
+    configuration's by default; a measurement choice of docs/verdicts.md)."""
+    threshold = result.config.stuck_threshold if stuck_threshold is None else stuck_threshold
+    fractions = (result.prob_left_I < threshold).all(axis=-1).mean(axis=1)
     measured = {f"stuck_fraction_{value:g}": f for value, f in zip(result.reward_outside, fractions)}
     measured["stuck_fraction_lowest"] = fractions[0]
     measured["stuck_fraction_highest"] = fractions[-1]
     measured["stuck_fraction_rise"] = fractions[-1] - fractions[0]
-    threshold = result.config.stuck_threshold
     first = (result.prob_left_I[-1] < threshold).all(axis=1)
     measured["stuck_fraction_rerun"] = (result.rerun_prob_left_I < threshold).all(axis=1).mean()
     return measured | init_dependence(first, (result.rerun_prob_left_I < threshold).all(axis=1))
@@ -93,7 +99,10 @@ def init_dependence(first: np.ndarray, rerun: np.ndarray, draws: int = BOOTSTRAP
     initialisation removes (close to Cohen's kappa of the two streams; 0: the stream alone
     decides, 1: the initialisation does), with its 95 % bootstrap interval over runs (in a
     resample, copies of one run count as other initialisations, which can only lower the share).
-    NaN when every run ends alike (no disagreement to remove)."""
+    The share decided against 0 (``init_share_of_outcome_depends``: the outcome depends on the
+    initialisation) and against DECIDES (``init_share_of_outcome_decided``: it decides the outcome),
+    each NaN when the interval reaches both sides, or when every run ends alike (no disagreement to
+    remove)."""
     pairs = np.stack([first, rerun]).astype(np.float64)
     boot = np.random.default_rng(0).integers(0, first.shape[0], (draws, first.shape[0]))
     same, other = _agreements(pairs[None])
@@ -101,17 +110,21 @@ def init_dependence(first: np.ndarray, rerun: np.ndarray, draws: int = BOOTSTRAP
     low, high = np.nanpercentile(shares, [2.5, 97.5]) if np.isfinite(shares).any() else (np.nan, np.nan)
     share = _init_share(same, other)[0]
     measured = {"init_agreement_same": same[0], "init_agreement_other": other[0], "init_share_of_outcome": share,
-                "init_share_of_outcome_low": low, "init_share_of_outcome_high": high,
-                "init_share_of_outcome_decided": share if not low <= DECIDES <= high else np.nan}
-    if np.isnan(share):
-        measured["init_share_of_outcome_decided" + claims.WHY_UNDECIDABLE] = (
-            "every run ends alike on both streams: no disagreement for the initialisation to explain")
-    elif np.isnan(measured["init_share_of_outcome_decided"]):
-        measured["init_share_of_outcome_decided" + claims.WHY_UNDECIDABLE] = (
-            f"share {share:.2f}, but its 95 % interval [{low:.2f}, {high:.2f}] reaches both sides of {DECIDES:g}")
+                "init_share_of_outcome_low": low, "init_share_of_outcome_high": high}
+    for key, level in (("init_share_of_outcome_depends", DEPENDS), ("init_share_of_outcome_decided", DECIDES)):
+        measured[key] = share if not low <= level <= high else np.nan
+        if np.isnan(share):
+            measured[key + claims.WHY_UNDECIDABLE] = (
+                "every run ends alike on both streams: no disagreement for the initialisation to explain")
+        elif np.isnan(measured[key]):
+            measured[key + claims.WHY_UNDECIDABLE] = (
+                f"share {share:.2f}, but its 95 % interval [{low:.2f}, {high:.2f}] reaches both sides of {level:g}")
     return measured
 
 
+DEPENDS = 0.0
+"""The initialisation's share of the outcome above which the outcome depends on it: keeping the
+initialisation makes two runs agree more often than runs of other initialisations do."""
 DECIDES = 0.5
 """The initialisation's share of the outcome above which it decides the outcome more than the
 stream does: the claim's threshold, which its interval must clear to decide."""
@@ -136,8 +149,9 @@ def _init_share(same: np.ndarray, other: np.ndarray) -> np.ndarray:
 
 
 def sweep_claim_rows(result: SweepResult) -> list[dict]:
-    """The stuck-runs claim (data/chapter/section4.json) with its verdict computed from ``result``."""
-    return claims.verdicts(claims.load("and_network_sweep"), measure_sweep(result))
+    """The sweep's claims (data/chapter/section4.json) with their verdicts computed from ``result``
+    at every measurement choice of their rules."""
+    return claims.verdicts(claims.load("and_network_sweep"), functools.partial(measure_sweep, result))
 
 
 def wilson_interval(fractions: np.ndarray, n: int, z: float = 1.96):

@@ -3,12 +3,13 @@ greedy policy does against the map's optimum, and the claims of ``data/chapter/b
 the field's reported outcomes on these maps (De Hauwere, Vrancx and Nowé, ICAART 2011) and the
 chapter's zero collisions carried to them."""
 
+import functools
 import math
 
 import numpy as np
 
 from glamas import claims as chapter
-from glamas.curves import final
+from glamas.curves import FINAL_FRACTION, final
 from glamas.experiments.benchmark_maps.experiment import BenchmarkResult
 from glamas.experiments.gridworld.analysis import COMPLETION
 from glamas.gridworld import plans
@@ -20,25 +21,26 @@ TUNNEL_3 = "tunnel_to_goal_3"
 """The map where the field reports the independent learners doing well, by luck of exploration."""
 
 
-def measure(result: BenchmarkResult) -> dict:
+def measure(result: BenchmarkResult, final_share: float = FINAL_FRACTION) -> dict:
     """Per (learner, map): final collisions and steps of the learning curves; the greedy policy's
     collisions, completion, episode length and its excess over the optimum's (NaN for a policy
     that does not complete), and the collisions of a greedy policy that completes (infinite
-    otherwise); the comparisons the claims are about."""
+    otherwise); the comparisons the claims are about. Final values average the last ``final_share``
+    of the episodes (a measurement choice of docs/verdicts.md)."""
     m = {}
     for k, name in enumerate(result.names()):
         for j, map_name in enumerate(result.map_names()):
             if result.ran[k, j]:
-                m.update(case_measures(result, name, map_name))
+                m.update(case_measures(result, name, map_name, final_share))
     m.update(claim_measures(result, m))
     return m
 
 
-def case_measures(result: BenchmarkResult, name: str, map_name: str) -> dict:
+def case_measures(result: BenchmarkResult, name: str, map_name: str, final_share: float = FINAL_FRACTION) -> dict:
     """The measurements of one learner on one map (:func:`measure`), keys ``<metric>_<learner>_<map>``."""
     key = f"{name}_{map_name}"
-    m = {f"collisions_{key}": final(result.curves(name, map_name, "collisions"), result.episodes),
-         f"steps_{key}": final(result.curves(name, map_name, "steps"), result.episodes)}
+    m = {f"collisions_{key}": final(result.curves(name, map_name, "collisions"), result.episodes, final_share),
+         f"steps_{key}": final(result.curves(name, map_name, "steps"), result.episodes, final_share)}
     for metric in ("collisions", "completion", "length", "reward", "coordinations"):
         m[f"greedy_{metric}_{key}"] = float(result.evaluation(name, map_name, metric).mean())
     completes = m[f"greedy_completion_{key}"] >= COMPLETION
@@ -101,11 +103,13 @@ def margin_table(formulations: dict, distances=range(1, 9)) -> str:
 def formulations_table(results: dict, learner: str, metrics=("greedy_completion", "greedy_solution_collisions",
                                                              "collisions")) -> Table:
     """One learner's measurements (:func:`measure`) per map under each formulation: ``results``
-    maps a formulation's name to the benchmark's result under it."""
+    maps a formulation's name to the benchmark's result under it ('no solution' where the greedy
+    policy does not complete, '-' where the learner did not run)."""
     measured = {name: measure(result) for name, result in results.items()}
     maps = next(iter(results.values())).map_names()
     return Table([registry.label(learner), *maps],
-                 [[f"{metric} ({name})", *(f"{m.get(f'{metric}_{learner}_{map_name}', math.nan):.3f}" for map_name in maps)]
+                 [[f"{metric} ({name})", *(chapter.value_text(m.get(f'{metric}_{learner}_{map_name}', math.nan), 3)
+                                           for map_name in maps)]
                   for metric in metrics for name, m in measured.items()])
 
 
@@ -130,22 +134,24 @@ def solved_table(result: BenchmarkResult) -> str:
 
 def claim_rows(result: BenchmarkResult, config=None) -> list[dict]:
     """The benchmark's claims (data/chapter/benchmark_maps.json) with verdicts computed from ``result``."""
-    return chapter.verdicts(chapter.load("benchmark_maps"), measure(result))
+    return chapter.verdicts(chapter.load("benchmark_maps"), functools.partial(measure, result))
 
 
 def field_claim_rows(result: BenchmarkResult, config=None) -> list[dict]:
     """The field's claims judged under the field's formulation (``benchmark_maps_field`` in
     data/chapter/benchmark_maps.json): the same measurements of a result of the field's rewards
     and learning settings."""
-    return chapter.verdicts(chapter.load("benchmark_maps_field"), measure(result))
+    return chapter.verdicts(chapter.load("benchmark_maps_field"), functools.partial(measure, result))
 
 
 def table(result: BenchmarkResult, metric: str = "greedy_solution_collisions") -> Table:
     """One measurement of :func:`measure` per learner (rows) and map (columns); '-' where the
-    learner did not run (its tables exceed the memory budget)."""
+    learner did not run (its tables exceed the memory budget), 'no solution' where its greedy policy
+    does not complete (the measurement's NaN or infinity)."""
     m, maps = measure(result), result.map_names()
-    return Table([metric, *maps], [[registry.label(name), *(f"{m[key]:.3f}" if (key := f"{metric}_{name}_{map_name}") in m
-                                                            else "-" for map_name in maps)]
+    return Table([metric, *maps], [[registry.label(name), *(chapter.value_text(m[key], 3, 'no solution')
+                                                            if (key := f"{metric}_{name}_{map_name}") in m else "-"
+                                                            for map_name in maps)]
                                    for name in result.names()])
 
 

@@ -7,6 +7,7 @@ import math
 
 import numpy as np
 
+from glamas import claims as chapter
 from glamas.experiments.fig10_readings.experiment import ReadingsConfig, ReadingsResult
 from glamas.experiments.gridworld import analysis as gw_analysis
 from glamas.experiments.gridworld.experiment import GridworldConfig, GridworldResult
@@ -75,13 +76,14 @@ def table(rows: list[dict]) -> Table:
 
 def verdict_table(rows: list[dict]) -> Table:
     """Claim by reading, the readings numbered as in :func:`table`: R reproduced, - not reproduced,
-    ? undecidable."""
+    ? undecidable, ~ turns on a measurement choice of its rule (:func:`glamas.claims.verdicts`)."""
     claims = [r["claim"].id for r in rows[0]["claims"]]
     return Table(["claim", *(str(k + 1) for k in range(len(rows)))],
                  [[claim, *(_mark(row["claims"][c]) for row in rows)] for c, claim in enumerate(claims)])
 
 
+_MARKS = {chapter.REPRODUCED: "R", chapter.NOT_REPRODUCED: "-", chapter.UNDECIDABLE: "?", chapter.TURNS: "~"}
+
+
 def _mark(row: dict) -> str:
-    if math.isnan(row["value"]):
-        return "?"
-    return "R" if row["holds"] else "-"
+    return _MARKS[row["verdict"]]

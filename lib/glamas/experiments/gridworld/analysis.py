@@ -2,6 +2,7 @@
 are about (:func:`measure`) and their verdicts, what 2observe's GLAs learned, the optimum the
 learners are drawn against, and the notebook's text tables."""
 
+import functools
 import math
 from dataclasses import replace
 
@@ -9,9 +10,9 @@ import numpy as np
 
 from glamas import claims as chapter, training
 from glamas import gla
-from glamas.curves import (DEFINITIONS, ratio, convergence_episode, convergence_episodes, convergence_grid,
-                           convergence_ratio, earlier_share, final, grid_verdict, interval_verdict,
-                           level_episode)
+from glamas.curves import (CONVERGENCE_TOLERANCE, DEFINITIONS, FINAL_FRACTION, coarsened, ratio,
+                           convergence_episode, convergence_episodes, convergence_grid, convergence_ratio,
+                           earlier_share, final, grid_verdict, interval_verdict, level_episode)
 from glamas.experiments.gridworld.experiment import GridworldConfig, GridworldResult
 from glamas.gridworld import GridMap, dp, rules
 from glamas.learners import episode as ep
@@ -42,17 +43,22 @@ def curve_collision_claims() -> list[chapter.Claim]:
     return [claim for claim in chapter.load("gridworld") if claim.id in CURVE_COLLISION_CLAIMS]
 
 
-def measure(result: GridworldResult) -> dict:
-    """The numbers the chapter's claims are about (data/chapter/section5.json), per learner and compared."""
+def measure(result: GridworldResult, final_share: float = FINAL_FRACTION, zero_level: float = ZERO_COLLISIONS,
+            tolerance: float | None = None, blocks: int = 1) -> dict:
+    """The numbers the chapter's claims are about (data/chapter/section5.json), per learner and
+    compared, at the measurement choices of docs/verdicts.md: final values over the last
+    ``final_share`` of the episodes, "zero collisions" at ``zero_level``, and the convergence
+    comparisons at every tolerance and block width (:func:`convergence_comparison`) or, given a
+    ``tolerance``, at that one and ``blocks`` (:func:`convergence_at`)."""
     m = {}
     x = result.episodes
     for name in result.names():
-        m[f"steps_{name}"] = final(result.steps(name), x)
-        m[f"reward_{name}"] = final(result.reward(name), x)
-        m[f"collisions_{name}"] = final(result.curves(name, "collisions"), x)
-        m[f"coordinations_{name}"] = final(result.curves(name, "coordinations"), x)
+        m[f"steps_{name}"] = final(result.steps(name), x, final_share)
+        m[f"reward_{name}"] = final(result.reward(name), x, final_share)
+        m[f"collisions_{name}"] = final(result.curves(name, "collisions"), x, final_share)
+        m[f"coordinations_{name}"] = final(result.curves(name, "coordinations"), x, final_share)
         m[f"convergence_{name}"] = float(np.median(convergence_episodes(result.steps(name), x)))
-        m[f"zero_collisions_after_{name}"] = zero_collisions_after(result, name)
+        m[f"zero_collisions_after_{name}"] = zero_collisions_after(result, name, zero_level)
         m[f"capped_episodes_{name}"] = float(weighted_sum(result.curves(name, "capped").mean(axis=0), result.widths()))
         m.update(evaluation_measures(result, name))
     if "two_observe" in result.names():
@@ -60,7 +66,7 @@ def measure(result: GridworldResult) -> dict:
     if {"two_observe", "independent", "mmdp"} <= set(result.names()):
         for base in ("independent", "mmdp"):
             m[f"steps_two_observe_minus_{base}"] = m["steps_two_observe"] - m[f"steps_{base}"]
-            m.update(convergence_comparison(result, "two_observe", base))
+            m.update(convergence_metrics(result, "two_observe", base, tolerance, blocks))
         m["reward_two_observe_over_mmdp"] = ratio(m["reward_two_observe"], m["reward_mmdp"])
         m["reward_two_observe_minus_independent"] = m["reward_two_observe"] - m["reward_independent"]
         m["collisions_independent_off_3"] = abs(m["collisions_independent"] - 3.0)
@@ -106,22 +112,62 @@ def evaluation_table(result: GridworldResult) -> Table:
                  [[registry.label(name), f"{m[f'greedy_steps_{name}']:.2f}", f"{m[f'greedy_reward_{name}']:.1f}",
                    f"{m[f'greedy_collisions_{name}']:.3f}", f"{m[f'greedy_coordinations_{name}']:.2f}",
                    f"{m[f'greedy_completion_{name}']:.0%}", f"{m[f'exploring_collisions_{name}']:.3f}",
-                   f"{m[f'collisions_per_perturbation_{name}']:.3f}"] for name in result.names()])
+                   chapter.value_text(m[f'collisions_per_perturbation_{name}'], 3, 'no solution')]
+                  for name in result.names()])
 
 
-def claim_rows(result: GridworldResult) -> list[dict]:
-    """The chapter's Section 5.3 claims with their verdicts, computed from ``result``."""
-    return chapter.verdicts(chapter.load("gridworld"), measure(result))
+BOUNCE_READINGS = {"previous": "bounce to the previous cell", "start": "bounce to the start cell"}
+"""The readings of Sec. 5.3's "bounced back to their original position" (GridworldConfig.bounce) by
+name, as a verdict names them."""
+
+
+def claim_rows(result: GridworldResult, readings: dict | None = None) -> list[dict]:
+    """The chapter's Section 5.3 claims with their verdicts, computed from ``result`` at every
+    measurement choice of their rules and under the results of the other readings (``readings``:
+    name -> result; :func:`glamas.experiments.gridworld.other_bounce`)."""
+    other = {name: functools.partial(measure, found) for name, found in (readings or {}).items()}
+    return chapter.verdicts(chapter.load("gridworld"), functools.partial(measure, result), readings=other,
+                            reading=BOUNCE_READINGS[result.config.bounce])
+
+
+def convergence_metrics(result: GridworldResult, name: str, base: str, tolerance: float | None = None,
+                        blocks: int = 1) -> dict:
+    """:func:`convergence_comparison`, or given a ``tolerance`` only the claim's metric at it and
+    ``blocks`` (:func:`convergence_at`): a measurement choice of docs/verdicts.md."""
+    if tolerance is None and blocks == 1:
+        return convergence_comparison(result, name, base)
+    return convergence_at(result, name, base, CONVERGENCE_TOLERANCE if tolerance is None else tolerance, blocks)
+
+
+def convergence_at(result: GridworldResult, name: str, base: str, tolerance: float, blocks: int) -> dict:
+    """``convergence_<name>_over_<base>``: the per-run ratio of convergence episodes on blocks
+    ``blocks`` times the stored width at ``tolerance``, NaN (undecidable) when its 95 % interval
+    contains 1; with the reason."""
+    key = f"convergence_{name}_over_{base}"
+    curves, ends = coarsened(result.steps(name), result.episodes, blocks)
+    baseline, _ = coarsened(result.steps(base), result.episodes, blocks)
+    point, low, high = convergence_ratio(curves, baseline, ends, "per_run", tolerance)
+    return _decided(key, point, low, high)
+
+
+def _decided(key: str, point: float, low: float, high: float) -> dict:
+    """``key``: the ratio ``point`` where its interval [low, high] excludes 1, else NaN with the reason."""
+    if interval_verdict(low, high) != "undecidable":
+        return {key: point}
+    return {key: math.nan,
+            f"{key}{chapter.WHY_UNDECIDABLE}": f"ratio {point:.2f}, but its 95 % interval [{low:.2f}, {high:.2f}] contains 1"}
 
 
 def convergence_comparison(result: GridworldResult, name: str, base: str) -> dict:
     """"``name`` converges faster than ``base``" under every definition of curves.DEFINITIONS, each
     at every tolerance and block width of curves.convergence_grid. ``convergence_<name>_over_<base>``
     decides the claims: the per-run ratio at the default tolerance and blocks, NaN (undecidable)
-    unless every tolerance and block width gives the same verdict, so that none of them can move
-    it; with ``_point``, ``_low``, ``_high`` and ``_verdict`` (the grid's). The run-mean and
-    shared-level definitions are kept beside it (suffixes ``_run_mean``, ``_shared_level``), and
-    ``..._earlier_share`` is the share of run pairs in which ``name``'s run converges first."""
+    when its 95 % interval contains 1 (the claims are judged at every other tolerance and block
+    width as measurement choices of docs/verdicts.md); with ``_point``, ``_low``, ``_high`` and
+    ``_verdict`` (the grid's: the verdict every tolerance and block width gives, or undecidable). The
+    run-mean and shared-level definitions are kept beside it (suffixes ``_run_mean``,
+    ``_shared_level``), and ``..._earlier_share`` is the share of run pairs in which ``name``'s run
+    converges first."""
     key, x = f"convergence_{name}_over_{base}", result.episodes
     curves, baseline = result.steps(name), result.steps(base)
     m = {}
@@ -131,13 +177,7 @@ def convergence_comparison(result: GridworldResult, name: str, base: str) -> dic
         grid = convergence_grid(curves, baseline, x, definition)
         verdict = grid_verdict(grid)
         m.update({f"{label}_point": point, f"{label}_low": low, f"{label}_high": high, f"{label}_verdict": verdict})
-        m[label] = point if verdict != "undecidable" else math.nan
-        if verdict == "undecidable":
-            counts = {v: sum(interval_verdict(low, high) == v for *_, low, high in grid) for v in ("faster", "undecidable", "slower")}
-            m[f"{label}{chapter.WHY_UNDECIDABLE}"] = (
-                f"ratio {point:.2f} [{low:.2f}, {high:.2f}], but over tolerances of 3 to 15 % and blocks 1 to 4 "
-                f"times as wide the 95 % intervals say faster {counts['faster']}, undecidable "
-                f"{counts['undecidable']} and slower {counts['slower']} times")
+        m.update(_decided(label, point, low, high))
     m[f"{key}_earlier_share"] = earlier_share(curves, baseline, x)
     return m
 

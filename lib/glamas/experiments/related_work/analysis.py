@@ -2,6 +2,8 @@
 every learner, what each learner stores, the joint states CQ-learning marked, and the comparisons
 the claims of ``data/chapter/related_work.json`` are about."""
 
+import functools
+
 import numpy as np
 
 from glamas import claims as chapter
@@ -26,10 +28,11 @@ def marked_distances(result: RelatedWorkResult, config: RelatedWorkConfig) -> np
     return np.abs(own // n_cols - other // n_cols) + np.abs(own % n_cols - other % n_cols)
 
 
-def measure(result: RelatedWorkResult, config: RelatedWorkConfig) -> dict:
+def measure(result: RelatedWorkResult, config: RelatedWorkConfig, **choice) -> dict:
     """:func:`glamas.experiments.gridworld.measure` for every learner, plus each learner's stored
-    values and the related-work comparisons (data/chapter/related_work.json)."""
-    m = gw_analysis.measure(result)
+    values and the related-work comparisons (data/chapter/related_work.json), at the measurement
+    choices ``choice`` (:func:`glamas.experiments.gridworld.analysis.measure`'s keywords)."""
+    m = gw_analysis.measure(result, **choice)
     names = result.names()
     for k, name in enumerate(names):
         m[f"q_entries_{name}"] = float(result.local_entries[k] + result.joint_entries[k].mean())
@@ -45,7 +48,8 @@ def measure(result: RelatedWorkResult, config: RelatedWorkConfig) -> dict:
             m[f"reward_{name}_over_mmdp"] = ratio(m[f"reward_{name}"], m["reward_mmdp"])
             m[f"greedy_reward_{name}_over_mmdp"] = ratio(m[f"greedy_reward_{name}"], m["greedy_reward_mmdp"])
             m[f"q_entries_{name}_over_mmdp"] = m[f"q_entries_{name}"] / m["q_entries_mmdp"]
-            m.update(gw_analysis.convergence_comparison(result, name, "mmdp"))
+            m.update(gw_analysis.convergence_metrics(result, name, "mmdp", choice.get("tolerance"),
+                                                     choice.get("blocks", 1)))
         if "independent" in names:
             m[f"reward_{name}_minus_independent"] = m[f"reward_{name}"] - m["reward_independent"]
             m[f"greedy_reward_{name}_minus_independent"] = m[f"greedy_reward_{name}"] - m["greedy_reward_independent"]
@@ -54,7 +58,7 @@ def measure(result: RelatedWorkResult, config: RelatedWorkConfig) -> dict:
 
 def claim_rows(result: RelatedWorkResult, config: RelatedWorkConfig) -> list[dict]:
     """The related-work claims (data/chapter/related_work.json) with verdicts computed from ``result``."""
-    return chapter.verdicts(chapter.load("related_work"), measure(result, config))
+    return chapter.verdicts(chapter.load("related_work"), functools.partial(measure, result, config))
 
 
 def final_interval(result: RelatedWorkResult, name: str, metric: str = "collisions") -> tuple[float, float, float]:

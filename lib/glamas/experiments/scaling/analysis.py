@@ -156,17 +156,25 @@ PIVOT_METRICS = {"steps": "{:.1f}", "reward": "{:.1f}", "collisions": "{:.2f}", 
 
 
 def pivot_table(result: ScalingResult, metric: str) -> str:
-    """One final measurement per method (rows) and N (columns), '-' where the method did not run;
+    """One final measurement per method (rows) and N (columns), '-' where the method did not run,
+    'no solution' where its greedy policy does not complete (an infinite measurement);
     'capped_runs' counts the runs in which some of the final 10 % of the episodes hit the step cap."""
     if metric not in PIVOT_METRICS:
         raise UserError(f"metric must be one of {sorted(PIVOT_METRICS)}, got {metric!r}")
     m, w = measure(result), max(_label_width(result), len(metric))
-    lines = [f"{metric:{w}s}" + "".join(f"{f'N = {n}':>9s}" for n in result.agents)]
+    lines = [f"{metric:{w}s}" + "".join(f"{f'N = {n}':>13s}" for n in result.agents)]
     for k, method in enumerate(result.names()):
-        cells = [PIVOT_METRICS[metric].format(m[f"{metric}_{method}_{n}"]) if ok else "-"
+        cells = [_pivot_cell(metric, m[f"{metric}_{method}_{n}"]) if ok else "-"
                  for n, ok in zip(result.agents, result.ran[k])]
-        lines.append(f"{label(method):{w}s}" + "".join(f"{cell:>9s}" for cell in cells))
+        lines.append(f"{label(method):{w}s}" + "".join(f"{cell:>13s}" for cell in cells))
     return "\n".join(lines)
+
+
+def _pivot_cell(metric: str, value: float) -> str:
+    """One cell of :func:`pivot_table`: the value in its metric's format, '-' for NaN, 'no solution' for infinity."""
+    if math.isnan(value) or math.isinf(value):
+        return chapter.value_text(value, 0)
+    return PIVOT_METRICS[metric].format(value)
 
 
 def plan_table(result: ScalingResult) -> str:

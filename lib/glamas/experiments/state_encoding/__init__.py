@@ -27,7 +27,7 @@ __all__ = ["BOX_READINGS", "ENCODING_NAMES", "EncodingConfig", "FIG6", "FIG6_REA
 
 FIG6 = register(Experiment(
     "state_encoding", EncodingConfig, compare_encodings, scaled_encodings, SingleGLAConfig.runs,
-    SingleGLAConfig.iterations, claim_rows=lambda results, config: encoding_claim_rows(results, other_box_readings(config)), figures=("fig6",),
+    SingleGLAConfig.iterations, claim_rows=lambda results, config: encoding_claim_rows(results, other_box_readings(config), config.box), figures=("fig6",),
     copies=len(ENCODING_NAMES), to_arrays=encoding_arrays, from_arrays=encodings_from_arrays))
 """Fig. 6's experiment: experiment 1 with each context, in Fig. 6's default box."""
 FIG6_READINGS = register(Experiment(

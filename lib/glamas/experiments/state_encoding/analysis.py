@@ -2,6 +2,8 @@
 evaluation grid (:func:`expected_curves`), and from it, never from the plot's windows, the
 claims' comparisons of the encodings: paired differences, effect sizes and learning speed."""
 
+import functools
+
 import numpy as np
 from numba import njit
 
@@ -105,13 +107,14 @@ COMPARISONS = (("deictic", "joint"), ("joint", "absolute"), ("deictic", "absolut
 """Fig. 6's pairs of encodings (better, worse) in the chapter's ordering."""
 
 
-def measure_encodings(results: dict, tolerance: float = REACH_TOLERANCE) -> dict:
+def measure_encodings(results: dict, tolerance: float = REACH_TOLERANCE, drawn: float = 1.0, read: float = 1.0) -> dict:
     """Fig. 6's metrics, all from the expected reward at the checkpoints (:func:`expected_curves`),
     none from the plot windows: per encoding the mean over runs of the learning curve's mean
     (:func:`curve_mean`) and final value; per pair of encodings (run r of each shares its seed) the
     paired difference of both with its 95 % interval and Cohen's d; the absolute distance's
-    smaller d against the others; deictic against joint, the iterations to reach 1 - ``tolerance``
-    of the final value (:func:`speed_comparison`)."""
+    smaller d against the others; each pair's lead as a reader sees it (:func:`visible_leads`: the
+    first ``drawn`` of the run drawn, the first ``read`` of that read); deictic against joint, the
+    iterations to reach 1 - ``tolerance`` of the final value (:func:`speed_comparison`)."""
     curves = {name: res.expected_reward for name, res in results.items()}
     per_run = {name: {"mean": curve_mean(curve, results[name].checkpoint), "final": curve[:, -1]}
                for name, curve in curves.items()}
@@ -125,10 +128,7 @@ def measure_encodings(results: dict, tolerance: float = REACH_TOLERANCE) -> dict
     for key in ("mean", "final"):
         measured[f"absolute_worst_{key}_effect"] = min(measured[f"joint_minus_absolute_{key}_effect"],
                                                        measured[f"deictic_minus_absolute_{key}_effect"])
-    span = plotted_span(curves)
-    measured["plotted_span"] = span
-    for better, worse in COMPARISONS:
-        measured[f"{better}_minus_{worse}_mean_visible"] = measured[f"{better}_minus_{worse}_mean"] / span
+    measured.update(visible_leads(curves, results["deictic"].checkpoint, drawn, read))
     measured["absolute_worst_mean_visible"] = min(measured["joint_minus_absolute_mean_visible"],
                                                   measured["deictic_minus_absolute_mean_visible"])
     iteration = results["deictic"].checkpoint
@@ -139,6 +139,30 @@ def measure_encodings(results: dict, tolerance: float = REACH_TOLERANCE) -> dict
                                                   "(fewer than two runs, identical ones, or a curve at its "
                                                   "final value from the start)")
     return measured
+
+
+def visible_leads(curves: dict, iteration: np.ndarray, drawn: float = 1.0, read: float = 1.0) -> dict:
+    """Per pair of COMPARISONS, ``<better>_minus_<worse>_mean_visible``: the mean lead of the better
+    encoding's curve over the worse one's over the part of the plot a reader reads, as a share of
+    the plot's height (:func:`plotted_span`), with the first ``drawn`` of the run drawn and its
+    first ``read`` read (docs/verdicts.md, rule ``curve_lead``); and ``plotted_span``."""
+    end = iteration[-1] * drawn
+    span = plotted_span({name: truncated(curve, iteration, end)[0] for name, curve in curves.items()})
+    seen = {name: curve_mean(*truncated(curve, iteration, end * read)) for name, curve in curves.items()}
+    out = {"plotted_span": span}
+    for better, worse in COMPARISONS:
+        out[f"{better}_minus_{worse}_mean_visible"] = float((seen[better] - seen[worse]).mean() / span)
+    return out
+
+
+def truncated(curves: np.ndarray, iteration: np.ndarray, end: float) -> tuple[np.ndarray, np.ndarray]:
+    """The curves (runs, checkpoints) and their iterations up to ``end``, the value at ``end``
+    interpolated linearly between the checkpoints that bracket it."""
+    keep = int(np.searchsorted(iteration, end, side="left"))
+    if keep < iteration.shape[0] and iteration[keep] == end:
+        return curves[:, :keep + 1], iteration[:keep + 1]
+    at_end = np.array([np.interp(end, iteration, curve) for curve in curves])
+    return np.column_stack([curves[:, :keep], at_end]), np.append(iteration[:keep], end)
 
 
 def plotted_span(curves: dict) -> float:
@@ -190,8 +214,10 @@ def paired_curve(results: dict, better: str, worse: str) -> tuple:
     return results[better].checkpoint, rows[:, 0], rows[:, 1], rows[:, 2]
 
 
-def encoding_claim_rows(results: dict, readings: dict | None = None) -> list[dict]:
+def encoding_claim_rows(results: dict, readings: dict | None = None, box: str = "fig5") -> list[dict]:
     """The Fig. 6 claims (data/chapter/section4.json) with verdicts computed from ``results``, each
-    also judged under the results of the other readings of the box (``readings``: name -> results)."""
-    other = {name: measure_encodings(found) for name, found in (readings or {}).items()}
-    return claims.verdicts(claims.load("state_encoding"), measure_encodings(results), readings=other)
+    judged at every measurement choice of its rule and under the results of the other readings of
+    the box (``readings``: name -> results; ``box`` names the reading of ``results``)."""
+    other = {f"box {name}": functools.partial(measure_encodings, found) for name, found in (readings or {}).items()}
+    return claims.verdicts(claims.load("state_encoding"), functools.partial(measure_encodings, results),
+                           readings=other, reading=f"box {box}")
