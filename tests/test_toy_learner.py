@@ -145,7 +145,7 @@ def test_a_module_of_ones_own_that_fails_on_import_is_one_warning(tmp_path, sour
 
 def test_a_result_records_the_code_of_a_learner_of_ones_own(toy):
     """An edit of one's own learner makes its results stale, as an edit of the package's does."""
-    from glamas import provenance
+    from glamas import provenance, sources
     directory, _ = toy
     config = gw.GridworldConfig(runs=2, episodes=40, learners=("independent", "toy_walk"))
     recorded = provenance.code_record(config)
@@ -155,8 +155,9 @@ def test_a_result_records_the_code_of_a_learner_of_ones_own(toy):
     original = module.read_text()
     try:
         module.write_text(original.replace("rate: float = 0.5", "rate: float = 0.25"))
-        assert provenance.mismatch({"maps": {}, "code": recorded, "version": "x"},
-                                   {"maps": {}, "code": provenance.code_record(config), "version": "x"}) \
+        form = {"code_form": sources.CODE_FORM, "python": provenance.python_version()}
+        assert provenance.mismatch({"maps": {}, "code": recorded, "version": "x", **form},
+                                   {"maps": {}, "code": provenance.code_record(config), "version": "x", **form}) \
             == "the code that computes it changed since it was made (toy_walk (a learner of one's own))"
     finally:
         module.write_text(original)

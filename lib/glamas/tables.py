@@ -4,6 +4,8 @@ right-aligned, any other left-aligned."""
 
 import re
 
+from glamas.errors import UserError
+
 NUMBER = re.compile(r"^(?:[<>]=? ?)?(?:[-+]?\d|[-+]?\.\d|-$|[-+]?inf|nan)", re.IGNORECASE)
 """A cell that reads as a number, a bound (> 1000) or a number's placeholder ('-', inf, nan)."""
 
@@ -35,7 +37,7 @@ class Table(str):
         header = [str(cell) for cell in header]
         rows = [[str(cell) for cell in row] for row in rows]
         if any(len(row) != len(header) for row in rows):
-            raise ValueError(f"every row of a table needs {len(header)} cells, one per column")
+            raise UserError(f"every row of a table needs {len(header)} cells, one per column")
         widths = [max(map(len, column)) for column in zip(header, *rows)]
         right = [_numeric(rows, k) for k in range(len(header))]
         text = "\n".join(

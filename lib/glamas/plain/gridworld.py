@@ -15,10 +15,11 @@ blocks of one episode: a row per episode in the columns of glamas.learners.episo
 
 import math
 
-from glamas.plain import gla as plain_gla
+from glamas.errors import UserError
 from glamas.gridworld.rewards import CHAPTER
 from glamas.gridworld.rules import N_ACTIONS
 from glamas.learners.two_observe import box
+from glamas.plain import gla as plain_gla
 
 COORDINATE = 1
 """The GLA action "coordinate" of 2observe (0: act alone)."""
@@ -116,7 +117,8 @@ class World:
             found = [(i, j) for i, j in pairs if new[i] == new[j] and not self.both_goal(i, j, new[i])
                      and not (collided[i] and collided[j])]
         reached = [not d and m in self.goals[i] for i, (d, m) in enumerate(zip(done, new))]
-        return new, [self.settle(r, hit, arrived) for r, hit, arrived in zip(rewards, collided, reached)], reached, collisions
+        settled = [self.settle(r, hit, arrived) for r, hit, arrived in zip(rewards, collided, reached)]
+        return new, settled, reached, collisions
 
 
 def walk(world, actions):
@@ -513,7 +515,7 @@ def sparse_maq(world, workload, rnd):
     number of agents (sparse_maq.run); groups maximise by variable elimination."""
     (q_settings, c), n = workload.setup(), len(world.starts)
     if c.maximiser != "elimination":
-        raise ValueError("the reference plays variable elimination only")
+        raise UserError(f"the plain step of sparse MAQ plays variable elimination only, not {c.maximiser!r}")
     distance = c.coordination_distance
     alpha, gamma, exploit = q_settings.q_learning_rate, q_settings.discount, q_settings.exploit_prob
     q = tables(n, world.n_cells, N_ACTIONS)

@@ -17,6 +17,7 @@ same, so the reference's cost per agent-step measures the index's work at every 
 :func:`run` returns the log the kernel writes with blocks of one episode (glamas.plain.gridworld.play).
 """
 
+from glamas.errors import UserError
 from glamas.gridworld import rules
 from glamas.gridworld.rewards import CHAPTER
 from glamas.gridworld.rules import N_ACTIONS
@@ -111,7 +112,8 @@ class IndexedWorld(World):
             first = last
         self.clear(cells, done)
         reached = [not d and m in self.goals[i] for i, (d, m) in enumerate(zip(done, new))]
-        return new, [self.settle(r, hit, arrived) for r, hit, arrived in zip(rewards, collided, reached)], reached, collisions
+        settled = [self.settle(r, hit, arrived) for r, hit, arrived in zip(rewards, collided, reached)]
+        return new, settled, reached, collisions
 
     def nearest(self, cells, acting, i):
         """(nearest other acting agent, its distance) of acting agent i, the lowest number among
@@ -189,7 +191,8 @@ def two_observe(world, workload, rnd):
     not used)."""
     (q_settings, c), n = workload.setup(), len(world.starts)
     if c.gla_need != "in_range" or c.gla_delta_scale != "cells" or c.gla_bounding != "clip":
-        raise ValueError("the reference plays the experiments' 2observe settings only")
+        raise UserError("the plain N-agent step of 2observe plays the experiments' settings only (need "
+                        "'in_range', delta in cells, 'clip' bounds)")
     alpha, gamma, exploit = q_settings.q_learning_rate, q_settings.discount, q_settings.exploit_prob
     q = tables(n, world.n_cells, N_ACTIONS)
     glas = Automata(c, world.gridmap, rnd)
