@@ -207,7 +207,7 @@ def _figure_row(figure: Figure, ledger_rows: list[tuple[str, dict]]) -> str:
         if kind_rows:
             held = sum(row["verdict"] == claims.REPRODUCED for row in kind_rows)
             turning = sum(row["verdict"] == claims.TURNS for row in kind_rows)
-            note = f" ({turning} {'turns' if turning == 1 else 'turn'} on a reading or choice)" if turning else ""
+            note = f" ({turning} {'turns' if turning == 1 else 'turn'} on a choice)" if turning else ""
             claims_word = "claim" if len(kind_rows) == 1 else "claims"
             parts.append(f"{held} of {len(kind_rows)} {kind} {claims_word} reproduced{note}")
     verdict = "; ".join(parts) if parts else "no claim"
