@@ -110,6 +110,11 @@ def write(path, write_to) -> Path:
     return path
 
 
+def write_text(path, text: str) -> Path:
+    """Write ``text`` to ``path`` atomically (:func:`write`)."""
+    return write(path, lambda handle: handle.write(text.encode()))
+
+
 def remove_leftovers(path) -> None:
     """Delete the temporary files that writers of ``path`` killed mid-write left behind."""
     path = Path(path)

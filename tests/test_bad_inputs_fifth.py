@@ -1,0 +1,96 @@
+"""Bad input and faults, one line each (exit status 2, no traceback, nothing committed changed):
+the fifth round's cases. Shared records written by commands running at once, the committed
+figures and a reduced run, a damaged digests file, a learner module that exits on import, and
+what an interrupt, a full disk or a foreign file says."""
+
+import json
+import shutil
+import subprocess
+import sys
+
+import pytest
+
+from glamas import small_runs
+from glamas.errors import UserError
+from glamas.paths import REPO, RESULTS
+
+SCRIPTS = REPO / "paper_figures"
+
+
+def _run(*arguments, **kwargs) -> subprocess.CompletedProcess:
+    return subprocess.run([sys.executable, *map(str, arguments)], cwd=REPO, capture_output=True, text=True,
+                          timeout=120, **kwargs)
+
+
+def _error_line(*arguments, **kwargs) -> str:
+    """The one line ``error: ...`` (or argparse's ``SCRIPT: error: ...``) of a command that exits with 2."""
+    before = {path.name: path.stat().st_mtime_ns for path in RESULTS.glob("*.npz")}
+    done = _run(*arguments, **kwargs)
+    assert done.returncode == 2 and "Traceback" not in done.stderr, done.stderr
+    assert {path.name: path.stat().st_mtime_ns for path in RESULTS.glob("*.npz")} == before
+    return done.stderr.strip().splitlines()[-1]
+
+
+# --- shared records written at once ---------------------------------------------------------------
+
+ADOPTING = """
+import sys, time
+from pathlib import Path
+from glamas import small_runs
+copy = Path(sys.argv[1])
+small_runs.DIGESTS, small_runs.RESULTS = copy / "small_runs.json", copy / "results"
+# a re-recording of a harmless change of code, its small run's seconds kept, the result file left alone
+small_runs.status = lambda name: ("re-record", "")
+small_runs.small_digest = lambda name, workers=None: time.sleep(2) or small_runs.committed()[name]
+small_runs._rerecord = lambda name: None
+small_runs.current_code = lambda name: {"lineworld.py": "edited"}
+sys.exit(small_runs.main(["--adopt", sys.argv[2]]))
+"""
+
+
+def test_two_re_recordings_at_once_both_keep_their_record(tmp_path):
+    shutil.copy(small_runs.DIGESTS, tmp_path / "small_runs.json")
+    names = ("single_gla", "state_encoding")
+    running = [subprocess.Popen([sys.executable, "-c", ADOPTING, tmp_path, name], stdout=subprocess.PIPE, text=True)
+               for name in names]
+    outputs = [process.communicate(timeout=60)[0] for process in running]
+    assert [process.returncode for process in running] == [0, 0], outputs
+    code = json.loads((tmp_path / "small_runs.json").read_text())["code"]
+    assert [code[name] for name in names] == [{"lineworld.py": "edited"}] * 2
+    assert not list(tmp_path.glob("*.tmp"))
+
+
+# --- a damaged digests file -------------------------------------------------------------------------
+
+@pytest.mark.parametrize("damage, named", [
+    (lambda text: text[:len(text) // 2], "not JSON, cut short or edited"),
+    (lambda text: "[]", "a JSON list where an object belongs"),
+    (lambda text: '{"digests": []}', "its digests or records of code are missing"),
+])
+def test_a_damaged_digests_file_is_one_line_naming_it_and_how_to_rewrite_it(tmp_path, monkeypatch, damage, named):
+    damaged = tmp_path / "small_runs.json"
+    damaged.write_text(damage(small_runs.DIGESTS.read_text()))
+    monkeypatch.setattr(small_runs, "DIGESTS", damaged)
+    with pytest.raises(UserError) as raised:
+        small_runs.main(["--adopt", "single_gla"])
+    assert str(raised.value).startswith(f"{damaged} is damaged ({named}") and str(raised.value).endswith(
+        f"`git checkout -- {damaged}`, or rewrite it with `.venv/bin/python -m glamas.small_runs --write` "
+        f"(about {small_runs.WRITE_MINUTES} min on 2 cores)")
+
+
+def test_the_damaged_committed_digests_file_stops_adopt_with_one_line(tmp_path):
+    copy = tmp_path / "small_runs.json"
+    copy.write_text("[]")
+    script = (f"import sys\nfrom pathlib import Path\nfrom glamas import errors, small_runs\n"
+              f"small_runs.DIGESTS = Path({str(copy)!r})\nerrors.run(lambda: small_runs.main(['--adopt']))\n")
+    line = _error_line("-c", script)
+    assert line.startswith(f"error: {copy} is damaged (a JSON list where an object belongs)")
+
+
+def test_write_replaces_a_damaged_digests_file(tmp_path, monkeypatch):
+    damaged = tmp_path / "small_runs.json"
+    damaged.write_text('{"digests": {"single_gla": "ab')
+    monkeypatch.setattr(small_runs, "DIGESTS", damaged)
+    monkeypatch.setattr(small_runs, "RESULTS", tmp_path / "results")
+    small_runs.write({"single_gla": "cd"})
+    assert small_runs.committed() == {"single_gla": "cd"} and "lineworld.py" in small_runs.committed_code()["single_gla"]
