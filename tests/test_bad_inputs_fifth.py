@@ -94,3 +94,20 @@ def test_write_replaces_a_damaged_digests_file(tmp_path, monkeypatch):
     monkeypatch.setattr(small_runs, "RESULTS", tmp_path / "results")
     small_runs.write({"single_gla": "cd"})
     assert small_runs.committed() == {"single_gla": "cd"} and "lineworld.py" in small_runs.committed_code()["single_gla"]
+
+
+# --- the committed figures and a run off the paper scale --------------------------------------------
+
+@pytest.mark.parametrize("spelling", ["paper_figures/output", "./paper_figures//output/", "paper_figures/../paper_figures/output",
+                                      "link"])
+def test_a_reduced_run_into_the_committed_figures_is_refused_naming_its_scratch_folder(tmp_path, spelling):
+    (tmp_path / "link").symlink_to(SCRIPTS / "output")
+    out = tmp_path / "link" if spelling == "link" else spelling
+    figures = {path.name: path.read_bytes() for path in (SCRIPTS / "output").glob("fig11a.*")}
+    line = _error_line(SCRIPTS / "fig11a.py", "--runs", 1, "--episodes", 20, "--learners", "independent",
+                       "--out", out, "--results", tmp_path / "results")
+    assert line.startswith("error: --out ") and line.endswith(
+        "is the directory of the committed figures, which only a run at the paper-scale settings writes; this run's "
+        "figures go to out/figures/runs=1,iterations=20,learners=independent (leave out --out)")
+    assert {path.name: path.read_bytes() for path in (SCRIPTS / "output").glob("fig11a.*")} == figures
+    assert not (tmp_path / "results").exists()

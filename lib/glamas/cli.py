@@ -177,10 +177,26 @@ def _choose_directories(parser, args) -> None:
     unset = [option for option in defaults if getattr(args, option) is None]
     for option in unset:
         setattr(args, option, defaults[option])
+    _refuse_committed(args, key)
     if unset and key:
         print(f"note: not the paper-scale --runs/--iterations/--seed/--map: writing to "
               f"{SCRATCH_OUT.parent.relative_to(REPO)}/ (figures/{key}, results/{key}; --out and --results choose)",
               file=sys.stderr)
+
+
+def _refuse_committed(args, key: str) -> None:
+    """Refuse a run off the paper scale (``key``, :func:`scratch_key`) whose --out or --results is
+    the directory of the committed figures or results, however it is spelled (a link included):
+    only a run at the paper-scale defaults writes them. The line names where the run would go."""
+    if not key:
+        return
+    for option, kind, committed, scratch in (("out", "figures", DEFAULT_OUT, SCRATCH_OUT),
+                                             ("results", "results", RESULTS, SCRATCH_RESULTS)):
+        given = getattr(args, option)
+        if Path(given).resolve() == committed.resolve():
+            raise UserError(f"--{option} {given} is the directory of the committed {kind}, which only a run at "
+                            f"the paper-scale settings writes; this run's {kind} go to "
+                            f"{(scratch / key).relative_to(REPO)} (leave out --{option})")
 
 
 def scratch_key(parser: argparse.ArgumentParser, args: argparse.Namespace) -> str:
