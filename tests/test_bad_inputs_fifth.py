@@ -4,6 +4,7 @@ figures and a reduced run, a damaged digests file, a learner module that exits o
 what an interrupt, a full disk or a foreign file says."""
 
 import json
+import os
 import shutil
 import subprocess
 import sys
@@ -111,3 +112,17 @@ def test_a_reduced_run_into_the_committed_figures_is_refused_naming_its_scratch_
         "figures go to out/figures/runs=1,iterations=20,learners=independent (leave out --out)")
     assert {path.name: path.read_bytes() for path in (SCRIPTS / "output").glob("fig11a.*")} == figures
     assert not (tmp_path / "results").exists()
+
+
+# --- a learner module of one's own that exits on import ---------------------------------------------
+
+@pytest.mark.parametrize("ending", ["raise SystemExit(0)", "import sys; sys.exit(3)", "raise KeyboardInterrupt"])
+def test_a_learner_module_that_exits_on_import_is_a_failing_import_named(tmp_path, ending):
+    (tmp_path / "mine.py").write_text(f"{ending}\n")
+    done = _run(SCRIPTS / "fig11a.py", "--runs", 1, "--episodes", 20, "--learners", "independent,mine",
+                "--out", tmp_path, "--results", tmp_path,
+                env={**os.environ, "GLAMAS_LEARNERS": "mine", "PYTHONPATH": str(tmp_path)})
+    assert done.returncode == 2 and "Traceback" not in done.stderr, done.stderr
+    warning = done.stderr.splitlines()[0]
+    assert warning.startswith("warning: GLAMAS_LEARNERS names the module 'mine', which fails on import (")
+    assert "learners must be distinct names of registered learners" in done.stderr.splitlines()[-1]
