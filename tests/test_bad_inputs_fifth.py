@@ -6,12 +6,16 @@ what an interrupt, a full disk or a foreign file says."""
 import json
 import os
 import shutil
+import signal
 import subprocess
 import sys
+import threading
+import time
+from pathlib import Path
 
 import pytest
 
-from glamas import small_runs
+from glamas import atomic, errors, small_runs
 from glamas.errors import UserError
 from glamas.paths import REPO, RESULTS
 
@@ -126,3 +130,47 @@ def test_a_learner_module_that_exits_on_import_is_a_failing_import_named(tmp_pat
     warning = done.stderr.splitlines()[0]
     assert warning.startswith("warning: GLAMAS_LEARNERS names the module 'mine', which fails on import (")
     assert "learners must be distinct names of registered learners" in done.stderr.splitlines()[-1]
+
+
+# --- an interrupted run -------------------------------------------------------------------------------
+
+def _children(pid: int) -> set:
+    return {int(child) for task in Path(f"/proc/{pid}/task").iterdir()
+            for child in (task / "children").read_text().split()}
+
+
+def _alive(pid: int) -> bool:
+    try:
+        return Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()[0] != "Z"
+    except OSError:
+        return False
+
+
+@pytest.mark.parametrize("signum, status, line", [(signal.SIGINT, 130, "interrupted; nothing was written"),
+                                                  (signal.SIGTERM, 143, "stopped (SIGTERM); nothing was written")])
+def test_an_interrupted_run_says_so_in_one_line_and_its_workers_stop_with_it(tmp_path, signum, status, line):
+    """Ctrl-C reaches every process of the terminal's group; SIGTERM the main process alone."""
+    command = [SCRIPTS / "fig11a.py", "--runs", 20, "--episodes", 3000, "--workers", 2, "--out", tmp_path,
+               "--results", tmp_path]
+    running = subprocess.Popen([sys.executable, *map(str, command)], cwd=REPO, stderr=subprocess.PIPE,
+                               start_new_session=True)
+    stderr = []
+    threading.Thread(target=lambda: stderr.extend(iter(lambda: running.stderr.read(1), b"")), daemon=True).start()
+    deadline = time.monotonic() + 60
+    while b"gridworld:" not in b"".join(stderr) and time.monotonic() < deadline:
+        time.sleep(0.1)
+    workers = _children(running.pid)
+    (os.killpg if signum == signal.SIGINT else os.kill)(running.pid, signum)
+    assert running.wait(timeout=20) == status
+    time.sleep(1)
+    text = b"".join(stderr).decode()
+    assert "Traceback" not in text and text.strip().splitlines()[-1] == line, text
+    assert not [pid for pid in workers if _alive(pid)] and not list(tmp_path.iterdir())
+
+
+def test_what_an_interrupted_command_had_written_is_named(tmp_path, monkeypatch):
+    monkeypatch.setattr(atomic, "written", [])
+    assert errors.interrupted(signal.SIGINT) == "interrupted; nothing was written"
+    with atomic.locked(tmp_path):
+        atomic.write_text(tmp_path / "a.json", "{}")
+    assert errors.interrupted(signal.SIGTERM) == f"stopped (SIGTERM); it had written {tmp_path / 'a.json'}"

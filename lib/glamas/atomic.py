@@ -20,6 +20,9 @@ LOCK_WAIT_SECONDS = 60.0
 takes to check and write a file, so one held longer belongs to a process that is stuck or stopped
 (suspended by Ctrl-Z, say), and waiting on would wait for ever."""
 _LOCK_POLL_SECONDS = 0.05
+written: list = []
+"""Every file this process has written (:func:`write`), in order: what a command stopped midway
+says it had written (:func:`glamas.errors.interrupted`)."""
 
 
 class LockTimeoutError(UserError):
@@ -107,6 +110,7 @@ def write(path, write_to) -> Path:
     except BaseException:
         Path(tmp).unlink(missing_ok=True)
         raise
+    written.append(path.resolve())
     return path
 
 

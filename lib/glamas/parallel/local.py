@@ -16,10 +16,14 @@ warnings.filterwarnings("ignore", message="A worker stopped while some jobs were
 
 
 def run_in_threads(backend: Threads, jobs: list):
-    """Jobs on a pool of threads: the kernels release the GIL (nogil), so they run at once."""
-    with ThreadPoolExecutor(backend.workers or cores()) as pool:
+    """Jobs on a pool of threads: the kernels release the GIL (nogil), so they run at once. Stopped
+    early (an error, an interrupt), the jobs not yet started are dropped; those running end theirs."""
+    pool = ThreadPoolExecutor(backend.workers or cores())
+    try:
         for future in as_completed([pool.submit(batch_chunk, k, fill_chunk, *job) for k, *job in jobs]):
             yield future.result()
+    finally:
+        pool.shutdown(cancel_futures=True)
 
 
 def run_in_processes(backend: Processes, jobs: list):
