@@ -101,6 +101,17 @@ def test_write_replaces_a_damaged_digests_file(tmp_path, monkeypatch):
     assert small_runs.committed() == {"single_gla": "cd"} and "lineworld.py" in small_runs.committed_code()["single_gla"]
 
 
+
+def test_write_says_which_small_run_it_computes(tmp_path, monkeypatch, capsys):
+    monkeypatch.setattr(small_runs, "DIGESTS", tmp_path / "small_runs.json")
+    monkeypatch.setattr(small_runs, "RESULTS", tmp_path / "results")
+    monkeypatch.setattr(small_runs, "small_digest", lambda name, workers=None: name)
+    assert small_runs.main(["--write"]) == 0
+    names = list(small_runs.SIZES)
+    assert capsys.readouterr().err.splitlines() == [f"small run {number} of {len(names)}: {name}"
+                                                    for number, name in enumerate(names, 1)]
+    assert small_runs.committed() == {name: name for name in names}
+
 # --- the committed figures and a run off the paper scale --------------------------------------------
 
 @pytest.mark.parametrize("spelling", ["paper_figures/output", "./paper_figures//output/", "paper_figures/../paper_figures/output",

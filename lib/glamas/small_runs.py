@@ -29,6 +29,7 @@ import argparse
 import dataclasses
 import hashlib
 import json
+import sys
 
 import numpy as np
 
@@ -87,6 +88,16 @@ def small_digest(name: str, workers=None) -> str:
     runs, iterations, fields = SIZES[name]
     config = dataclasses.replace(experiment.configure(runs, iterations), **fields)
     return digest(experiment.arrays(experiment.run(config, seed=SEED, workers=workers)))
+
+
+def small_digests(names: list) -> dict:
+    """:func:`small_digest` of each experiment of ``names``, by name, saying on stderr which small
+    run is computing (they take minutes together)."""
+    found = {}
+    for number, name in enumerate(names, 1):
+        print(f"small run {number} of {len(names)}: {name}", file=sys.stderr, flush=True)
+        found[name] = small_digest(name)
+    return found
 
 
 def committed() -> dict:
@@ -252,7 +263,7 @@ def main(argv=None) -> int:
         if unknown:
             raise UserError(f"no stored experiment named {', '.join(unknown)}; the experiments: {', '.join(SIZES)}")
         return adopt(args.adopt or list(SIZES))
-    found = {name: small_digest(name) for name in SIZES}
+    found = small_digests(list(SIZES))
     if args.write:
         write(found)
         print(f"wrote {len(found)} digests to {DIGESTS}")
