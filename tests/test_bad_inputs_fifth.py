@@ -3,6 +3,7 @@ the fifth round's cases. Shared records written by commands running at once, the
 figures and a reduced run, a damaged digests file, a learner module that exits on import, and
 what an interrupt, a full disk or a foreign file says."""
 
+import errno
 import json
 import os
 import shutil
@@ -185,3 +186,30 @@ def test_what_an_interrupted_command_had_written_is_named(tmp_path, monkeypatch)
     with atomic.locked(tmp_path):
         atomic.write_text(tmp_path / "a.json", "{}")
     assert errors.interrupted(signal.SIGTERM) == f"stopped (SIGTERM); it had written {tmp_path / 'a.json'}"
+
+
+# --- a full disk, a file that is not an archive ---------------------------------------------------------
+
+def test_a_full_disk_names_the_file_being_written(tmp_path):
+    def full(handle):
+        raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
+
+    with pytest.raises(OSError) as raised, atomic.locked(tmp_path):
+        atomic.write(tmp_path / "fig5.png", full)
+    assert errors.one_line(raised.value) == f"No space left on device: {tmp_path / 'fig5.png'}"
+    assert not list(tmp_path.iterdir())
+
+
+@pytest.mark.parametrize("content, kind", [
+    (b"hello, this is text\n", "a text file beginning 'hello, this is text'"),
+    (b"", "an empty file"),
+    (b"\x93NUMPY\x01\x00v\x00{'descr': '<f8'", "a single NumPy array (.npy)"),
+    (b"\x80\x04\x95\x0b\x00", "pickled Python data"),
+    (b"\x00\x01\x02\xff\xfe binary", "binary data of another format"),
+])
+def test_a_file_named_npz_that_is_no_archive_is_named_with_what_it_is(tmp_path, content, kind):
+    (tmp_path / "gridworld.npz").write_bytes(content)
+    line = _error_line(SCRIPTS / "fig11a.py", "--out", tmp_path, "--results", tmp_path)
+    assert line.startswith(f"error: {tmp_path / 'gridworld.npz'} is not a readable glamas result file (it is {kind}, "
+                           "not a NumPy archive of arrays (.npz)); run again with --rerun")
+    assert (tmp_path / "gridworld.npz").read_bytes() == content

@@ -107,8 +107,10 @@ def write(path, write_to) -> Path:
             write_to(handle)
         os.chmod(tmp, 0o666 & ~_umask())  # mkstemp's 0600 would make the file private
         os.replace(tmp, path)
-    except BaseException:
+    except BaseException as error:
         Path(tmp).unlink(missing_ok=True)
+        if isinstance(error, OSError) and error.errno is not None and error.filename is None:
+            raise OSError(error.errno, error.strerror, str(path)) from None  # a full disk, say: name the file
         raise
     written.append(path.resolve())
     return path
