@@ -151,6 +151,15 @@ def _children(pid: int) -> set:
             for child in (task / "children").read_text().split()}
 
 
+def _wait_for_workers(pid: int) -> None:
+    """Until process ``pid`` has started its worker processes (a Ctrl-C while they start is lost)."""
+    deadline = time.monotonic() + 60
+    while time.monotonic() < deadline and sum(b"popen_loky" in Path(f"/proc/{child}/cmdline").read_bytes()
+                                              for child in _children(pid) if _alive(child)) < 2:
+        time.sleep(0.1)
+    time.sleep(0.5)
+
+
 def _alive(pid: int) -> bool:
     try:
         return Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()[0] != "Z"
@@ -162,15 +171,13 @@ def _alive(pid: int) -> bool:
                                                   (signal.SIGTERM, 143, "stopped (SIGTERM); nothing was written")])
 def test_an_interrupted_run_says_so_in_one_line_and_its_workers_stop_with_it(tmp_path, signum, status, line):
     """Ctrl-C reaches every process of the terminal's group; SIGTERM the main process alone."""
-    command = [SCRIPTS / "fig11a.py", "--runs", 20, "--episodes", 3000, "--workers", 2, "--out", tmp_path,
+    command = [SCRIPTS / "fig11a.py", "--runs", 100, "--episodes", 3000, "--workers", 2, "--out", tmp_path,
                "--results", tmp_path]
     running = subprocess.Popen([sys.executable, *map(str, command)], cwd=REPO, stderr=subprocess.PIPE,
                                start_new_session=True)
     stderr = []
     threading.Thread(target=lambda: stderr.extend(iter(lambda: running.stderr.read(1), b"")), daemon=True).start()
-    deadline = time.monotonic() + 60
-    while b"gridworld:" not in b"".join(stderr) and time.monotonic() < deadline:
-        time.sleep(0.1)
+    _wait_for_workers(running.pid)
     workers = _children(running.pid)
     (os.killpg if signum == signal.SIGINT else os.kill)(running.pid, signum)
     assert running.wait(timeout=20) == status
@@ -178,6 +185,22 @@ def test_an_interrupted_run_says_so_in_one_line_and_its_workers_stop_with_it(tmp
     text = b"".join(stderr).decode()
     assert "Traceback" not in text and text.strip().splitlines()[-1] == line, text
     assert not [pid for pid in workers if _alive(pid)] and not list(tmp_path.iterdir())
+
+
+def test_an_interrupted_write_of_the_small_runs_says_so_in_one_line_and_keeps_the_file(tmp_path):
+    shutil.copy(small_runs.DIGESTS, tmp_path / "small_runs.json")
+    script = (f"from pathlib import Path\nfrom glamas import errors, small_runs\n"
+              f"small_runs.DIGESTS, small_runs.RESULTS = Path({str(tmp_path)!r}) / 'small_runs.json', Path({str(tmp_path)!r})\n"
+              "errors.run(lambda: small_runs.main(['--write']))\n")
+    running = subprocess.Popen([sys.executable, "-c", script], cwd=REPO, stderr=subprocess.PIPE, text=True,
+                               start_new_session=True)
+    assert running.stderr.readline().startswith("small run 1 of ")
+    _wait_for_workers(running.pid)
+    os.killpg(running.pid, signal.SIGINT)
+    assert running.wait(timeout=20) == 130
+    assert running.stderr.read().strip().splitlines() in (["interrupted; nothing was written"],
+                                                          ["small run 2 of 16: state_encoding", "interrupted; nothing was written"])
+    assert (tmp_path / "small_runs.json").read_text() == small_runs.DIGESTS.read_text()
 
 
 def test_what_an_interrupted_command_had_written_is_named(tmp_path, monkeypatch):
