@@ -208,14 +208,19 @@ _ARCHIVE_STARTS = (b"PK\x03\x04", b"PK\x05\x06")
 """How a zip archive, the form of an .npz file, begins (the second: an empty one)."""
 
 
+class NotAnArchiveError(UserError):
+    """A file that is no zip archive: the message says what it is, for the caller's message about
+    the file to give as the reason."""
+
+
 def open_archive(path):
     """``np.load`` of ``path`` (pickled arrays refused) when it is a zip archive, the form of an
-    .npz file; otherwise a ValueError saying what the file is, which NumPy would call pickled data
-    or load as something else."""
+    .npz file; otherwise :class:`NotAnArchiveError` saying what the file is, which NumPy would call
+    pickled data or load as something else."""
     with open(path, "rb") as handle:
         head = handle.read(64)
     if not head.startswith(_ARCHIVE_STARTS):
-        raise ValueError(f"it is {_kind(head)}, not a NumPy archive of arrays (.npz)")
+        raise NotAnArchiveError(f"it is {_kind(head)}, not a NumPy archive of arrays (.npz)")
     return np.load(path, allow_pickle=False)
 
 
