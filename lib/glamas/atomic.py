@@ -20,6 +20,9 @@ LOCK_WAIT_SECONDS = 60.0
 takes to check and write a file, so one held longer belongs to a process that is stuck or stopped
 (suspended by Ctrl-Z, say), and waiting on would wait for ever."""
 _LOCK_POLL_SECONDS = 0.05
+written: list = []
+"""Every file this process has written (:func:`write`), in order: what a command stopped midway
+says it had written (:func:`glamas.errors.interrupted`)."""
 
 
 class LockTimeoutError(UserError):
@@ -104,10 +107,18 @@ def write(path, write_to) -> Path:
             write_to(handle)
         os.chmod(tmp, 0o666 & ~_umask())  # mkstemp's 0600 would make the file private
         os.replace(tmp, path)
-    except BaseException:
+    except BaseException as error:
         Path(tmp).unlink(missing_ok=True)
+        if isinstance(error, OSError) and error.errno is not None and error.filename is None:
+            raise OSError(error.errno, error.strerror, str(path)) from None  # a full disk, say: name the file
         raise
+    written.append(path.resolve())
     return path
+
+
+def write_text(path, text: str) -> Path:
+    """Write ``text`` to ``path`` atomically (:func:`write`)."""
+    return write(path, lambda handle: handle.write(text.encode()))
 
 
 def remove_leftovers(path) -> None:

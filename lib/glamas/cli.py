@@ -16,7 +16,7 @@ import re
 import sys
 from pathlib import Path
 
-from glamas import atomic, memory, parallel, results, sources
+from glamas import atomic, memory, parallel, results
 from glamas.checks import MAX_COUNT, suspect_settings
 from glamas.errors import UserError
 from glamas.paths import FIGURES, REPO, RESULTS
@@ -177,10 +177,26 @@ def _choose_directories(parser, args) -> None:
     unset = [option for option in defaults if getattr(args, option) is None]
     for option in unset:
         setattr(args, option, defaults[option])
+    _refuse_committed(args, key)
     if unset and key:
         print(f"note: not the paper-scale --runs/--iterations/--seed/--map: writing to "
               f"{SCRATCH_OUT.parent.relative_to(REPO)}/ (figures/{key}, results/{key}; --out and --results choose)",
               file=sys.stderr)
+
+
+def _refuse_committed(args, key: str) -> None:
+    """Refuse a run off the paper scale (``key``, :func:`scratch_key`) whose --out or --results is
+    the directory of the committed figures or results, however it is spelled (a link included):
+    only a run at the paper-scale defaults writes them. The line names where the run would go."""
+    if not key:
+        return
+    for option, kind, committed, scratch in (("out", "figures", DEFAULT_OUT, SCRATCH_OUT),
+                                             ("results", "results", RESULTS, SCRATCH_RESULTS)):
+        given = getattr(args, option)
+        if Path(given).resolve() == committed.resolve():
+            raise UserError(f"--{option} {given} is the directory of the committed {kind}, which only a run at "
+                            f"the paper-scale settings writes; this run's {kind} go to "
+                            f"{(scratch / key).relative_to(REPO)} (leave out --{option})")
 
 
 def scratch_key(parser: argparse.ArgumentParser, args: argparse.Namespace) -> str:
@@ -215,21 +231,8 @@ def run_experiment(args: argparse.Namespace, name: str, config, run, copies: int
     """``run(config, seed=, workers=, progress=name)`` after :func:`check_before_run`; a run that
     leaves the finite numbers names the settings furthest from their defaults."""
     check_before_run(args, name, config, copies)
-    if not kernels_cached():
-        print("compiling the kernels into numba's cache before the first run (about a minute on 2 cores, once)",
-              file=sys.stderr, flush=True)
     with _naming_suspects(config):
         return run(config, seed=args.seed, workers=args.workers, progress=name)
-
-
-def kernels_cached() -> bool:
-    """Whether every learner module's compiled kernels are in numba's cache (its index files, where
-    numba keeps them: NUMBA_CACHE_DIR included): otherwise a run first spends a minute compiling,
-    its progress bar still at 0."""
-    learners = Path(__file__).parent / "learners"
-    compiled = {path.name.split(".")[0] for path in sources.cache_directory(learners).glob("*.nbi")}
-    with_kernels = {path.stem for path in learners.glob("*.py") if re.search(r"^@njit", path.read_text(), re.M)}
-    return with_kernels <= compiled
 
 
 @contextlib.contextmanager

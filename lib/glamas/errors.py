@@ -7,6 +7,10 @@ outside it, and the message says what the fix is. An OSError (a file that cannot
 written) is reported the same way. Anything else is a bug in glamas: it keeps its traceback,
 followed by one line asking for a report.
 
+An interrupt (Ctrl-C) or a SIGTERM stops a command the same way wherever it is: the workers of
+its run stopped, no file half-written, one line saying what it had written (exit status 130 or
+143, the shell's for the signal).
+
 Every entry point (the figure scripts, ``python -m glamas.reproduce``, ``glamas.verify``,
 ``glamas.ledger``, the benchmarks) ends with ``errors.run(main)``.
 """
@@ -14,7 +18,9 @@ Every entry point (the figure scripts, ``python -m glamas.reproduce``, ``glamas.
 import contextlib
 import re
 import shlex
+import signal
 import sys
+import threading
 import traceback
 from pathlib import Path
 
@@ -54,13 +60,29 @@ def reported():
         raise Reported(message) from None
 
 
+class Stopped(KeyboardInterrupt):
+    """A SIGTERM, raised where the main thread is, so that a command stops as on Ctrl-C: the
+    ``finally`` clauses on the way stop the workers and remove half-written files."""
+
+
+def _stop(signum, frame):
+    raise Stopped()
+
+
 def run(main) -> None:
     """Call an entry point's ``main()`` and exit with the status it returns (None: 0). A user error
-    exits with status 2 and one line; any other exception prints its traceback, then one line
-    saying that it is a bug in glamas, and exits with EXIT_BUG."""
+    exits with status 2 and one line; an interrupt or SIGTERM with one line saying what was
+    written (:func:`interrupted`); any other exception prints its traceback, then one line saying
+    that it is a bug in glamas, and exits with EXIT_BUG."""
+    if threading.current_thread() is threading.main_thread():
+        signal.signal(signal.SIGTERM, _stop)
     try:
         with reported():
             status = main()
+    except KeyboardInterrupt as interrupt:
+        signum = signal.SIGTERM if isinstance(interrupt, Stopped) else signal.SIGINT
+        print(interrupted(signum), file=sys.stderr)
+        sys.exit(128 + signum)
     except Exception as error:
         module = outside_fault(error)
         if module is not None:  # a learner of one's own, say: its fix lies in that module
@@ -71,6 +93,17 @@ def run(main) -> None:
         print(bug_report(), file=sys.stderr)
         sys.exit(EXIT_BUG)
     sys.exit(status)
+
+
+def interrupted(signum: int) -> str:
+    """The line of a command stopped by ``signum``: what it had written (:data:`glamas.atomic.written`)."""
+    from glamas import atomic  # below this module: its errors are UserErrors
+    from glamas.committed import shown
+
+    how = "interrupted" if signum == signal.SIGINT else f"stopped ({signal.Signals(signum).name})"
+    if not atomic.written:
+        return f"{how}; nothing was written"
+    return f"{how}; it had written {', '.join(dict.fromkeys(shown(path) for path in atomic.written))}"
 
 
 def outside_fault(error: BaseException) -> str | None:

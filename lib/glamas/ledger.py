@@ -14,7 +14,7 @@ import textwrap
 from dataclasses import dataclass
 from pathlib import Path
 
-from glamas import claims, errors
+from glamas import atomic, claims, errors
 from glamas.errors import UserError
 from glamas.experiments import registry
 from glamas.experiments.registry import Experiment
@@ -251,8 +251,9 @@ def main(argv=None) -> int:
             return 1
         return 0
     LEDGER.parent.mkdir(exist_ok=True)
-    for path, content in wanted.items():
-        path.write_text(content)
+    with atomic.locked(RESULTS):  # the shared records' lock: README.md read again, written whole
+        atomic.write_text(LEDGER, wanted[LEDGER])
+        atomic.write_text(README, readme_with(summary(ledger_rows), README.read_text()))
     return 0
 
 

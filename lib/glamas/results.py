@@ -108,7 +108,7 @@ def load(path, config, *, seed: int | None = None) -> dict:
 def _recorded_arrays(path: Path, stored: dict) -> dict:
     """The arrays of ``path``, checked against the digests its record ``stored`` holds."""
     try:
-        with np.load(path, allow_pickle=False) as archive:
+        with open_archive(path) as archive:
             arrays = {key: archive[key] for key in archive.files if key not in _RESERVED}
     except _UNREADABLE as error:
         raise _unreadable(path, error) from None
@@ -196,12 +196,46 @@ def _check_arrays(path: Path, recorded: dict | None, arrays: dict) -> None:
 
 def _read_text(path: Path, key: str, kept: bool = False) -> str:
     try:
-        with np.load(path, allow_pickle=False) as archive:
+        with open_archive(path) as archive:
             if key not in archive.files:
                 raise KeyError(key)
             return str(archive[key])
     except _UNREADABLE as error:
         raise _unreadable(path, error, kept) from None
+
+
+_ARCHIVE_STARTS = (b"PK\x03\x04", b"PK\x05\x06")
+"""How a zip archive, the form of an .npz file, begins (the second: an empty one)."""
+
+
+class NotAnArchiveError(UserError):
+    """A file that is no zip archive: the message says what it is, for the caller's message about
+    the file to give as the reason."""
+
+
+def open_archive(path):
+    """``np.load`` of ``path`` (pickled arrays refused) when it is a zip archive, the form of an
+    .npz file; otherwise :class:`NotAnArchiveError` saying what the file is, which NumPy would call
+    pickled data or load as something else."""
+    with open(path, "rb") as handle:
+        head = handle.read(64)
+    if not head.startswith(_ARCHIVE_STARTS):
+        raise NotAnArchiveError(f"it is {_kind(head)}, not a NumPy archive of arrays (.npz)")
+    return np.load(path, allow_pickle=False)
+
+
+def _kind(head: bytes) -> str:
+    """What a file that begins with ``head`` holds, as far as its first bytes tell."""
+    if not head:
+        return "an empty file"
+    if head.startswith(b"\x93NUMPY"):
+        return "a single NumPy array (.npy)"
+    if head.startswith(b"\x80"):
+        return "pickled Python data"
+    text = head.decode(errors="replace")
+    if any(c == "\ufffd" or not (c.isprintable() or c.isspace()) for c in text[:-3]):  # 64 bytes may cut a character
+        return "binary data of another format"
+    return f"a text file beginning {text.strip().splitlines()[0][:40]!r}" if text.strip() else "a text file of blanks"
 
 
 def _unreadable(path: Path, error: Exception, kept: bool = False) -> UnreadableResultError:

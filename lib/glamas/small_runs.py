@@ -29,10 +29,11 @@ import argparse
 import dataclasses
 import hashlib
 import json
+import sys
 
 import numpy as np
 
-from glamas import errors, provenance, results
+from glamas import atomic, errors, provenance, results
 from glamas.committed import PYTHON, computing_script, shown
 from glamas.errors import UserError
 from glamas.experiments import registry
@@ -68,6 +69,8 @@ RECOMPUTE_MINUTES = {"single_gla": 0.5, "state_encoding": 1, "state_encoding_rea
                      "warehouses": 24, "crowd": 11}
 """About how long each experiment's paper-scale recomputation takes on 2 cores (measured), for
 ``--status``."""
+WRITE_MINUTES = 5
+"""About how long ``--write`` takes on 2 cores (measured: every small run)."""
 
 
 def digest(arrays: dict) -> str:
@@ -88,14 +91,56 @@ def small_digest(name: str, workers=None) -> str:
     return digest(experiment.arrays(experiment.run(config, seed=SEED, workers=workers)))
 
 
+def small_digests(names: list) -> dict:
+    """:func:`small_digest` of each experiment of ``names``, by name, saying on stderr which small
+    run is computing (they take minutes together)."""
+    found = {}
+    for number, name in enumerate(names, 1):
+        print(f"small run {number} of {len(names)}: {name}", file=sys.stderr, flush=True)
+        found[name] = small_digest(name)
+    return found
+
+
 def committed() -> dict:
     """The committed digests by experiment name."""
-    return json.loads(DIGESTS.read_text())["digests"]
+    return recorded()["digests"]
 
 
 def committed_code() -> dict:
     """The record of the code each committed digest was computed with, by experiment name."""
-    return json.loads(DIGESTS.read_text()).get("code", {})
+    return recorded().get("code", {})
+
+
+def recorded() -> dict:
+    """What the digests file holds, checked to be what :func:`write` writes: one line naming the
+    file and how to make it again otherwise (cut short by a killed writer, say)."""
+    try:
+        content = json.loads(DIGESTS.read_text())
+        damage = None if isinstance(content, dict) else f"a JSON {type(content).__name__} where an object belongs"
+    except json.JSONDecodeError as error:
+        damage = f"not JSON, cut short or edited ({error.msg}, line {error.lineno})"
+    if damage is None and not (isinstance(content.get("digests"), dict) and isinstance(content.get("code", {}), dict)):
+        damage = "its digests or records of code are missing"
+    if damage:
+        raise UserError(f"{shown(DIGESTS)} is damaged ({damage}): restore the committed one with `git checkout -- "
+                        f"{shown(DIGESTS)}`, or rewrite it with `{PYTHON} -m glamas.small_runs --write` (about "
+                        f"{WRITE_MINUTES} min on 2 cores)")
+    return content
+
+
+def update(change, *, replace_damaged: bool = False) -> None:
+    """Rewrite the digests file with ``change(what it holds)`` (with ``replace_damaged``, a damaged
+    file holds nothing), read and written under the results' lock and written whole
+    (:mod:`glamas.atomic`): two commands recording different experiments at once both keep their
+    records, and a killed one leaves the file as it was."""
+    with atomic.locked(RESULTS):
+        try:
+            content = recorded()
+        except (UserError, FileNotFoundError):
+            if not replace_damaged:
+                raise
+            content = {}
+        atomic.write_text(DIGESTS, json.dumps(change(content), indent=1) + "\n")
 
 
 def experiment_named(name: str) -> registry.Experiment:
@@ -112,10 +157,13 @@ def write(found: dict) -> None:
     except where a digest is the committed one: its record of code stays, since that code gives the
     same bits, and a committed result it computed stays one that ``--adopt`` can re-record."""
     sizes = {name: {"runs": runs, "iterations": iterations, **fields} for name, (runs, iterations, fields) in SIZES.items()}
-    digests, recorded = committed(), committed_code()
-    code = {name: recorded[name] if digest == digests.get(name) and name in recorded else current_code(name)
-            for name, digest in found.items()}
-    DIGESTS.write_text(json.dumps({"seed": SEED, "sizes": sizes, "digests": found, "code": code}, indent=1) + "\n")
+
+    def rewritten(content):
+        digests, code = content.get("digests", {}), content.get("code", {})
+        return {"seed": SEED, "sizes": sizes, "digests": found,
+                "code": {name: code[name] if digest == digests.get(name) and name in code else current_code(name)
+                         for name, digest in found.items()}}
+    update(rewritten, replace_damaged=True)
 
 
 def stored_record(name: str) -> dict:
@@ -151,7 +199,7 @@ def adopt(names) -> int:
     """Re-record the committed result and small-run digest of each experiment of ``names`` whose
     small run gives the committed bits with the code as it is (see the module's text); print one
     line per experiment; returns 1 if any is left stale, else 0."""
-    digests, code, left = committed(), committed_code(), 0
+    left = 0
     for name in names:
         state, why = status(name)
         if state == "recompute":
@@ -161,16 +209,15 @@ def adopt(names) -> int:
         if state == "current":
             print(f"{name}: current")
             continue
-        if small_digest(name) != digests[name]:
-            now = current_code(name)
-            modules = sorted(m for m in set(code[name]) | set(now) if code[name].get(m) != now.get(m))
+        if small_digest(name) != committed()[name]:
+            now, then = current_code(name), committed_code()[name]
+            modules = sorted(m for m in set(then) | set(now) if then.get(m) != now.get(m))
             print(f"{name}: stale, its small run gives other bits with the changed code "
                   f"({', '.join('glamas/' + m for m in modules[:3])}): recompute it with {recompute_command(name)}")
             left += 1
             continue
         _rerecord(name)
-        code[name] = current_code(name)
-        write_code(code)  # at once: a result and its digest never stay recorded with different code
+        record_code(name)  # at once: a result and its digest never stay recorded with different code
         print(f"{name}: re-recorded (its small run gives the committed bits)")
     return 1 if left else 0
 
@@ -188,11 +235,11 @@ def _rerecord(name: str) -> None:
     results.save(path, config, results.load_unchecked_code(path, config), seed=seed, overwrite=True)
 
 
-def write_code(code: dict) -> None:
-    """Rewrite the digests file's records of code, its digests unchanged."""
-    content = json.loads(DIGESTS.read_text())
-    content["code"] = code
-    DIGESTS.write_text(json.dumps(content, indent=1) + "\n")
+def record_code(name: str) -> None:
+    """Record in the digests file that the code as it is computes ``name``'s digest, the other
+    records and the digests as they are there now (another command may have changed them)."""
+    now = current_code(name)
+    update(lambda content: {**content, "code": {**content.get("code", {}), name: now}})
 
 
 def main(argv=None) -> int:
@@ -206,6 +253,8 @@ def main(argv=None) -> int:
     action.add_argument("--adopt", nargs="*", metavar="EXPERIMENT", help="re-record the committed results the code "
                         "change left stale whose small runs still give the committed bits (all, or those named)")
     args = parser.parse_args(argv)
+    if not args.write:
+        recorded()  # a damaged file is named before any work (--write replaces it)
     if args.status:
         for name in SIZES:
             state, why = status(name)
@@ -216,7 +265,7 @@ def main(argv=None) -> int:
         if unknown:
             raise UserError(f"no stored experiment named {', '.join(unknown)}; the experiments: {', '.join(SIZES)}")
         return adopt(args.adopt or list(SIZES))
-    found = {name: small_digest(name) for name in SIZES}
+    found = small_digests(list(SIZES))
     if args.write:
         write(found)
         print(f"wrote {len(found)} digests to {DIGESTS}")

@@ -239,6 +239,15 @@ def _no_caching(dispatcher) -> None:
     """numba's ``Dispatcher.enable_caching`` when caching is off: the dispatcher keeps its NullCache."""
 
 
+def uncached(kernel) -> bool:
+    """Whether calling the numba dispatcher ``kernel`` compiles it: it is compiled neither in this
+    process nor in numba's cache for its source as it is (the cache's index as numba reads it, which
+    is empty when the source changed since). False when caching is off: a kernel then compiles in
+    every process, which :func:`turn_caching_off` said; and for a function numba does not compile."""
+    index = getattr(getattr(kernel, "_cache", None), "_cache_file", None)  # a NullCache has none
+    return index is not None and not kernel.overloads and not index._load_index()
+
+
 def cache_directory(directory: Path) -> Path:
     """Where numba first chooses to cache the kernels of the sources in ``directory``: its
     ``__pycache__``, or under NUMBA_CACHE_DIR the subdirectory numba names after the directory and

@@ -33,6 +33,7 @@ import numpy as np
 from glamas import errors, figure_files
 from glamas.committed import figure_advice, result_advice, shown
 from glamas.paths import FIGURES, RESULTS
+from glamas.results import open_archive
 
 _PROVENANCE = "__provenance__"
 _CONFIG = "__config__"
@@ -130,7 +131,7 @@ def _arrays(path: Path, side: str) -> dict:
     """Every array of result file ``path`` but its provenance record, read whole (a damaged
     member fails here, not later); UnreadableFile naming ``side`` if it cannot be read."""
     try:
-        with np.load(path, allow_pickle=False) as archive:
+        with open_archive(path) as archive:
             return {key: archive[key] for key in archive.files if key != _PROVENANCE}
     except _UNREADABLE as error:
         raise _unreadable(path, side, error) from None

@@ -77,15 +77,18 @@ def discover() -> None:
 
 def import_own(name: str) -> None:
     """Import the module of one's own ``name`` (:data:`LEARNER_MODULES`); whatever its import raises
-    (it cannot be found, has a syntax error, raises, registers a taken name) is one warning line
-    naming the module and the fault: its learners are then unknown, and a config naming them says so."""
+    (it cannot be found, has a syntax error, raises, exits, registers a taken name) is one warning
+    line naming the module and the fault: its learners are then unknown, and a config naming them
+    says so."""
     try:
         importlib.import_module(name)
     except ImportError as error:
         _warn(name, f"which cannot be imported ({error}); put its directory on PYTHONPATH or correct the name")
     except SyntaxError as error:
         _warn(name, f"which has a syntax error ({error.msg}, {error.filename} line {error.lineno}); correct it")
-    except Exception as error:  # a user's module may raise anything on import
+    # a user's module may raise anything on import; a SystemExit let through would end the figure script
+    # there, saying nothing
+    except (Exception, SystemExit, KeyboardInterrupt) as error:
         reason = " ".join((str(error) or type(error).__name__).split())
         _warn(name, f"which fails on import ({type(error).__name__}: {reason}); correct it")
 

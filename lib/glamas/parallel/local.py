@@ -2,6 +2,9 @@
 handed one job at a time, a kernel that may still be compiling left to the worker compiling it.
 """
 
+import contextlib
+import signal
+import threading
 import warnings
 from concurrent.futures import FIRST_COMPLETED, ThreadPoolExecutor, as_completed, wait
 
@@ -16,10 +19,14 @@ warnings.filterwarnings("ignore", message="A worker stopped while some jobs were
 
 
 def run_in_threads(backend: Threads, jobs: list):
-    """Jobs on a pool of threads: the kernels release the GIL (nogil), so they run at once."""
-    with ThreadPoolExecutor(backend.workers or cores()) as pool:
+    """Jobs on a pool of threads: the kernels release the GIL (nogil), so they run at once. Stopped
+    early (an error, an interrupt), the jobs not yet started are dropped; those running end theirs."""
+    pool = ThreadPoolExecutor(backend.workers or cores())
+    try:
         for future in as_completed([pool.submit(batch_chunk, k, fill_chunk, *job) for k, *job in jobs]):
             yield future.result()
+    finally:
+        pool.shutdown(cancel_futures=True)
 
 
 def run_in_processes(backend: Processes, jobs: list):
@@ -30,13 +37,15 @@ def run_in_processes(backend: Processes, jobs: list):
     from joblib.externals.loky.process_executor import TerminatedWorkerError
 
     n_workers = backend.workers or cores()
-    executor = get_reusable_executor(max_workers=n_workers)
+    with _interrupts_ignored():
+        executor = get_reusable_executor(max_workers=n_workers)
     waiting, running, ready = list(jobs), {}, set()
     try:
         while waiting or running:
             while waiting and len(running) < n_workers:
                 job = waiting.pop(_next_job(waiting, running.values(), ready))
-                running[executor.submit(batch_chunk, job[0], run_chunk, *job[1:])] = job
+                with _interrupts_ignored():  # a submission may start a worker
+                    running[executor.submit(batch_chunk, job[0], run_chunk, *job[1:])] = job
             finished, _ = wait(running, return_when=FIRST_COMPLETED)
             for future in finished:
                 ready.add(running.pop(future)[1])
@@ -46,8 +55,24 @@ def run_in_processes(backend: Processes, jobs: list):
         raise BackendError(f"a worker process died mid-run (killed, out of memory or crashed; {codes}); "
                            "run again, with fewer --workers if memory is short") from None
     finally:
-        if waiting or running:  # stopped early (an error): no work left behind in the workers
+        if waiting or running:  # stopped early (an error, an interrupt): no work left behind in the workers
             executor.shutdown(wait=False, kill_workers=True)
+
+
+@contextlib.contextmanager
+def _interrupts_ignored():
+    """SIGINT ignored while worker processes may start (in the main thread, the only one that can
+    set it): they inherit the ignoring for their life, so the terminal's Ctrl-C, sent to every
+    process of the group, stops this process alone, which stops them, instead of tracing back in a
+    worker still starting. A Ctrl-C in those milliseconds is lost: press it again."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    previous = signal.signal(signal.SIGINT, signal.SIG_IGN)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGINT, signal.default_int_handler if previous is None else previous)
 
 
 def _next_job(waiting: list, running, ready: set) -> int:

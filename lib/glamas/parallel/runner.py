@@ -6,6 +6,7 @@ import sys
 import numpy as np
 from tqdm import tqdm  # not tqdm.auto: it warns in notebooks without ipywidgets
 
+from glamas import sources
 from glamas.errors import UserError
 from glamas.parallel import dask, local, memo
 from glamas.parallel.backends import Dask, Processes, Threads, as_backend, cores
@@ -45,6 +46,8 @@ def run_many(batches: list, *, workers=None, progress: str | None = None, chunk:
         return
     if not isinstance(workers, Dask) and (workers.workers or cores()) > len(jobs):
         workers = type(workers)(max(1, len(jobs)))  # a worker without a job would only cost its start-up
+    if progress is not None and not isinstance(workers, Dask):
+        _say_if_compiling([batches[k] for k in to_run])
     done = _hand_out(workers, batches, to_run, jobs)
     stops = {(k, start): stop for k, start, stop, _ in jobs}
     with tqdm(total=sum(stop - start for _, start, stop, _ in jobs), desc=progress, unit="run",
@@ -60,6 +63,14 @@ def run_many(batches: list, *, workers=None, progress: str | None = None, chunk:
             bar.update(stops[k, start] - start)
     for k in to_run:
         memo.remember(keys[k], batches[k])
+
+
+def _say_if_compiling(batches: list) -> None:
+    """One line on stderr when a kernel of ``batches`` is not in numba's cache
+    (:func:`glamas.sources.uncached`): its first jobs compile it, the progress bar still at 0."""
+    if any(sources.uncached(batch.kernel) for batch in batches):
+        print("compiling the kernels into numba's cache before the first run (about a minute on 2 cores, once)",
+              file=sys.stderr, flush=True)
 
 
 def _hand_out(workers, batches: list, to_run: list, jobs: list):
