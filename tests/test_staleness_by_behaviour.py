@@ -167,6 +167,6 @@ def test_no_learner_imports_the_layer_that_runs_it():
 def test_an_edit_of_a_dask_message_or_a_plot_label_stales_nothing(monkeypatch):
     real = sources.code_digest
     edited = {sources.PACKAGE / "parallel" / "dask.py", sources.PACKAGE / "experiments" / "gridworld" / "plots.py",
-              sources.PACKAGE / "plotting.py", sources.PACKAGE / "cli.py"}
+              sources.PACKAGE / "plotting.py", sources.PACKAGE / "cli.py", sources.PACKAGE / "sources.py"}
     monkeypatch.setattr(sources, "code_digest", lambda path: "edited" if Path(path) in edited else real(path))
     assert {name: small_runs.status(name)[0] for name in small_runs.SIZES} == dict.fromkeys(small_runs.SIZES, "current")

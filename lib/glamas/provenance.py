@@ -59,13 +59,15 @@ def code_files(config) -> list[Path]:
     return sources.import_closure([path for path in start if computes(path)], follow=computes)
 
 
-KEEPING = ("atomic.py", "committed.py", "errors.py", "paths.py", "provenance.py", "results.py",
+KEEPING = ("atomic.py", "committed.py", "errors.py", "paths.py", "provenance.py", "results.py", "sources.py",
            "experiments/registry.py", "experiments/faces.py", "learners/contract.py", "learners/__init__.py",
            "learners/registry.py")
-"""Modules that keep, name and check results, find or check learners or report errors, but compute
-nothing of a result (the learner contract runs learners to test them, never for a result; the
-registry finds a learner by its name, and the module of each learner a result trains is in its
-record: :func:`code_files`)."""
+"""Modules that keep, name and check results, find or check learners, keep numba's cache in step
+with the sources or report errors, but compute nothing of a result (the learner contract runs
+learners to test them, never for a result; the registry finds a learner by its name, and the
+module of each learner a result trains is in its record: :func:`code_files`; the sources' module
+digests the code and empties a stale cache, and a kernel it let through stale would still show in
+the small runs that ``make test`` checks)."""
 READING = ("__init__.py", "analysis.py", "plots.py")
 """The modules of an experiment's package that read its result: its face, its analysis, its plots."""
 

@@ -22,7 +22,6 @@ nothing differs: every array and figure the same, so the records are what change
 """
 
 import argparse
-import json
 import zipfile
 import zlib
 from pathlib import Path
