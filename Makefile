@@ -52,7 +52,7 @@ notebooks-check: $(READY)
 
 ## notebooks: re-execute every notebook in place at paper scale (commit the outputs)
 notebooks: $(READY)
-	@for nb in $(NOTEBOOKS); do echo "== $$nb"; $(PY) -m jupyter nbconvert --to notebook --execute --inplace "$$nb" || exit 1; done
+	@for nb in $(NOTEBOOKS); do echo "== $$nb"; $(PY) -m jupyter execute --inplace "$$nb" || exit 1; done
 
 ## lab: open the notebooks in JupyterLab (installs the optional extra "lab" first)
 lab: $(READY)
