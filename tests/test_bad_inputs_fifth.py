@@ -195,11 +195,19 @@ def test_an_interrupted_write_of_the_small_runs_says_so_in_one_line_and_keeps_th
     running = subprocess.Popen([sys.executable, "-c", script], cwd=REPO, stderr=subprocess.PIPE, text=True,
                                start_new_session=True)
     assert running.stderr.readline().startswith("small run 1 of ")
-    _wait_for_workers(running.pid)
-    os.killpg(running.pid, signal.SIGINT)
-    assert running.wait(timeout=20) == 130
-    assert running.stderr.read().strip().splitlines() in (["interrupted; nothing was written"],
-                                                          ["small run 2 of 16: state_encoding", "interrupted; nothing was written"])
+    # as a user does: Ctrl-C to the whole group, again if one landed while worker processes started
+    # (they ignore it then), until the command ends; the small runs may run in this process alone
+    # (one core), with no workers at all
+    for _ in range(40):
+        os.killpg(running.pid, signal.SIGINT)
+        try:
+            status = running.wait(timeout=0.5)
+            break
+        except subprocess.TimeoutExpired:
+            continue
+    assert status == 130
+    said = running.stderr.read()
+    assert "Traceback" not in said and said.strip().splitlines()[-1] == "interrupted; nothing was written", said
     assert (tmp_path / "small_runs.json").read_text() == small_runs.DIGESTS.read_text()
 
 

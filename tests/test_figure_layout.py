@@ -159,7 +159,7 @@ def test_the_check_fails_on_configuration_tokens_in_titles_legends_and_labels():
 
 def test_the_check_fails_where_the_level_a_claim_is_judged_at_is_not_drawn():
     claim = Claim(id="no_collisions", where="Fig. 12a", chapter="zero collisions", kind="chapter", why="a test",
-                  metric="collisions", op="<=", threshold=0.05)
+                  metric="collisions", op="<=", threshold=0.05, rule="level_on_curve")
     fig, ax = plotting.new_figure(4.0, 3.0)
     ax.plot([1, 2, 3], [3.0, 0.5, 0.04])
     plotting.shows_claims(fig, [claim])
