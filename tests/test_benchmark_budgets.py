@@ -61,7 +61,7 @@ def test_the_episodes_needed_are_the_first_budget_of_a_collision_free_solution()
     assert budgets.greedy(solved_late, "chapter", 1000, "cq", "isr")["cost_ratio"] == pytest.approx(1.0)
     never = _axis(completion=[0.5, 0.9, 0.94], collisions=[0.0, 0.0, 0.0])  # just short of COMPLETION
     assert budgets.needed(never, "chapter", "cq", "isr") is None
-    assert "> 1000" in budgets.needed_table(never, "chapter")
+    assert "> 1,000" in budgets.needed_table(never, "chapter")
 
 
 @pytest.mark.parametrize("change, message", [

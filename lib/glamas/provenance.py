@@ -60,10 +60,10 @@ def code_files(config) -> list[Path]:
 
 
 KEEPING = ("atomic.py", "committed.py", "errors.py", "paths.py", "provenance.py", "results.py", "sources.py",
-           "experiments/registry.py", "experiments/faces.py", "learners/contract.py", "learners/__init__.py",
-           "learners/registry.py")
-"""Modules that keep, name and check results, find or check learners, keep numba's cache in step
-with the sources or report errors, but compute nothing of a result (the learner contract runs
+           "tables.py", "experiments/registry.py", "experiments/faces.py", "learners/contract.py",
+           "learners/__init__.py", "learners/registry.py")
+"""Modules that keep, name, check or lay out results, find or check learners, keep numba's cache in
+step with the sources or report errors, but compute nothing of a result (the learner contract runs
 learners to test them, never for a result; the registry finds a learner by its name, and the
 module of each learner a result trains is in its record: :func:`code_files`; the sources' module
 digests the code and empties a stale cache, and a kernel it let through stale would still show in

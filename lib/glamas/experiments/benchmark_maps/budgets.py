@@ -22,6 +22,7 @@ from glamas.experiments.benchmark_maps.experiment import (FIELD_MAPS, FORMULATIO
 from glamas.experiments.gridworld.analysis import COMPLETION
 from glamas.experiments.scaling.experiment import METHODS, METRICS, sweep
 from glamas.learners import registry
+from glamas.tables import Table
 
 DECADES = 3
 """Budgets of the axis at a command line's --iterations E: E / 100, E / 10 and E episodes."""
@@ -161,33 +162,19 @@ def needed(result: BudgetsResult, formulation: str, learner: str, map_name: str)
     return None
 
 
-def needed_table(result: BudgetsResult, formulation: str) -> str:
+def needed_table(result: BudgetsResult, formulation: str) -> Table:
     """Learners (rows) by maps (columns): the episodes each needs (:func:`needed`); '> cap' where
     the largest budget is not enough, '-' where the learner's tables exceed the memory budget."""
     maps, cap = list(map(str, result.maps)), int(result.budgets[-1])
-    width = max(10, *map(len, maps)) + 2
-    lines = [f"{'episodes needed (' + formulation + ')':36s}" + "".join(f"{name:>{width}s}" for name in maps)]
-    for learner in map(str, result.learners):
-        cells = []
-        for map_name in maps:
-            ran = greedy(result, formulation, cap, learner, map_name) is not None
-            budget = needed(result, formulation, learner, map_name)
-            cells.append(f"{budget if budget is not None else f'> {cap}' if ran else '-':>{width}}")
-        lines.append(f"{registry.label(learner):36s}" + "".join(cells))
-    return "\n".join(lines)
 
-
-def budget_table(result: BudgetsResult, formulation: str, metric: str = "completion") -> str:
-    """One measurement of :func:`greedy` per learner and budget (rows) and map (columns)."""
-    maps = list(map(str, result.maps))
-    width = max(10, *map(len, maps)) + 2
-    lines = [f"{metric + ' (' + formulation + ')':36s}" + "".join(f"{name:>{width}s}" for name in maps)]
-    for learner in map(str, result.learners):
-        for budget in result.budgets.tolist():
-            cases = [greedy(result, formulation, budget, learner, map_name) for map_name in maps]
-            cells = [f"{'-':>{width}s}" if case is None else f"{case[metric]:{width}.3f}" for case in cases]
-            lines.append(f"{registry.label(learner) + ' @ ' + str(budget):36s}" + "".join(cells))
-    return "\n".join(lines)
+    def cell(learner, map_name):
+        budget = needed(result, formulation, learner, map_name)
+        if budget is not None:
+            return f"{budget:,}"
+        return f"> {cap:,}" if greedy(result, formulation, cap, learner, map_name) is not None else "-"
+    return Table([f"episodes needed ({formulation})", *maps],
+                 [[registry.label(learner), *(cell(learner, map_name) for map_name in maps)]
+                  for learner in map(str, result.learners)])
 
 
 def solved_counts(result: BudgetsResult, formulation: str) -> np.ndarray:
