@@ -261,3 +261,8 @@ def test_a_face_hands_on_every_name_of_its_experiment_analysis_and_plots(name):
         assert [attribute for attribute in own if getattr(face, attribute) is not getattr(module, attribute)] == [], job
     with pytest.raises(AttributeError, match="no attribute 'plot_nothing'"):
         face.plot_nothing
+
+
+def test_every_experiment_package_registers_its_experiments_with_no_list_naming_it():
+    registering = {experiment.run.__module__.split(".")[2] for experiment in registry.experiments()}
+    assert registering == set(EXPERIMENT_PACKAGES)
