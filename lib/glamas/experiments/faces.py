@@ -4,6 +4,7 @@ of them, and it imports ``plots`` (and matplotlib with it) only when one of its 
 for, so that running and measuring an experiment import no matplotlib."""
 
 import ast
+import functools
 import importlib
 import sys
 from pathlib import Path
@@ -38,14 +39,15 @@ def handed_on(package: str, directory: Path) -> dict:
 
 def face(package: str, file: str):
     """The module ``__getattr__`` and ``__dir__`` of the face of ``package`` (its ``__init__`` at
-    ``file``): each name of :func:`handed_on` is looked up in its module, imported when first asked for."""
-    names = handed_on(package, Path(file).parent)
+    ``file``): each name of :func:`handed_on` is looked up in its module, imported when first asked
+    for. The names are read on first use too: finding every experiment parses no module."""
+    names = functools.cache(lambda: handed_on(package, Path(file).parent))
 
     def __getattr__(name: str):
-        if name not in names:
+        if name not in names():
             raise AttributeError(f"module {package!r} has no attribute {name!r}")
-        return getattr(importlib.import_module(names[name]), name)
+        return getattr(importlib.import_module(names()[name]), name)
 
     def __dir__():
-        return sorted(set(vars(sys.modules[package])) | set(names))
+        return sorted(set(vars(sys.modules[package])) | set(names()))
     return __getattr__, __dir__
