@@ -56,7 +56,7 @@ def main():
     from glamas import precompile, small_runs
 
     tasks = [(", ".join(names), precompile.compile_learners, names) for names in precompile.learner_groups()]
-    tasks += [(f"small run of {name}", precompile.compile_experiment, name) for name in small_runs.SIZES]
+    tasks += [(f"small run of {name}", precompile.compile_experiment, name) for name in small_runs.sizes()]
     if quick:
         tasks = [task for task in tasks if task[0] == "independent"]
     print(f"{'seconds':>8s}  task (one process, empty numba cache)")

@@ -73,7 +73,7 @@ print(json.dumps({name: small_runs.small_digest(name) for name in sys.argv[1:]})
 
 def recording(module: str) -> list[str]:
     """The experiments whose result records ``module``, as the code is."""
-    return [name for name in small_runs.SIZES if module in small_runs.current_code(name)]
+    return [name for name in small_runs.sizes() if module in small_runs.current_code(name)]
 
 
 def mutated_digests(mutation: Mutation, names: list[str], scratch: Path) -> dict:

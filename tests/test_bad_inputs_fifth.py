@@ -108,7 +108,7 @@ def test_write_says_which_small_run_it_computes(tmp_path, monkeypatch, capsys):
     monkeypatch.setattr(small_runs, "RESULTS", tmp_path / "results")
     monkeypatch.setattr(small_runs, "small_digest", lambda name, workers=None: name)
     assert small_runs.main(["--write"]) == 0
-    names = list(small_runs.SIZES)
+    names = list(small_runs.sizes())
     assert capsys.readouterr().err.splitlines() == [f"small run {number} of {len(names)}: {name}"
                                                     for number, name in enumerate(names, 1)]
     assert small_runs.committed() == {name: name for name in names}

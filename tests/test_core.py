@@ -251,13 +251,18 @@ def test_running_and_measuring_the_experiments_imports_no_matplotlib():
 
 
 @pytest.mark.parametrize("name", EXPERIMENT_PACKAGES)
-def test_a_face_hands_on_its_names_and_every_drawing_function_of_its_plots(name):
+def test_a_face_hands_on_every_name_of_its_experiment_analysis_and_plots(name):
     face = importlib.import_module(f"glamas.experiments.{name}")
-    plots = importlib.import_module(f"glamas.experiments.{name}.plots")
-    drawings = {function for function, value in vars(plots).items()
-                if inspect.isfunction(value) and value.__module__ == plots.__name__ and not function.startswith("_")}
-    assert set(face.PLOTS) == drawings and set(face.PLOTS) <= set(face.__all__)
-    assert all(getattr(face, function) is getattr(plots, function) for function in face.PLOTS)
-    assert [missing for missing in face.__all__ if not hasattr(face, missing)] == []
+    for job in ("experiment", "analysis", "plots"):
+        module = importlib.import_module(f"glamas.experiments.{name}.{job}")
+        own = {attribute for attribute, value in vars(module).items() if not attribute.startswith("_")
+               and (inspect.isfunction(value) or inspect.isclass(value)) and value.__module__ == module.__name__}
+        assert own <= set(dir(face)), job
+        assert [attribute for attribute in own if getattr(face, attribute) is not getattr(module, attribute)] == [], job
     with pytest.raises(AttributeError, match="no attribute 'plot_nothing'"):
         face.plot_nothing
+
+
+def test_every_experiment_package_registers_its_experiments_with_no_list_naming_it():
+    registering = {experiment.run.__module__.split(".")[2] for experiment in registry.experiments()}
+    assert registering == set(EXPERIMENT_PACKAGES)

@@ -102,7 +102,7 @@ def test_writing_the_digests_keeps_a_result_of_an_unchanged_digest_re_recordable
 def test_status_lists_every_committed_result(capsys):
     assert small_runs.main(["--status"]) == 0
     lines = capsys.readouterr().out.splitlines()
-    assert lines == [f"{name}: current" for name in small_runs.SIZES]
+    assert lines == [f"{name}: current" for name in small_runs.sizes()]
 
 
 def test_an_unknown_experiment_is_one_line(capsys):
@@ -169,4 +169,4 @@ def test_an_edit_of_a_dask_message_or_a_plot_label_stales_nothing(monkeypatch):
     edited = {sources.PACKAGE / "parallel" / "dask.py", sources.PACKAGE / "experiments" / "gridworld" / "plots.py",
               sources.PACKAGE / "plotting.py", sources.PACKAGE / "cli.py", sources.PACKAGE / "sources.py"}
     monkeypatch.setattr(sources, "code_digest", lambda path: "edited" if Path(path) in edited else real(path))
-    assert {name: small_runs.status(name)[0] for name in small_runs.SIZES} == dict.fromkeys(small_runs.SIZES, "current")
+    assert {name: small_runs.status(name)[0] for name in small_runs.sizes()} == dict.fromkeys(small_runs.sizes(), "current")

@@ -9,8 +9,8 @@ compiled once and every later process loads it. The tasks run what the experimen
 the types are theirs: first every learner's kernels (one run of one episode on Fig. 9's map and on
 a warehouse of three agents; learners that share a kernel in one task, so that no two processes
 compile it at once), the largest first; then every stored experiment's small run
-(:mod:`glamas.small_runs`), which compiles what is left (Section 4's learning loops, the exact
-optimum, the generated maps' paths). Those small runs are the portability check of
+(:mod:`glamas.small_runs`, the longest first by its ``small_run_seconds``), which compiles what is
+left (Section 4's learning loops, the exact optimum, the generated maps' paths). Those small runs are the portability check of
 ``tests/test_portable_results.py``: with ``--check`` their digests are compared with the committed
 ones here, and ``make test`` leaves that test out of its pytest session instead of running them twice.
 """
@@ -28,13 +28,6 @@ COMPILE_SECONDS = {"two_observe": 24, "sparse_maq": 20, "cq": 7, "independent": 
 """About how long each learner's kernels took to compile on one core of the machine glamas is
 developed on: the order in which the tasks are handed out (the longest first, so that no process
 is left with a long one at the end). A learner not listed counts as 10 s."""
-SMALL_RUN_SECONDS = {"benchmark_maps": 12, "warehouses": 7, "crowd": 5, "and_network": 4, "single_gla": 3,
-                     "many_agents": 2}
-"""About how long each experiment's small run took after the learners' kernels were compiled
-(compiling what is left, as the exact plans): the order of the second round of tasks, the
-longest first. An experiment not listed counts as 1 s."""
-
-
 def learner_groups() -> list[tuple]:
     """The registered learners grouped by the kernels they run (a group is compiled by one
     process), the longest to compile first (:data:`COMPILE_SECONDS`)."""
@@ -80,9 +73,10 @@ def precompile(workers: int | None = None) -> tuple[float, dict]:
     with ProcessPoolExecutor(workers or cores(), mp_context=context) as pool:
         for future in [pool.submit(compile_learners, names) for names in learner_groups()]:
             future.result()
-        longest_first = sorted(small_runs.SIZES, key=lambda name: -SMALL_RUN_SECONDS.get(name, 1))
+        names = list(small_runs.sizes())
+        longest_first = sorted(names, key=lambda name: -small_runs.experiment_named(name).small_run_seconds)
         digests = {name: pool.submit(compile_experiment, name) for name in longest_first}
-        digests = {name: digests[name].result() for name in small_runs.SIZES}
+        digests = {name: digests[name].result() for name in names}
     return time.perf_counter() - start, digests
 
 

@@ -40,35 +40,7 @@ from glamas.experiments import registry
 from glamas.paths import DATA, RESULTS
 
 DIGESTS = DATA / "small_runs.json"
-SIZES = {"single_gla": (2, 2000, {}), "state_encoding": (2, 2000, {}), "state_encoding_readings": (2, 2000, {}),
-         "and_network": (2, 2000, {}), "and_network_readings": (2, 2000, {}), "and_network_sweep": (2, 2000, {}),
-         "gridworld": (2, 300, {}), "gridworld_bounce_start": (2, 300, {}), "fig10_readings": (2, 300, {}),
-         "related_work": (2, 300, {}),
-         "scaling": (1, 100, {"agents": (2, 3), "evaluation_episodes": 5}),
-         "many_agents": (1, 20, {"agents": (2, 8, 32), "evaluation_episodes": 2, "max_steps": 200}),
-         "benchmark_maps": (2, 100, {"evaluation_episodes": 5, "memory_budget_gib": 0.1}),
-         "benchmark_maps_field": (2, 100, {"evaluation_episodes": 5, "memory_budget_gib": 0.1,
-                                           "maps": ("isr", "tunnel_to_goal_4")}),
-         "benchmark_maps_budgets": (1, 100, {"evaluation_episodes": 5, "memory_budget_gib": 0.1,
-                                             "maps": ("isr", "tunnel_to_goal_4")}),
-         "warehouses": (2, 100, {"agents": (3, 8), "evaluation_episodes": 2, "max_steps": 200}),
-         "crowd": (1, 5, {})}
-"""Each experiment's small run: its ``configure(runs, iterations)`` with these fields replaced, so
-that every kernel the experiment runs (the N-agent ones included) runs, in a second or two (the
-map benchmark's budget leaves out the joint learners' tables of TunnelToGoal with 3 agents, 85 MB
-a run, which its evaluations would copy for most of the time; the many agents' 20 episodes, not 10,
-so that sparse MAQ's values reach its discount: ``make mutations``). The benchmark under the field's
-formulation and its budget axis run the same kernels on a two-agent map and on TunnelToGoal 4
-only: the exact plans of TunnelToGoal 3, which the benchmark's own small run computes, took
-most of their time."""
 SEED = 0
-RECOMPUTE_MINUTES = {"single_gla": 0.5, "state_encoding": 1, "state_encoding_readings": 0.5, "and_network": 0.5,
-                     "and_network_readings": 0.5, "and_network_sweep": 1, "gridworld": 1, "gridworld_bounce_start": 1,
-                     "fig10_readings": 1, "related_work": 1, "scaling": 2, "many_agents": 1,
-                     "benchmark_maps": 1, "benchmark_maps_field": 0.5, "benchmark_maps_budgets": 14,
-                     "warehouses": 24, "crowd": 11}
-"""About how long each experiment's paper-scale recomputation takes on 2 cores (measured), for
-``--status``."""
 WRITE_MINUTES = 5
 """About how long ``--write`` takes on 2 cores (measured: every small run)."""
 
@@ -83,11 +55,16 @@ def digest(arrays: dict) -> str:
     return total.hexdigest()
 
 
+def sizes() -> dict:
+    """Each stored experiment's small run (:attr:`~glamas.experiments.registry.Experiment.small_run`) by name."""
+    return {e.name: e.small_run for e in registry.experiments() if e.stored}
+
+
 def small_digest(name: str, workers=None) -> str:
-    """The digest of experiment ``name``'s small run (:data:`SIZES`, master seed :data:`SEED`)."""
-    experiment = next(e for e in registry.experiments() if e.name == name)
-    runs, iterations, fields = SIZES[name]
-    config = dataclasses.replace(experiment.configure(runs, iterations), **fields)
+    """The digest of experiment ``name``'s small run (:func:`sizes`, master seed :data:`SEED`)."""
+    experiment = experiment_named(name)
+    small = dict(experiment.small_run)
+    config = dataclasses.replace(experiment.configure(small.pop("runs"), small.pop("iterations")), **small)
     return digest(experiment.arrays(experiment.run(config, seed=SEED, workers=workers)))
 
 
@@ -156,11 +133,9 @@ def write(found: dict) -> None:
     """Rewrite the digests file with the digests ``found`` and the code that computes each now,
     except where a digest is the committed one: its record of code stays, since that code gives the
     same bits, and a committed result it computed stays one that ``--adopt`` can re-record."""
-    sizes = {name: {"runs": runs, "iterations": iterations, **fields} for name, (runs, iterations, fields) in SIZES.items()}
-
     def rewritten(content):
         digests, code = content.get("digests", {}), content.get("code", {})
-        return {"seed": SEED, "sizes": sizes, "digests": found,
+        return {"seed": SEED, "sizes": sizes(), "digests": found,
                 "code": {name: code[name] if digest == digests.get(name) and name in code else current_code(name)
                          for name, digest in found.items()}}
     update(rewritten, replace_damaged=True)
@@ -174,9 +149,10 @@ def stored_record(name: str) -> dict:
 def recompute_command(name: str) -> str:
     """The commands that recompute ``name``'s committed result with the code as it is and record
     its small run's new digest, with their cost."""
-    script = computing_script(experiment_named(name).file(".").name)
-    return (f"`{PYTHON} paper_figures/{script}.py --rerun` (about {RECOMPUTE_MINUTES[name]:g} min on 2 cores), "
-            f"then `{PYTHON} -m glamas.small_runs --write`")
+    experiment = experiment_named(name)
+    script = computing_script(experiment.file(".").name)
+    cost = "" if experiment.recompute_minutes is None else f" (about {experiment.recompute_minutes:g} min on 2 cores)"
+    return f"`{PYTHON} paper_figures/{script}.py --rerun`{cost}, then `{PYTHON} -m glamas.small_runs --write`"
 
 
 def status(name: str) -> tuple[str, str]:
@@ -255,17 +231,18 @@ def main(argv=None) -> int:
     args = parser.parse_args(argv)
     if not args.write:
         recorded()  # a damaged file is named before any work (--write replaces it)
+    names = list(sizes())
     if args.status:
-        for name in SIZES:
+        for name in names:
             state, why = status(name)
             print(f"{name}: {state}" + ("" if state == "current" else f": {why}"))
         return 0
     if args.adopt is not None:
-        unknown = sorted(set(args.adopt) - set(SIZES))
+        unknown = sorted(set(args.adopt) - set(names))
         if unknown:
-            raise UserError(f"no stored experiment named {', '.join(unknown)}; the experiments: {', '.join(SIZES)}")
-        return adopt(args.adopt or list(SIZES))
-    found = small_digests(list(SIZES))
+            raise UserError(f"no stored experiment named {', '.join(unknown)}; the experiments: {', '.join(names)}")
+        return adopt(args.adopt or names)
+    found = small_digests(names)
     if args.write:
         write(found)
         print(f"wrote {len(found)} digests to {DIGESTS}")

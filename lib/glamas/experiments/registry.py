@@ -1,8 +1,8 @@
-"""Every experiment by name: what the figure scripts, the ledger, ``make reproduce``, ``make verify``
-and the memory check need to know of one, declared once by the experiment itself.
+"""Every experiment by name: what the figure scripts, the ledger, ``make reproduce``, ``make verify``,
+the small runs and the memory check need to know of one, declared once by the experiment itself.
 
 The face of an experiment's package (its ``__init__``) makes one ``register(Experiment(...))``;
-:func:`experiments` imports every module of :mod:`glamas.experiments` and returns what registered,
+:func:`experiments` imports every package of :mod:`glamas.experiments` and returns what registered,
 so that nothing else lists the experiments. This module is data only: it imports no experiment and
 no plotting, so that the experiments stand below the figures and the command line that use them.
 """
@@ -38,10 +38,11 @@ class Experiment:
     """``run(config, seed=, workers=, progress=)``: the result of a configuration."""
     configure: Callable
     """``configure(runs, iterations)``: the configuration at a command line's --runs and --iterations."""
-    runs: int
-    """The paper-scale --runs."""
-    iterations: int
-    """The paper-scale --iterations (learning iterations or episodes per run)."""
+    runs: int | None = None
+    """The paper-scale --runs; None: its configuration class's ``runs``."""
+    iterations: int | None = None
+    """The paper-scale --iterations (learning iterations or episodes per run); None: its
+    configuration class's field named by :attr:`counts`."""
     result: type | None = None
     """The dataclass of arrays :attr:`run` returns; a field named ``config`` is the configuration,
     which the file keeps as its header, not as an array. None with :attr:`to_arrays` and
@@ -60,18 +61,39 @@ class Experiment:
     map_field: str | None = None
     """The dotted path of its configuration's map (``"map"``, ``"gridworld.map"``), which a command
     line's --map sets (:meth:`on_map`); None for an experiment that runs on no map."""
-    counts: str = "iterations"
+    counts: str | None = None
     """What :attr:`iterations` counts, 'iterations' or 'episodes': its scripts' option is named so
-    (``--episodes``, with ``--iterations`` as the same option's other name)."""
+    (``--episodes``, with ``--iterations`` as the same option's other name); None: 'episodes' if its
+    configuration class has a field ``episodes``, else 'iterations'."""
     to_arrays: Callable | None = None
-    """``to_arrays(result) -> dict`` for a result that is not one dataclass of arrays."""
+    """``to_arrays(result) -> dict`` for a result that is not one dataclass of arrays; None: its
+    result class's ``to_arrays``, if it has one."""
     from_arrays: Callable | None = None
-    """``from_arrays(config, arrays) -> result``, the inverse of :attr:`to_arrays`."""
+    """``from_arrays(config, arrays) -> result``, the inverse of :attr:`to_arrays`; None: its result
+    class's ``from_arrays``, if it has one."""
+    small_run: dict | None = dataclasses.field(default=None, compare=False)
+    """Its small run (:mod:`glamas.small_runs`): ``runs`` and ``iterations`` for :attr:`configure`
+    and the configuration's fields replaced after, so that every kernel it runs runs in a second or
+    two. None for an experiment not :attr:`stored`."""
+    small_run_seconds: float = 1.0
+    """About how long its small run takes once the learners' kernels are compiled: the order in
+    which :mod:`glamas.precompile` hands the small runs out, the longest first."""
+    recompute_minutes: float | None = None
+    """About how long its paper-scale recomputation takes on 2 cores (measured), which
+    ``small_runs --status`` tells; None where not measured."""
 
     def __post_init__(self):
-        if self.counts not in ("iterations", "episodes"):
-            raise UserError(f"experiment {self.name!r}: counts must be 'iterations' or 'episodes', "
-                            f"got {self.counts!r}")
+        counts = self.counts or ("episodes" if hasattr(self.config, "episodes") else "iterations")
+        if counts not in ("iterations", "episodes"):
+            raise UserError(f"experiment {self.name!r}: counts must be 'iterations' or 'episodes', got {counts!r}")
+        # Frozen: what is left None is read here, once, from the configuration and result classes,
+        # so that a face states only what is its own.
+        defaults = {"counts": counts, "runs": getattr(self.config, "runs", None),
+                    "iterations": getattr(self.config, counts, None),
+                    "to_arrays": getattr(self.result, "to_arrays", None), "from_arrays": getattr(self.result, "from_arrays", None)}
+        for name, value in defaults.items():
+            if getattr(self, name) is None:
+                object.__setattr__(self, name, value)
         if not callable(getattr(self.config, "memory_bytes", None)):
             raise TypeError(f"experiment {self.name!r}: its config {self.config.__name__} needs a memory_bytes() "
                             "method, the estimate the memory check makes before a run")

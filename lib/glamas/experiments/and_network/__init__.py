@@ -1,44 +1,39 @@
 """Experiment 2 of Section 4.2 (Fig. 7): each agent an AND network of two GLAs, the regions split by a
 parabola, and the sweep in which raising region II's reward traps runs in 'R everywhere'. :mod:`.experiment`
 configures and runs both, :mod:`.analysis` measures them and :mod:`.plots` draws them; this face hands
-their names on (the plots' on first use) and registers both, and experiment 2 under the other
+their names on (:mod:`glamas.experiments.faces`) and registers both, and experiment 2 under the other
 parabolas."""
 
 import functools
 from pathlib import Path
 
-from glamas.experiments.and_network.analysis import (claim_rows, init_dependence, measure, measure_sweep, stuck_runs,
-                                                     sweep_claim_rows, typical_runs)
-from glamas.experiments.and_network.experiment import (DEFAULT_SWEEP, PARABOLA_READINGS, RERUN_STREAM, ANDNetworkConfig,
-                                                       ANDNetworkResult, SweepResult, final_left_by_region, left_map,
-                                                       other_readings, readings_arrays, readings_from_arrays, run,
-                                                       scaled, sweep)
-from glamas.experiments.faces import plots_on_first_use
+from glamas.experiments.and_network.analysis import claim_rows, sweep_claim_rows
+from glamas.experiments.and_network.experiment import (DEFAULT_SWEEP, PARABOLA_READINGS, ANDNetworkConfig,
+                                                       ANDNetworkResult, SweepResult, other_readings, readings_arrays,
+                                                       readings_from_arrays, run, scaled, sweep)
+from glamas.experiments.faces import face
 from glamas.experiments.registry import SEED, Experiment, register
 from glamas.paths import RESULTS
 
-PLOTS = ("plot_parabola", "plot_boundaries", "plot_prob_left", "plot_stuck_fraction")
-"""The drawing functions of :mod:`.plots` this face hands on."""
-__getattr__ = plots_on_first_use(__name__, PLOTS)
+__getattr__, __dir__ = face(__name__, __file__)
 
-__all__ = ["DEFAULT_SWEEP", "FIG7", "FIG7_READINGS", "FIG7_SWEEP", "RERUN_STREAM", "ANDNetworkConfig", "ANDNetworkResult",
-           "SweepResult", "claim_rows", "final_left_by_region", "init_dependence", "left_map", "measure",
-           "load_sweep", "measure_sweep", "other_parabolas", "other_readings", "PARABOLA_READINGS", "run", "stuck_runs", "sweep", "sweep_claim_rows", "typical_runs", *PLOTS]
+SMALL_RUN = {"runs": 2, "iterations": 2000}
+"""The small run of each of its experiments."""
 
-FIG7 = register(Experiment("and_network", ANDNetworkConfig, run, scaled, ANDNetworkConfig.runs,
-                           ANDNetworkConfig.iterations, ANDNetworkResult,
+FIG7 = register(Experiment("and_network", ANDNetworkConfig, run, scaled, result=ANDNetworkResult,
                            claim_rows=lambda result, config: claim_rows(result, other_parabolas(config)),
-                           figures=("fig7a", "fig7b")))
+                           figures=("fig7a", "fig7b"), small_run=SMALL_RUN, small_run_seconds=4,
+                           recompute_minutes=0.5))
 """Fig. 7a and 7b's experiment (one run for both)."""
 FIG7_READINGS = register(Experiment("and_network_readings", ANDNetworkConfig, other_readings, scaled,
-                                    ANDNetworkConfig.runs, ANDNetworkConfig.iterations, figures=("fig7_readings",),
-                                    chapter=False, copies=len(PARABOLA_READINGS) - 1, to_arrays=readings_arrays,
-                                    from_arrays=readings_from_arrays))
+                                    figures=("fig7_readings",), chapter=False, copies=len(PARABOLA_READINGS) - 1,
+                                    to_arrays=readings_arrays, from_arrays=readings_from_arrays, small_run=SMALL_RUN,
+                                    recompute_minutes=0.5))
 """Experiment 2 under the parabolas other than the default: what Fig. 7's claims are also judged under."""
-FIG7_SWEEP = register(Experiment("and_network_sweep", ANDNetworkConfig, sweep, scaled, ANDNetworkConfig.runs,
-                                 ANDNetworkConfig.iterations, SweepResult,
+FIG7_SWEEP = register(Experiment("and_network_sweep", ANDNetworkConfig, sweep, scaled, result=SweepResult,
                                  claim_rows=lambda result, config: sweep_claim_rows(result), figures=("fig7_sweep",),
-                                 chapter=False, copies=len(DEFAULT_SWEEP) + 3))
+                                 chapter=False, copies=len(DEFAULT_SWEEP) + 3, small_run=SMALL_RUN,
+                                 recompute_minutes=1))
 """The stuck sweep: experiment 2 at each region II reward of DEFAULT_SWEEP, the highest reward's
 rerun on another stream, and the lowest and highest reward from zero parameters."""
 

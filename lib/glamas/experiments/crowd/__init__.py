@@ -2,28 +2,22 @@
 trained again from their seeds and their greedy episodes replayed with every joint state kept,
 with the coordination on and off. :mod:`.experiment` configures and runs it, :mod:`.replay` plays
 the episodes, :mod:`.analysis` measures them and :mod:`.plots` draws them; this face hands their
-names on (the plots' on first use) and registers the experiment."""
+names on (:mod:`glamas.experiments.faces`) and registers the experiment."""
 
 from pathlib import Path
 
-from glamas.experiments.crowd.analysis import effect, effects_table, per_instance, summary, table
-from glamas.experiments.crowd.experiment import (COORDINATION, LEARNERS, MEASURES, CrowdConfig, CrowdResult,
-                                                 greedy_episodes, run, scaled)
-from glamas.experiments.faces import plots_on_first_use
+from glamas.experiments.crowd.experiment import CrowdConfig, CrowdResult, run, scaled
+from glamas.experiments.faces import face
 from glamas.experiments.registry import Experiment, register
 from glamas.experiments.warehouses.experiment import WarehousesConfig
 from glamas.paths import RESULTS
 
-PLOTS = ("plot_crowd",)
-"""The drawing functions of :mod:`.plots` this face hands on."""
-__getattr__ = plots_on_first_use(__name__, PLOTS)
-
-__all__ = ["COORDINATION", "EXPERIMENT", "LEARNERS", "MEASURES", "CrowdConfig", "CrowdResult", "effect",
-           "effects_table", "greedy_episodes", "load", "per_instance", "run", "scaled", "summary", "table", *PLOTS]
+__getattr__, __dir__ = face(__name__, __file__)
 
 EXPERIMENT = register(Experiment("crowd", CrowdConfig, run, scaled, WarehousesConfig.instances,
                                  WarehousesConfig.episodes, CrowdResult, figures=("crowd",), chapter=False,
-                                 counts="episodes"))
+                                 counts="episodes", small_run={"runs": 1, "iterations": 5}, small_run_seconds=5,
+                                 recompute_minutes=11))
 """2observe's coordination in a crowd (its result file is drawn by paper_figures/crowd.py; --runs
 counts instances per N)."""
 

@@ -1,18 +1,14 @@
 """The gridworld of Fig. 9 solved exactly by dynamic programming on the joint MMDP: the yardstick of
 Section 5.3's learners. :mod:`.experiment` configures and solves it, :mod:`.analysis` measures the
-optimal and selfish episodes and :mod:`.plots` draws them; this face hands their names on (the plots'
-on first use) and registers it."""
+optimal and selfish episodes and :mod:`.plots` draws them; this face hands their names on
+(:mod:`glamas.experiments.faces`) and registers it."""
 
-from glamas.experiments.faces import plots_on_first_use
-from glamas.experiments.gridworld_optimum.analysis import claim_rows, measure
+from glamas.experiments.faces import face
+from glamas.experiments.gridworld_optimum.analysis import claim_rows
 from glamas.experiments.gridworld_optimum.experiment import GridworldOptimumConfig, GridworldOptimumResult, run
 from glamas.experiments.registry import Experiment, register
 
-PLOTS = ("plot_episode",)
-"""The drawing functions of :mod:`.plots` this face hands on."""
-__getattr__ = plots_on_first_use(__name__, PLOTS)
-
-__all__ = ["EXPERIMENT", "GridworldOptimumConfig", "GridworldOptimumResult", "claim_rows", "measure", "run", *PLOTS]
+__getattr__, __dir__ = face(__name__, __file__)
 
 EXPERIMENT = register(Experiment("gridworld_optimum", GridworldOptimumConfig, run,
                                  lambda runs, iterations: GridworldOptimumConfig(), 1, 1, GridworldOptimumResult,

@@ -1,32 +1,23 @@
 """The scaling study (beyond the chapter): the Section 5.3 learners on warehouse maps of 2 to 6 agents,
 and the study of many agents, 2 to 128 on generated warehouses. :mod:`.experiment` configures and runs
 them, :mod:`.analysis` measures them (growth fits, claims, tables) and :mod:`.plots` draws them; this
-face hands their names on (the plots' on first use) and registers both."""
+face hands their names on (:mod:`glamas.experiments.faces`) and registers both."""
 
 from pathlib import Path
 
-from glamas.experiments.faces import plots_on_first_use
+from glamas.experiments.faces import face
 from glamas.experiments.registry import Experiment, register
-from glamas.experiments.scaling.analysis import (claim_rows, growth, growth_table, measure, performance_table,
-                                                 pivot_table, plan_table, size_table, trap_table)
-from glamas.experiments.scaling.experiment import (CHAPTER_METHODS, METHODS, RELATED_METHODS, ManyAgentsConfig,
-                                                   ScalingConfig, ScalingResult, aisle_cells, label, many_agents_scaled,
-                                                   check_trap, run, scaled, seed_of, trap)
+from glamas.experiments.scaling.analysis import claim_rows
+from glamas.experiments.scaling.experiment import ManyAgentsConfig, ScalingConfig, ScalingResult, many_agents_scaled, run, scaled
 from glamas.paths import RESULTS
 
-PLOTS = ("plot_sizes", "plot_final", "plot_curves", "plot_greedy")
-"""The drawing functions of :mod:`.plots` this face hands on."""
-__getattr__ = plots_on_first_use(__name__, PLOTS)
+__getattr__, __dir__ = face(__name__, __file__)
 
-__all__ = ["CHAPTER_METHODS", "EXPERIMENT", "MANY_AGENTS", "METHODS", "RELATED_METHODS", "ManyAgentsConfig",
-           "ScalingConfig", "ScalingResult", "load_many_agents",
-           "aisle_cells", "claim_rows", "growth", "growth_table", "label", "load", "measure", "performance_table",
-           "check_trap", "pivot_table", "plan_table", "run", "seed_of", "size_table", "trap", "trap_table", *PLOTS]
-
-EXPERIMENT = register(Experiment("scaling", ScalingConfig, run, scaled, ScalingConfig.runs, ScalingConfig.episodes,
-                                 ScalingResult, claim_rows=lambda result, config: claim_rows(result),
+EXPERIMENT = register(Experiment("scaling", ScalingConfig, run, scaled, result=ScalingResult,
+                                 claim_rows=lambda result, config: claim_rows(result),
                                  figures=("scaling_performance", "scaling_sizes"), chapter=False, map_field="map",
-                                 counts="episodes"))
+                                 small_run={"runs": 1, "iterations": 100, "agents": (2, 3), "evaluation_episodes": 5},
+                                 recompute_minutes=2))
 """The scaling study (its result file is shared by the scaling_* figure scripts)."""
 
 
@@ -35,9 +26,12 @@ def load(config: ScalingConfig = ScalingConfig(), seed: int = 0, results_dir: Pa
     return EXPERIMENT.load(results_dir, config, seed)
 
 
-MANY_AGENTS = register(Experiment("many_agents", ManyAgentsConfig, run, many_agents_scaled, ManyAgentsConfig.runs,
-                                  ManyAgentsConfig.episodes, ScalingResult, figures=("many_agents",), chapter=False,
-                                  map_field="map", counts="episodes"))
+MANY_AGENTS = register(Experiment("many_agents", ManyAgentsConfig, run, many_agents_scaled, result=ScalingResult,
+                                  figures=("many_agents",), chapter=False, map_field="map",
+                                  # 20 episodes, not 10, so that sparse MAQ's values reach its discount (make mutations)
+                                  small_run={"runs": 1, "iterations": 20, "agents": (2, 8, 32), "evaluation_episodes": 2,
+                                             "max_steps": 200},
+                                  small_run_seconds=2, recompute_minutes=1))
 """The study of many agents, 2 to 128 on generated warehouses (drawn by paper_figures/many_agents.py)."""
 
 
@@ -45,4 +39,3 @@ def load_many_agents(config: ManyAgentsConfig = ManyAgentsConfig(), seed: int = 
                      results_dir: Path = RESULTS) -> ScalingResult:
     """The committed (or ``results_dir``'s) study of many agents, its configuration checked."""
     return MANY_AGENTS.load(results_dir, config, seed)
-

@@ -1,28 +1,22 @@
 """Many agents against a plan (beyond the chapter): every learner on many generated warehouses per
 number of agents, under both reward formulations, beside a reference plan of each instance.
 :mod:`.experiment` configures and runs it, :mod:`.analysis` measures it and :mod:`.plots` draws
-it; this face hands their names on (the plots' on first use) and registers the experiment."""
+it; this face hands their names on (:mod:`glamas.experiments.faces`) and registers the experiment."""
 
 from pathlib import Path
 
-from glamas.experiments.faces import plots_on_first_use
+from glamas.experiments.faces import face
 from glamas.experiments.registry import Experiment, register
-from glamas.experiments.warehouses.analysis import (causes_table, coordination_table, per_instance, plans_table,
-                                                    reached_table, summary, table)
-from glamas.experiments.warehouses.experiment import (CURVE, GREEDY, LEARNERS, WarehousesConfig, WarehousesResult,
-                                                      run, scaled, seed_of)
+from glamas.experiments.warehouses.experiment import WarehousesConfig, WarehousesResult, run, scaled
 from glamas.paths import RESULTS
 
-PLOTS = ("plot_greedy", "plot_curves")
-"""The drawing functions of :mod:`.plots` this face hands on."""
-__getattr__ = plots_on_first_use(__name__, PLOTS)
-
-__all__ = ["CURVE", "EXPERIMENT", "GREEDY", "LEARNERS", "WarehousesConfig", "WarehousesResult", "causes_table",
-           "coordination_table", "load", "per_instance", "plans_table", "reached_table", "run", "scaled", "seed_of", "summary", "table", *PLOTS]
+__getattr__, __dir__ = face(__name__, __file__)
 
 EXPERIMENT = register(Experiment("warehouses", WarehousesConfig, run, scaled, WarehousesConfig.instances,
-                                 WarehousesConfig.episodes, WarehousesResult, figures=("warehouses",),
-                                 chapter=False, counts="episodes"))
+                                 result=WarehousesResult, figures=("warehouses",), chapter=False,
+                                 small_run={"runs": 2, "iterations": 100, "agents": (3, 8), "evaluation_episodes": 2,
+                                            "max_steps": 200},
+                                 small_run_seconds=7, recompute_minutes=24))
 """Many agents against a plan (its result file is drawn by paper_figures/warehouses.py; --runs counts
 instances per N)."""
 
