@@ -227,7 +227,7 @@ void run_mmdp(const World *w, double alpha, double gamma, double exploit, int64_
             e.actions[1] = action % N_ACTIONS;
             int collisions = step(w, &e);
             int finished = (e.done[0] || e.reached[0]) && (e.done[1] || e.reached[1]);
-            double shared = 0.0;  /* rules.shared_reward: penalties summed, +100 once both are in */
+            double shared = 0.0;  /* rules.shared_reward: the step rewards summed, the goal reward once both are in */
             int any_reached = 0;
             for (int i = 0; i < 2; i++) {
                 shared += e.rewards[i];

@@ -15,7 +15,7 @@ from benchmarks import bench_many_agents, kernels
 from glamas import parallel, rng, seeds
 from glamas.experiments import and_network, single_gla
 from glamas.gridworld import BOUNCE_MODES, rules
-from glamas.gridworld.rewards import CHAPTER, FIELD
+from glamas.gridworld.rewards import CHAPTER, FIELD, Rewards
 from glamas.learners import cq
 from glamas.learners import episode as ep
 from glamas.plain import gridworld as plain_gridworld
@@ -81,6 +81,7 @@ WORKLOADS = {
     "sparse_maq_pairs, goals by pairs": kernels.Workload("sparse_maq_pairs", 20, PAIRED_GOALS, max_steps=SCALING),
     "cq, goals by pairs": kernels.Workload("cq", 60, PAIRED_GOALS, own=cq.Settings(cq_solo_episodes=10), max_steps=SCALING),
     "independent, the field's rewards": kernels.Workload("independent", 100, rewards=FIELD),
+    "independent, another collision reward": kernels.Workload("independent", 100, rewards=Rewards(collision=-25.0)),
     "mmdp, the field's rewards": kernels.Workload("mmdp", 300, rewards=FIELD),
     "two_observe, the field's rewards": kernels.Workload("two_observe", 300, rewards=FIELD),
     "two_observe, 4 agents, the field's rewards": kernels.Workload("two_observe", 20, WAREHOUSE, max_steps=SCALING,

@@ -3,13 +3,14 @@ on the same random stream it plays the very same episodes, so its log (steps, re
 and coordinations per block) and its learned tables equal the compiled kernel's. Built only where
 there is a C compiler."""
 
+import dataclasses
 import shutil
 
 import numpy as np
 import pytest
 
 from benchmarks import c_reference, kernels
-from glamas.gridworld.rewards import CHAPTER, FIELD
+from glamas.gridworld.rewards import CHAPTER, FIELD, Rewards
 from glamas.learners import episode as ep
 from glamas.learners import two_observe
 
@@ -33,6 +34,15 @@ def test_c_reference_plays_the_kernels_episodes(reference, name, bounce, map_fil
     assert list(c.arrays) == list(kernel.arrays)  # log, Q tables (and 2observe's GLAs and need counts)
     for got, expected in zip(c.arrays.values(), kernel.arrays.values()):
         np.testing.assert_array_equal(got, expected)
+
+
+def test_c_reference_reads_the_collision_reward(reference):
+    """Another collision reward (the chapter's -10 in both presets) gives other rewards, the kernel's."""
+    workload = kernels.Workload("independent", 1500, block=75, rewards=Rewards(collision=-25.0))
+    c = reference.run(workload, seed=11).log[0]
+    np.testing.assert_array_equal(c, kernels.run_compiled(workload, seed=11).log[0])
+    chapter = reference.run(dataclasses.replace(workload, rewards=CHAPTER), seed=11).log[0]
+    assert (ep.metric(c, "reward") < ep.metric(chapter, "reward")).any()
 
 
 def test_c_reference_refuses_settings_it_does_not_implement(reference):

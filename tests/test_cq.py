@@ -7,7 +7,7 @@ import pytest
 
 from glamas import parallel, training
 from glamas.gridworld import load_map, rules, tunnel_to_goal
-from glamas.gridworld.rewards import CHAPTER
+from glamas.gridworld.rewards import CHAPTER, FIELD, Rewards
 from glamas.learners import cq
 from glamas.learners import episode as ep
 from glamas.learners.two_observe import NOBODY
@@ -64,10 +64,18 @@ def test_a_state_action_never_tried_alone_is_never_rejected():
 
 
 def test_fewest_flagged_collisions_is_where_each_test_starts_to_flag():
-    assert cq.fewest_flagged_collisions(cq.Settings()) == 7  # as above: 6 in 20 is not flagged
-    assert cq.fewest_flagged_collisions(cq.Settings(cq_significance=0.001)) > 7
+    assert cq.fewest_flagged_collisions(cq.Settings(), CHAPTER) == 7  # as above: 6 in 20 is not flagged
+    assert cq.fewest_flagged_collisions(cq.Settings(cq_significance=0.001), CHAPTER) > 7
     earlier = cq.Settings(cq_window=30, cq_significance=0.05, cq_test="two_sample")
-    assert cq.fewest_flagged_collisions(earlier) == 4  # the two-sample test: 3 in 30 is not flagged
+    assert cq.fewest_flagged_collisions(earlier, CHAPTER) == 4  # the two-sample test: 3 in 30 is not flagged
+
+
+def test_fewest_flagged_collisions_reads_the_collisions_reward():
+    """A collision that pays what the move pays changes no reward, and no window is flagged."""
+    never = cq.Settings().cq_window + 1
+    assert cq.fewest_flagged_collisions(cq.Settings(), Rewards(collision=0.0)) == never
+    assert cq.fewest_flagged_collisions(cq.Settings(), Rewards(move=-10.0, collision_replaces_move=True)) == never
+    assert cq.fewest_flagged_collisions(cq.Settings(), FIELD) == 7
 
 
 # --- test 1 and test 2 on reward streams -------------------------------------------------------

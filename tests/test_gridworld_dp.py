@@ -13,6 +13,7 @@ import pytest
 
 from glamas.experiments import gridworld_optimum
 from glamas.gridworld import dp, load_map, rules, tunnel_to_goal
+from glamas.gridworld.rewards import Rewards
 
 
 @pytest.fixture(scope="module")
@@ -252,3 +253,12 @@ def test_goal_distances_and_the_search_refusals():
         dp.searched_optimum(gridmap, 0.9, max_steps=3)
     with pytest.raises(ValueError, match=r"would try 16 joint moves after 0 steps \(more than 10\)"):
         dp.searched_optimum(gridmap, 0.9, max_candidates=10)
+
+
+def test_the_mdp_pays_the_given_rewards(mdp):
+    """Under another collision reward every colliding joint move pays it in place of the chapter's."""
+    other = dp.joint_mdp(tunnel_to_goal(), rewards=Rewards(collision=-25.0))
+    hit = mdp.collisions > 0
+    assert hit.any()
+    np.testing.assert_array_equal(other.agent_rewards[hit], mdp.agent_rewards[hit] - 15.0)
+    np.testing.assert_array_equal(other.agent_rewards[~hit], mdp.agent_rewards[~hit])

@@ -8,12 +8,14 @@ import pytest
 
 from glamas import training
 from glamas.errors import UserError
-from glamas.experiments import benchmark_maps
-from glamas.gridworld import GridworldEnv, load_map
+from glamas.experiments import benchmark_maps, gridworld
+from glamas.gridworld import GridworldEnv, load_map, rules
 from glamas.gridworld.rewards import CHAPTER, FIELD, PRESETS, Rewards, preset
 from glamas.gridworld.rules import E, N, W
 from glamas.learners import episode as ep
 from glamas.learners import registry
+from glamas.plain import gridworld as plain_gridworld
+from glamas.plain import many_agents as plain_many_agents
 
 CORRIDOR = """\
 +-+-+-+-+
@@ -101,3 +103,41 @@ def test_the_push_margin_by_hand():
     assert benchmark_maps.push_margin(CHAPTER, 0.9, 1) == pytest.approx(-1.0)
     assert benchmark_maps.push_margin(CHAPTER, 0.9, 2) == pytest.approx(0.09 * 90 - 10)
     assert [benchmark_maps.push_margin(FIELD, 1.0, d) for d in (1, 5, 30)] == [-8.0, -8.0, -8.0]
+
+
+OTHER_COLLISION = Rewards(collision=-25.0)
+"""The chapter's rewards but for the collision's."""
+
+
+def _swap(gridmap):
+    """Two cells a, b of ``gridmap`` with a move east from a to b and west back, neither a goal."""
+    goal = gridmap.goal_table()
+    for a in range(gridmap.n_cells):
+        b = gridmap.next_cell[a, E]
+        if b != a and gridmap.next_cell[b, W] == a and not goal[:, [a, b]].any():
+            return a, b
+    raise AssertionError("no two cells to swap on")
+
+
+@pytest.mark.parametrize("rewards", [CHAPTER, OTHER_COLLISION], ids=["chapter", "other collision"])
+def test_the_chapters_experiment_pays_its_rewards_on_every_path_and_in_the_references(rewards):
+    """Two agents swapping cells on the chapter's map collide: the world of the chapter's gridworld
+    experiment under ``rewards`` pays each the collision's reward on every path of the rules, and
+    the plain-Python references pay the same."""
+    config = gridworld.GridworldConfig(learners=("independent",), runs=1, episodes=10, rewards=rewards)
+    [(work, _)] = gridworld.trainings(config)
+    world, gridmap = work.inputs[0], config.gridmap()
+    assert world.payoffs == rewards.kernel_bundle()
+    a, b = _swap(gridmap)
+    cells, done, actions = np.array([a, b]), np.zeros(2, bool), np.array([E, W])
+    out = (np.empty(2, np.int64), np.empty(2), np.empty(2, bool), np.empty(2, bool), np.empty(2, bool))
+    paid = []
+    for step in (lambda: rules.step(world, cells, done, actions, *out),
+                 lambda: rules.step_pair(world, cells, done, actions, *out, (0, 1)),
+                 lambda: rules.step_indexed(world, rules.cell_index(world), cells, done, actions, *out)):
+        assert step() == 1
+        paid.append(out[1].tolist())
+    python = plain_gridworld.World(gridmap, config.bounce, rewards)
+    paid += [python.step_two([a, b], [False, False], [E, W])[1], python.step([a, b], [False, False], [E, W])[1],
+             plain_many_agents.IndexedWorld(gridmap, config.bounce, rewards).step([a, b], [False, False], [E, W])[1]]
+    assert paid == [[rewards.collision] * 2] * len(paid)

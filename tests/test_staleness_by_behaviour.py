@@ -123,7 +123,7 @@ def test_a_result_records_only_the_code_its_experiment_runs():
 @pytest.mark.long
 def test_a_real_edit_of_the_rules_is_re_recorded_when_it_keeps_the_behaviour_and_not_when_it_changes_it(tmp_path):
     """In a copy of the code, maps, results and figure scripts: renaming a parameter of
-    rules.move_reward leaves Fig. 10's readings stale by their record; one command re-records them
+    rules.collision_reward leaves Fig. 10's readings stale by their record; one command re-records them
     and their figure is drawn. Then a chapter reward's default changed (the collision's, -10 to -11):
     the same command leaves them stale, and the figure script refuses them."""
     for part in ("lib", "data", "paper_figures"):
@@ -139,8 +139,8 @@ def test_a_real_edit_of_the_rules_is_re_recorded_when_it_keeps_the_behaviour_and
         assert old in path.read_text(), f"{module} no longer holds {old!r}: update this test"
         path.write_text(path.read_text().replace(old, new, 1))
 
-    edit("gridworld/rules.py", "def move_reward(payoffs, bump):\n", "def move_reward(payoffs, bumped):\n")
-    edit("gridworld/rules.py", "return payoffs.bump if bump else", "return payoffs.bump if bumped else")
+    edit("gridworld/rules.py", "def collision_reward(payoffs, hit):\n", "def collision_reward(payoffs, collided):\n")
+    edit("gridworld/rules.py", "return payoffs.collision if hit else", "return payoffs.collision if collided else")
     adopted = glamas("glamas.small_runs", "--adopt", "fig10_readings")
     assert adopted.returncode == 0 and "fig10_readings: re-recorded" in adopted.stdout
     drawn = glamas("glamas.reproduce", "--experiment", "fig10_readings", "--out", str(tmp_path / "figures"))

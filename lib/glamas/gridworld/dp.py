@@ -3,8 +3,9 @@
 The joint MMDP of a map has one state per assignment of cells to the agents (an agent on one of its
 own goal cells is done: it no longer acts), one action per joint action (4**n), deterministic
 transitions given by :func:`glamas.gridworld.rules.step` and the MMDP learner's shared reward
-(:func:`glamas.gridworld.rules.shared_reward`), under the chapter's reward formulation
-(:data:`glamas.gridworld.rewards.CHAPTER`): the search's stopping rule and the bounds rest on its
+(:func:`glamas.gridworld.rules.shared_reward`), under a reward formulation
+(:class:`glamas.gridworld.rewards.Rewards`, the chapter's by default). The search and the bounds
+take the chapter's (:data:`glamas.gridworld.rewards.CHAPTER`): their stopping rule rests on its
 +100 at the goal being the only positive reward. States no play can reach (two acting agents on
 one cell, an agent on a blocked cell) and the all-done states are absorbing with reward 0.
 
@@ -27,7 +28,7 @@ from glamas.errors import UserError
 from glamas.gridworld import joint_search, rules
 from glamas.gridworld.joint import joint_index, split_index
 from glamas.gridworld.maps import GridMap
-from glamas.gridworld.rewards import CHAPTER
+from glamas.gridworld.rewards import CHAPTER, Rewards
 from glamas.gridworld.rules import N_ACTIONS
 
 
@@ -127,8 +128,9 @@ def tabulated_bytes(gridmap: GridMap) -> int:
     return n_states * N_ACTIONS ** n * (3 * 8 + n * (8 + 2)) + n_states
 
 
-def joint_mdp(gridmap: GridMap, bounce: str = "previous") -> JointMDP:
-    """Tabulate the joint MMDP of ``gridmap`` (n_cells**n_agents states, 4**n_agents joint actions)."""
+def joint_mdp(gridmap: GridMap, bounce: str = "previous", rewards: Rewards = CHAPTER) -> JointMDP:
+    """Tabulate the joint MMDP of ``gridmap`` (n_cells**n_agents states, 4**n_agents joint actions)
+    under the reward formulation ``rewards``."""
     if bounce not in rules.BOUNCE_MODES:
         raise UserError(f"bounce must be one of {sorted(rules.BOUNCE_MODES)}, got {bounce!r}")
     n_states = gridmap.n_cells ** gridmap.n_agents
@@ -141,7 +143,7 @@ def joint_mdp(gridmap: GridMap, bounce: str = "previous") -> JointMDP:
                   agent_rewards=np.empty(shape + (gridmap.n_agents,)), collisions=np.empty(shape, np.int64),
                   bumped=np.empty(shape + (gridmap.n_agents,), bool),
                   reached=np.empty(shape + (gridmap.n_agents,), bool), valid=np.empty(n_states, bool))
-    _tabulate(rules.world(gridmap, bounce), gridmap.blocked, *tables.values())
+    _tabulate(rules.world(gridmap, bounce, rewards), gridmap.blocked, *tables.values())
     return JointMDP(gridmap, bounce, **tables)
 
 
@@ -297,9 +299,10 @@ def selfish_policy(mdp: JointMDP, gamma: float) -> np.ndarray:
     return policy
 
 
-def optimal_rollout(gridmap: GridMap, gamma: float, bounce: str = "previous", epsilon: float = 1e-9) -> Rollout:
-    """The episode of the optimal joint policy (value iteration) from the starts."""
-    mdp = joint_mdp(gridmap, bounce)
+def optimal_rollout(gridmap: GridMap, gamma: float, bounce: str = "previous", epsilon: float = 1e-9,
+                    rewards: Rewards = CHAPTER) -> Rollout:
+    """The episode of the optimal joint policy (value iteration) from the starts, under ``rewards``."""
+    mdp = joint_mdp(gridmap, bounce, rewards)
     episode = rollout(mdp, value_iteration(mdp, gamma, epsilon).policy)
     if not episode.finished:
         raise UserError(f"the optimal policy of {gridmap.name!r} does not bring every agent to its goal")

@@ -74,7 +74,7 @@ from numba import njit
 from glamas.errors import UserError
 from glamas import checks
 from glamas.gridworld import GridMap, rules
-from glamas.gridworld.rewards import CHAPTER
+from glamas.gridworld.rewards import Rewards
 from glamas.gridworld.rules import NOBODY
 from glamas.learners import episode as ep
 from glamas.learners.independent import table_shape
@@ -319,17 +319,18 @@ def rejects(alone, window, t_critical, test):
     return significantly_lower(alone, window, t_critical)
 
 
-def fewest_flagged_collisions(settings: Settings) -> int:
+def fewest_flagged_collisions(settings: Settings, rewards: Rewards) -> int:
     """The fewest collisions among a full window that the test of ``settings`` flags, for a
     state-action that never collided alone (``cq_window`` equal rewards alone) and whose other
-    rewards are those alone, under the chapter's rewards (a collision adds -10); ``cq_window`` + 1
-    when not even a window of collisions is flagged."""
+    rewards are those alone, under ``rewards`` (a collision shifts a move's reward by the
+    collision's, less the move's where it replaces it); ``cq_window`` + 1 when not even a window
+    of collisions is flagged."""
     window = settings.cq_window
     t_critical = t_critical_values(2 * window - 2, settings.cq_significance)
     alone = np.array([window, 0.0, 0.0])
+    shift = rewards.collision - (rewards.move if rewards.collision_replaces_move else 0.0)
     for k in range(1, window + 1):
-        penalties = k * CHAPTER.collision
-        recent = np.array([window, penalties, penalties * CHAPTER.collision])
+        recent = np.array([window, k * shift, k * shift * shift])
         if rejects(alone, recent, t_critical, TESTS[settings.cq_test]):
             return k
     return window + 1

@@ -50,7 +50,7 @@ class World:
         return abs(a // self.n_cols - b // self.n_cols) + abs(a % self.n_cols - b % self.n_cols)
 
     def move_reward(self, cell, done, new):
-        """What an acting agent's move pays before collisions and the goal (rules.move_reward)."""
+        """What an acting agent's move pays before collisions and the goal (rules.moved)."""
         return 0.0 if done else self.rewards.bump if new == cell else self.rewards.move
 
     def settle(self, reward, hit, arrived):

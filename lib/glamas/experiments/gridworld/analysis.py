@@ -321,7 +321,7 @@ def optimum(config: GridworldConfig) -> dict | None:
     gridmap = config.gridmap()
     if not dp.tabulable(gridmap):
         return None
-    episode = dp.optimal_rollout(gridmap, config.q.discount, config.bounce)
+    episode = dp.optimal_rollout(gridmap, config.q.discount, config.bounce, rewards=config.rewards)
     return {"steps": float(episode.steps_to_goal.mean()), "reward": float(episode.returns.mean()),
             "collisions": float(episode.collisions)}
 

@@ -10,6 +10,7 @@ import numpy as np
 from glamas import checks, memory, parallel, seeds, training
 from glamas.errors import UserError
 from glamas.gridworld import BOUNCE_MODES, GridMap, load_map
+from glamas.gridworld.rewards import CHAPTER, Rewards
 from glamas.learners import episode as ep
 from glamas.learners import registry, spec
 from glamas.qlearning import QSettings
@@ -21,8 +22,8 @@ CHAPTER_LEARNERS = ("independent", "joint_state", "mmdp", "two_observe")
 @dataclass(frozen=True)
 class GridworldConfig:
     """Settings of the Section 5.3 experiment: the map, the learners and their settings (the
-    shared Q-learning settings and each learner's own, by its name), the collision rule and the
-    schedule."""
+    shared Q-learning settings and each learner's own, by its name), the collision rule, the
+    rewards and the schedule."""
 
     map: str = "tunnel_to_goal"
     """A map's name in data/maps or a map file's path (:func:`glamas.gridworld.load_map`); Fig. 9
@@ -38,6 +39,8 @@ class GridworldConfig:
     bounce: str = "previous"
     """Where a collided agent goes: 'previous' cell (re-implementations) or its 'start' cell
     (glamas.gridworld.rules)."""
+    rewards: Rewards = CHAPTER
+    """What a step pays (glamas.gridworld.rewards): the chapter's (Sec. 5.3) by default."""
     max_steps: int = 10_000
     """Step cap per episode, a safeguard (not in the chapter); capped episodes are counted."""
     episodes: int = 200_000
@@ -212,7 +215,8 @@ def trainings(config: GridworldConfig, seed: int = 0) -> list:
     gridmap, schedule = config.gridmap(), config.schedule()
     evaluation = config.evaluation()
     return [training.batch(registry.get(name), config.setup(name), gridmap, schedule, config.runs,
-                           seed_of(seed, name), bounce=config.bounce, evaluation=evaluation)
+                           seed_of(seed, name), bounce=config.bounce, rewards=config.rewards,
+                           evaluation=evaluation)
             for name in config.learners]
 
 

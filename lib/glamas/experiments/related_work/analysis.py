@@ -72,7 +72,7 @@ def final_interval(result: RelatedWorkResult, name: str, metric: str = "collisio
 def fewest_flagged_collisions(config: RelatedWorkConfig) -> int:
     """The fewest collisions among the ``cq_window`` rewards of a full window that CQ-learning's test
     flags against a state-action that never collided alone (:func:`glamas.learners.cq.fewest_flagged_collisions`)."""
-    return cq.fewest_flagged_collisions(config.setup("cq").own)
+    return cq.fewest_flagged_collisions(config.setup("cq").own, config.rewards)
 
 
 def summary_table(result: RelatedWorkResult, config: RelatedWorkConfig) -> Table:
