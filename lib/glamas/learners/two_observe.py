@@ -525,14 +525,35 @@ def clear_preferred(group, next_cell, cells, done, preferred):
     rules.clear_index(group.index, cells, done, next_cell, preferred)
 
 
+class Agents(NamedTuple):
+    """Each agent's first-level arrays (:func:`per_run`)."""
+
+    choices: np.ndarray
+    """Its GLA's choice, ACT_ALONE or COORDINATE."""
+    preferred: np.ndarray
+    """The action its Q-learner prefers (an action even for agents already done: rules.would_collide
+    reads it)."""
+    probs: np.ndarray
+    """(agents, 2): its GLA's probabilities."""
+    inputs: np.ndarray
+    """(agents, N_GLA_INPUTS): its GLA's context [delta, 1]."""
+
+
+class PerRun(NamedTuple):
+    """The per-run arrays of :func:`episodes_two` and :func:`pair_step` (:func:`per_run`)."""
+
+    in_range: np.ndarray
+    """rules.in_range_table: whether agents on two cells could collide in a step."""
+    buffers: ep.Buffers
+    agents: Agents
+
+
 @njit(cache=True, inline="always")
 def per_run(world):
-    """The per-run arrays of :func:`episodes_two`: the in-range table, the step buffers, and each
-    agent's level-one choice, preferred action (an action even for agents already done:
-    rules.would_collide reads it), GLA probabilities and GLA input."""
+    """:class:`PerRun` for the world."""
     n = world.starts.shape[0]
-    agents = (np.empty(n, np.int64), np.zeros(n, np.int64), np.empty((n, 2)), np.ones((n, N_GLA_INPUTS)))
-    return rules.in_range_table(world.next_cell, rules.shared_goals(world.goals)), ep.buffers(n), agents
+    agents = Agents(np.empty(n, np.int64), np.zeros(n, np.int64), np.empty((n, 2)), np.ones((n, N_GLA_INPUTS)))
+    return PerRun(rules.in_range_table(world.next_cell, rules.shared_goals(world.goals)), ep.buffers(n), agents)
 
 
 class Group(NamedTuple):
@@ -588,6 +609,28 @@ def group_arrays(world):
                  np.empty(n, np.int64), around, rules.cell_index(world), rules.cell_index(world), first, near, reach)
 
 
+class Kept(NamedTuple):
+    """What :func:`episodes` keeps besides its log, for as many episodes as the schedule or for none
+    (:func:`nothing_kept`)."""
+
+    trace: np.ndarray
+    """int32 (episodes, max_steps + 1, agents): row t of an episode every agent's cell after t steps
+    (GONE once in its goal, :func:`keep_cells`)."""
+    yields: np.ndarray
+    """(episodes,): the agent-steps on which the coordination replaced an agent's preferred action
+    (:func:`yielded`)."""
+
+
+class Arrays(NamedTuple):
+    """:func:`episodes`'s per-run arrays: :class:`PerRun`'s, the group step's and what it keeps."""
+
+    in_range: np.ndarray
+    buffers: ep.Buffers
+    agents: Agents
+    group: Group
+    kept: Kept
+
+
 @njit(cache=True, nogil=True)
 def run_two(world, learning, automata, schedule, q, u, u_initial, need_counts, log, state):
     """One run of Alg. 4 for two agents, the chapter's case (:func:`episodes_two`), from GLAs
@@ -600,14 +643,15 @@ def run_two(world, learning, automata, schedule, q, u, u_initial, need_counts, l
 def run(world, learning, automata, schedule, q, u, u_initial, need_counts, log, state):
     """One run of Alg. 4 for any number of agents (:func:`episodes`), from GLAs initialised randomly."""
     init_glas(u, u_initial, automata.gla_init_range, state)
+    own = per_run(world)
     episodes(world, learning, automata, schedule, q, u, need_counts, log, state,
-             (*per_run(world), group_arrays(world), nothing_kept()))
+             Arrays(own.in_range, own.buffers, own.agents, group_arrays(world), nothing_kept()))
 
 
 @njit(cache=True, inline="always")
 def nothing_kept():
-    """:func:`episodes`'s ``kept`` arrays when nothing is to be kept: a trace and yields of no episodes."""
-    return np.empty((0, 0, 0), np.int32), np.empty(0, np.int64)
+    """:func:`episodes`'s :class:`Kept` when nothing is to be kept: a trace and yields of no episodes."""
+    return Kept(np.empty((0, 0, 0), np.int32), np.empty(0, np.int64))
 
 
 @njit(cache=True, inline="always")
@@ -627,10 +671,10 @@ def yielded(done, preferred, actions):
 
 
 @njit(cache=True, inline="always")
-def pair_step(world, learning, automata, q, u, need_counts, pair, state, arrays):
+def pair_step(world, learning, automata, q, u, need_counts, pair, state, own):
     """One step of Alg. 4 for the agents ``pair = (i, j)``, i < j, when every other agent is in
     the goal (the chapter's two agents); learns in ``q`` and ``u``, counts the step in
-    ``need_counts`` and returns the number of collisions. ``arrays``: :func:`per_run`'s first.
+    ``need_counts`` and returns the number of collisions. ``own``: :class:`PerRun`.
 
     The GLAs see ``[delta * gla_delta_scale, 1]``. ``rule_distance`` >= 0 replaces the GLAs by the
     fixed rule "coordinate when delta < rule_distance" (a diagnostic).
@@ -640,9 +684,10 @@ def pair_step(world, learning, automata, q, u, need_counts, pair, state, arrays)
     temperature, L, bounding = automata.gla_temperature, automata.gla_L, automata.gla_bounding
     need, rule_distance, feedback = automata.gla_need, automata.rule_distance, automata.gla_feedback
     learn_first_level = rule_distance < 0
-    in_range, buffers, agents = arrays[:3]
-    cells, done, actions, new_cells, rewards, bumped, collided, reached, acc = buffers
-    choices, preferred, probs, inputs = agents
+    in_range, buffers, agents = own.in_range, own.buffers, own.agents
+    cells, done, actions, acc = buffers.cells, buffers.done, buffers.actions, buffers.acc
+    new_cells, rewards, reached = buffers.new_cells, buffers.rewards, buffers.reached
+    choices, preferred, probs, inputs = agents.choices, agents.preferred, agents.probs, agents.inputs
     i, j = pair  # written out for i and j: a loop over the pair costs the loop its speed
     delta = rules.manhattan(world.n_cols, cells[i], cells[j])
     x = inputs[i]  # both agents' GLAs see the same input
@@ -661,7 +706,7 @@ def pair_step(world, learning, automata, q, u, need_counts, pair, state, arrays)
     needed = need_before_step(need, in_range, cells, i, j, coming)
     if both:
         acc[ep.column(n_agents, ep.COORDINATIONS)] += 1
-    collisions = rules.step_pair(world, cells, done, actions, new_cells, rewards, bumped, collided, reached, pair)
+    collisions = ep.step_pair(world, buffers, pair)
     if need == NEED_OUTCOME:
         needed = collisions > 0
     need_counts[delta, 1 if needed else 0] += 2  # both agents observe: same delta, same need
@@ -677,17 +722,18 @@ def pair_step(world, learning, automata, q, u, need_counts, pair, state, arrays)
 
 
 @njit(cache=True, inline="always")
-def group_step(world, learning, automata, q, u, need_counts, state, arrays):
+def group_step(world, learning, automata, q, u, need_counts, state, own, group):
     """One step of Alg. 4 for any number of acting agents, with the group coordination of the
-    module docstring; as :func:`pair_step` otherwise. ``arrays``: :func:`episodes`'s. Each
-    agent's lookups go through the group's index of the cells (module docstring): a step costs in
-    proportion to its acting agents."""
-    buffers, agents, group = arrays[1:4]  # not arrays[0], the in-range table: the group's index answers
+    module docstring; as :func:`pair_step` otherwise (``own``: :class:`PerRun`). Each agent's
+    lookups go through the group's index of the cells (:class:`Group`, module docstring): a step
+    costs in proportion to its acting agents."""
+    buffers, agents = own.buffers, own.agents  # not own.in_range: the group's index answers
     next_cell, goals, n_agents = world.next_cell, world.goals, world.starts.shape[0]
     alpha, gamma = learning.q_learning_rate, learning.discount
     learn_first_level = automata.rule_distance < 0
-    cells, done, actions, new_cells, rewards, bumped, collided, reached, acc = buffers
-    choices, preferred, probs, x = agents
+    cells, done, actions, acc = buffers.cells, buffers.done, buffers.actions, buffers.acc
+    new_cells, rewards, collided, reached = buffers.new_cells, buffers.rewards, buffers.collided, buffers.reached
+    choices, preferred, probs, x = agents.choices, agents.preferred, agents.probs, agents.inputs
     nearest, deltas, coming, needed, acting = group.nearest, group.deltas, group.coming, group.needed, group.acting
     grid, padded = group.rings.grid, group.rings.padded
     n_acting = 0
@@ -726,8 +772,7 @@ def group_step(world, learning, automata, q, u, need_counts, state, arrays):
         if nearest[i] != NOBODY:
             paired += (choices[i] == COORDINATE) & (choices[nearest[i]] == COORDINATE)
     acc[ep.column(n_agents, ep.COORDINATIONS)] += paired / 2
-    collisions = rules.step_indexed(world, group.step_index, cells, done, actions, new_cells, rewards, bumped, collided,
-                                    reached)
+    collisions = ep.step_indexed(world, group.step_index, buffers)
     for i in range(n_agents):
         if nearest[i] != NOBODY:
             if automata.gla_need == NEED_SAMPLED:
@@ -754,38 +799,37 @@ def group_step(world, learning, automata, q, u, need_counts, state, arrays):
 
 
 @njit(**ep.LOOP)
-def episodes_two(world, learning, automata, schedule, q, u, need_counts, log, state, arrays):
+def episodes_two(world, learning, automata, schedule, q, u, need_counts, log, state, own):
     """The episodes of Alg. 4 for two agents; learns in ``q`` and ``u``, writes ``log`` and counts
     the observing agent-steps per (delta, need) in ``need_counts``. While both act they take
     :func:`pair_step`; once one is in the goal, the other acts on its Q-learner, with nobody to
     observe and its GLA not updated."""
-    cells, done, actions, new_cells, rewards, bumped, collided, reached, acc = arrays[1]
+    buffers = own.buffers
+    cells, done, acc = buffers.cells, buffers.done, buffers.acc
     for episode in range(schedule.episodes):
         ep.start_episode(world.starts, cells, done, acc)
         t = 0
         while t < schedule.max_steps and not ep.all_done(done):
             first, second = ep.few_acting(done)
             if second >= 0:
-                collisions = pair_step(world, learning, automata, q, u, need_counts, (first, second), state, arrays)
+                collisions = pair_step(world, learning, automata, q, u, need_counts, (first, second), state, own)
             else:
-                collisions = lone_step(world, learning, q, first, state, arrays[1])
+                collisions = lone_step(world, learning, q, first, state, buffers)
             t += 1
-            ep.end_step(t, cells, done, new_cells, rewards, reached, collisions, acc)
+            ep.end_step(t, cells, done, buffers.new_cells, buffers.rewards, buffers.reached, collisions, acc)
         ep.end_episode(log, episode, schedule.edges, acc, t, done)
 
 
 @njit(**ep.LOOP)
 def episodes(world, learning, automata, schedule, q, u, need_counts, log, state, arrays):
     """:func:`episodes_two` for any number of agents: :func:`group_step` while three or more act.
-    ``arrays``: :func:`per_run`'s, ``group`` (:class:`Group`) and ``kept = (trace, yields)``.
-    Kept arrays of as many episodes as the schedule (not of none: :func:`nothing_kept`) keep,
-    besides, each episode's joint states in ``trace`` (episodes, max_steps + 1, agents), row t
-    every agent's cell after t steps (GONE once in its goal, :func:`keep_cells`), and count in
-    ``yields`` the agent-steps on which the coordination replaced an agent's preferred action
-    (:func:`yielded`): what the crowd's replay reads (glamas.experiments.crowd.replay)."""
-    cells, done, actions, new_cells, rewards, bumped, collided, reached, acc = arrays[1]
-    preferred = arrays[2][1]
-    trace, yields = arrays[4]
+    ``arrays``: :class:`Arrays`, or a plain tuple of its fields in their order. A :class:`Kept` of
+    as many episodes as the schedule (not of none: :func:`nothing_kept`) keeps, besides, each
+    episode's joint states and the agent-steps on which an agent yielded: what the crowd's replay
+    reads (glamas.experiments.crowd.replay)."""
+    in_range, buffers, agents, group, (trace, yields) = arrays
+    own = PerRun(in_range, buffers, agents)
+    cells, done, actions, acc = buffers.cells, buffers.done, buffers.actions, buffers.acc
     keeping = trace.shape[0] > 0
     for episode in range(schedule.episodes):
         ep.start_episode(world.starts, cells, done, acc)
@@ -795,15 +839,15 @@ def episodes(world, learning, automata, schedule, q, u, need_counts, log, state,
         while t < schedule.max_steps and not ep.all_done(done):
             first, second = ep.few_acting(done)
             if second >= 0:
-                collisions = pair_step(world, learning, automata, q, u, need_counts, (first, second), state, arrays)
+                collisions = pair_step(world, learning, automata, q, u, need_counts, (first, second), state, own)
             elif first >= 0:
-                collisions = lone_step(world, learning, q, first, state, arrays[1])
+                collisions = lone_step(world, learning, q, first, state, buffers)
             else:
-                collisions = group_step(world, learning, automata, q, u, need_counts, state, arrays)
+                collisions = group_step(world, learning, automata, q, u, need_counts, state, own, group)
             if keeping and (second >= 0 or first < 0):  # a lone agent has nobody to yield to
-                yields[episode] += yielded(done, preferred, actions)
+                yields[episode] += yielded(done, agents.preferred, actions)
             t += 1
-            ep.end_step(t, cells, done, new_cells, rewards, reached, collisions, acc)
+            ep.end_step(t, cells, done, buffers.new_cells, buffers.rewards, buffers.reached, collisions, acc)
             if keeping:
                 keep_cells(trace[episode, t], cells, done)
         ep.end_episode(log, episode, schedule.edges, acc, t, done)
