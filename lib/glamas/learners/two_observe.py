@@ -66,7 +66,8 @@ in less time (10 s against 16 s), and more on :func:`run` (its spec's ``two_agen
 two agents observe at the same distance with the same need, so such a step counts twice.
 """
 
-from dataclasses import dataclass, replace
+from collections import namedtuple
+from dataclasses import dataclass, fields, replace
 from typing import NamedTuple
 
 import numpy as np
@@ -196,27 +197,9 @@ def gla_params(settings: GLASettings, gridmap: GridMap) -> gla.GLAParams:
     return _gla_params(settings, L)
 
 
-class Automata(NamedTuple):
-    """2observe's first level as the kernel reads it, named as :class:`GLASettings`; codes where
-    the settings hold names, the box L and the delta scale as they are on the map."""
-
-    gla_learning_rate: float
-    gla_temperature: float
-    gla_K: float
-    gla_L: float
-    gla_bounding: int
-    """A code of glamas.gla.BOUNDING_MODES."""
-    gla_init_range: float
-    """< 0: the run starts from the GLA parameters it is given (:func:`freeze`)."""
-    gla_feedback: np.ndarray
-    """(2, 2): feedback[choice, need]."""
-    coordination_penalty_per_cell: float
-    gla_need: int
-    """A code of NEEDS."""
-    gla_delta_scale: float
-    """The factor of delta in the context (:func:`delta_scale`)."""
-    rule_distance: int
-    """-1: the GLAs learn (Alg. 4); d >= 0: the fixed rule "coordinate when delta < d"."""
+Automata = namedtuple("Automata", [field.name for field in fields(GLASettings)])
+"""2observe's first level as the kernel reads it: each of :class:`GLASettings` under its name, in
+the form :func:`automata` gives it."""
 
 
 def delta_scale(mode: str, gridmap: GridMap) -> float:
@@ -226,13 +209,20 @@ def delta_scale(mode: str, gridmap: GridMap) -> float:
 
 
 def automata(setup, gridmap: GridMap) -> tuple:
-    """The kernel's own input: the Automata bundle of 2observe's settings (``setup.own``) on ``gridmap``."""
-    settings = setup.own
-    p = gla_params(settings, gridmap)
-    rule = -1 if settings.rule_distance is None else settings.rule_distance
-    return (Automata(p.learning_rate, p.temperature, p.K, p.L, p.bounding_code, float(settings.gla_init_range),
-                     np.array(settings.gla_feedback), float(settings.coordination_penalty_per_cell),
-                     NEEDS[settings.gla_need], delta_scale(settings.gla_delta_scale, gridmap), rule),)
+    """The kernel's own input: the :data:`Automata` bundle of 2observe's settings (``setup.own``) on
+    ``gridmap``: the box L as it is on the map (:func:`box`), codes where the settings hold names
+    (``gla_bounding`` of glamas.gla.BOUNDING_MODES, ``gla_need`` of NEEDS), the feedback a (2, 2)
+    array, the delta scale its factor (:func:`delta_scale`), and ``rule_distance`` -1 where the
+    GLAs learn. A ``gla_init_range`` below 0 starts a run from the GLA parameters it is given
+    (:func:`freeze`)."""
+    s = setup.own
+    p = gla_params(s, gridmap)
+    return (Automata(gla_learning_rate=p.learning_rate, gla_temperature=p.temperature, gla_K=p.K, gla_L=p.L,
+                     gla_bounding=p.bounding_code, gla_init_range=float(s.gla_init_range),
+                     gla_delta_scale=delta_scale(s.gla_delta_scale, gridmap), gla_need=NEEDS[s.gla_need],
+                     gla_feedback=np.array(s.gla_feedback),
+                     coordination_penalty_per_cell=float(s.coordination_penalty_per_cell),
+                     rule_distance=-1 if s.rule_distance is None else s.rule_distance),)
 
 
 def freeze(inputs: tuple) -> tuple:
