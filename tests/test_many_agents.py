@@ -239,7 +239,7 @@ def test_2observe_pair_step_plays_the_group_step_for_two_agents(reading):
         steps = []
         for step in ("pair", "group"):
             own = two_observe.per_run(world)
-            buffers, agents = own.buffers, own.agents
+            _, buffers, agents = own
             buffers.cells[:], buffers.done[:], buffers.acc[:] = (a, b), False, 0.0
             agents.probs[:] = 0.0  # written only where the GLAs act
             learned = (q.copy(), u.copy(), np.zeros((g.n_rows + g.n_cols - 1, 2)), state.copy())

@@ -529,21 +529,15 @@ class Agents(NamedTuple):
     """(agents, N_GLA_INPUTS): its GLA's context [delta, 1]."""
 
 
-class PerRun(NamedTuple):
-    """The per-run arrays of :func:`episodes_two` and :func:`pair_step` (:func:`per_run`)."""
-
-    in_range: np.ndarray
-    """rules.in_range_table: whether agents on two cells could collide in a step."""
-    buffers: ep.Buffers
-    agents: Agents
-
-
 @njit(cache=True, inline="always")
 def per_run(world):
-    """:class:`PerRun` for the world."""
+    """The per-run arrays of :func:`episodes_two` and :func:`pair_step`: (the in-range table
+    rules.in_range_table, the step's ep.Buffers, the :class:`Agents`), unpacked by name where read.
+    A plain tuple, not a NamedTuple: numba concatenates plain tuples only, and the crowd's replay
+    builds :func:`episodes`'s arrays as ``(*per_run(world), ...)``."""
     n = world.starts.shape[0]
     agents = Agents(np.empty(n, np.int64), np.zeros(n, np.int64), np.empty((n, 2)), np.ones((n, N_GLA_INPUTS)))
-    return PerRun(rules.in_range_table(world.next_cell, rules.shared_goals(world.goals)), ep.buffers(n), agents)
+    return rules.in_range_table(world.next_cell, rules.shared_goals(world.goals)), ep.buffers(n), agents
 
 
 class Group(NamedTuple):
@@ -612,7 +606,7 @@ class Kept(NamedTuple):
 
 
 class Arrays(NamedTuple):
-    """:func:`episodes`'s per-run arrays: :class:`PerRun`'s, the group step's and what it keeps."""
+    """:func:`episodes`'s per-run arrays: :func:`per_run`'s, the group step's and what it keeps."""
 
     in_range: np.ndarray
     buffers: ep.Buffers
@@ -633,9 +627,9 @@ def run_two(world, learning, automata, schedule, q, u, u_initial, need_counts, l
 def run(world, learning, automata, schedule, q, u, u_initial, need_counts, log, state):
     """One run of Alg. 4 for any number of agents (:func:`episodes`), from GLAs initialised randomly."""
     init_glas(u, u_initial, automata.gla_init_range, state)
-    own = per_run(world)
+    in_range, buffers, agents = per_run(world)
     episodes(world, learning, automata, schedule, q, u, need_counts, log, state,
-             Arrays(own.in_range, own.buffers, own.agents, group_arrays(world), nothing_kept()))
+             Arrays(in_range, buffers, agents, group_arrays(world), nothing_kept()))
 
 
 @njit(cache=True, inline="always")
@@ -664,7 +658,7 @@ def yielded(done, preferred, actions):
 def pair_step(world, learning, automata, q, u, need_counts, pair, state, own):
     """One step of Alg. 4 for the agents ``pair = (i, j)``, i < j, when every other agent is in
     the goal (the chapter's two agents); learns in ``q`` and ``u``, counts the step in
-    ``need_counts`` and returns the number of collisions. ``own``: :class:`PerRun`.
+    ``need_counts`` and returns the number of collisions. ``own``: :func:`per_run`'s.
 
     The GLAs see ``[delta * gla_delta_scale, 1]``. ``rule_distance`` >= 0 replaces the GLAs by the
     fixed rule "coordinate when delta < rule_distance" (a diagnostic).
@@ -674,7 +668,7 @@ def pair_step(world, learning, automata, q, u, need_counts, pair, state, own):
     temperature, L, bounding = automata.gla_temperature, automata.gla_L, automata.gla_bounding
     need, rule_distance, feedback = automata.gla_need, automata.rule_distance, automata.gla_feedback
     learn_first_level = rule_distance < 0
-    in_range, buffers, agents = own.in_range, own.buffers, own.agents
+    in_range, buffers, agents = own
     cells, done, actions, acc = buffers.cells, buffers.done, buffers.actions, buffers.acc
     new_cells, rewards, reached = buffers.new_cells, buffers.rewards, buffers.reached
     choices, preferred, probs, inputs = agents.choices, agents.preferred, agents.probs, agents.inputs
@@ -714,10 +708,10 @@ def pair_step(world, learning, automata, q, u, need_counts, pair, state, own):
 @njit(cache=True, inline="always")
 def group_step(world, learning, automata, q, u, need_counts, state, own, group):
     """One step of Alg. 4 for any number of acting agents, with the group coordination of the
-    module docstring; as :func:`pair_step` otherwise (``own``: :class:`PerRun`). Each agent's
+    module docstring; as :func:`pair_step` otherwise (``own``: :func:`per_run`'s). Each agent's
     lookups go through the group's index of the cells (:class:`Group`, module docstring): a step
     costs in proportion to its acting agents."""
-    buffers, agents = own.buffers, own.agents  # not own.in_range: the group's index answers
+    _, buffers, agents = own  # not the in-range table: the group's index answers
     next_cell, goals, n_agents = world.next_cell, world.goals, world.starts.shape[0]
     alpha, gamma = learning.q_learning_rate, learning.discount
     learn_first_level = automata.rule_distance < 0
@@ -794,7 +788,7 @@ def episodes_two(world, learning, automata, schedule, q, u, need_counts, log, st
     the observing agent-steps per (delta, need) in ``need_counts``. While both act they take
     :func:`pair_step`; once one is in the goal, the other acts on its Q-learner, with nobody to
     observe and its GLA not updated."""
-    buffers = own.buffers
+    _, buffers, _ = own
     cells, done, acc = buffers.cells, buffers.done, buffers.acc
     for episode in range(schedule.episodes):
         ep.start_episode(world.starts, cells, done, acc)
@@ -818,7 +812,7 @@ def episodes(world, learning, automata, schedule, q, u, need_counts, log, state,
     episode's joint states and the agent-steps on which an agent yielded: what the crowd's replay
     reads (glamas.experiments.crowd.replay)."""
     in_range, buffers, agents, group, (trace, yields) = arrays
-    own = PerRun(in_range, buffers, agents)
+    own = in_range, buffers, agents
     cells, done, actions, acc = buffers.cells, buffers.done, buffers.actions, buffers.acc
     keeping = trace.shape[0] > 0
     for episode in range(schedule.episodes):
