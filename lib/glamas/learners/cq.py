@@ -65,7 +65,8 @@ Plain-Python reference: ``cq`` in ``lib/glamas/plain/gridworld.py``.
 
 import functools
 import math
-from dataclasses import dataclass
+from collections import namedtuple
+from dataclasses import dataclass, fields
 from typing import NamedTuple
 
 import numpy as np
@@ -139,33 +140,24 @@ class Settings:
             raise UserError(f"cq_update_local must be True or False, got {self.cq_update_local!r}")
 
 
-class Detection(NamedTuple):
-    """CQ-learning's settings as the kernel reads them, named as :class:`Settings`; codes where the
-    settings hold names."""
-
-    cq_window: int
-    t_critical: np.ndarray
-    """Two-sided critical values of Student's t per degrees of freedom (:func:`t_critical_values`)."""
-    cq_solo_episodes: int
-    """0: no phase alone, hence no ER and no test (:func:`freeze`)."""
-    cq_solo_exploit_prob: float
-    """The phase alone's probability of the greedy action (the experiment's where the setting is None)."""
-    cq_test: int
-    """A code of TESTS."""
-    cq_detection: int
-    """A code of DETECTIONS."""
-    cq_update_local: bool
-    cq_observe: int
-    """A code of OBSERVED."""
+Detection = namedtuple("Detection", [field.name for field in fields(Settings)])
+"""CQ-learning's settings as the kernel reads them: each of :class:`Settings` under its name, in
+the form :func:`detection` gives it."""
 
 
 def detection(setup, gridmap: GridMap) -> tuple:
-    """The kernel's own input: the Detection bundle of its settings (``setup.own``)."""
+    """The kernel's own input: the :data:`Detection` bundle of its settings (``setup.own``): the
+    significance as the two-sided critical values of Student's t at that level per degrees of
+    freedom (:func:`t_critical_values`), codes where the settings hold names (TESTS, DETECTIONS,
+    OBSERVED), the phase alone's probability of the greedy action (the experiment's where the
+    setting is None). ``cq_solo_episodes`` 0 means no phase alone, hence no ER and no test
+    (:func:`freeze`)."""
     s = setup.own
-    solo_exploit = float(setup.q.exploit_prob if s.cq_solo_exploit_prob is None else s.cq_solo_exploit_prob)
-    return (Detection(s.cq_window, t_critical_values(2 * s.cq_window - 2, s.cq_significance), s.cq_solo_episodes,
-                      solo_exploit, TESTS[s.cq_test], DETECTIONS[s.cq_detection], bool(s.cq_update_local),
-                      OBSERVED[s.cq_observe]),)
+    solo_exploit = setup.q.exploit_prob if s.cq_solo_exploit_prob is None else s.cq_solo_exploit_prob
+    return (Detection(cq_window=s.cq_window, cq_significance=t_critical_values(2 * s.cq_window - 2, s.cq_significance),
+                      cq_solo_episodes=s.cq_solo_episodes, cq_solo_exploit_prob=float(solo_exploit),
+                      cq_test=TESTS[s.cq_test], cq_detection=DETECTIONS[s.cq_detection],
+                      cq_update_local=bool(s.cq_update_local), cq_observe=OBSERVED[s.cq_observe]),)
 
 
 def freeze(inputs: tuple) -> tuple:
@@ -494,7 +486,7 @@ def test_1(windows, alone, k, s, a, r, detection):
     added[k, s, a] = add_reward(samples[k, s, a], added[k, s, a], summary[k, s, a], r)
     if added[k, s, a] < detection.cq_window:
         return False
-    return rejects(alone[k, s, a], summary[k, s, a], detection.t_critical, detection.cq_test)
+    return rejects(alone[k, s, a], summary[k, s, a], detection.cq_significance, detection.cq_test)
 
 
 @njit(cache=True, inline="always")
@@ -506,7 +498,7 @@ def test_2(learned, windows, alone, k, s, a, r, other, detection):
     added[k, s, a, other] = add_reward(samples[k, s, a, other], added[k, s, a, other], summary[k, s, a, other], r)
     if learned.marked[k, s, other] or added[k, s, a, other] < detection.cq_window:
         return
-    if rejects(alone[k, s, a], summary[k, s, a, other], detection.t_critical, detection.cq_test):
+    if rejects(alone[k, s, a], summary[k, s, a, other], detection.cq_significance, detection.cq_test):
         augment(learned, k, s, other)
 
 
