@@ -593,28 +593,6 @@ def group_arrays(world):
                  np.empty(n, np.int64), around, rules.cell_index(world), rules.cell_index(world), first, near, reach)
 
 
-class Kept(NamedTuple):
-    """What :func:`episodes` keeps besides its log, for as many episodes as the schedule or for none
-    (:func:`nothing_kept`)."""
-
-    trace: np.ndarray
-    """int32 (episodes, max_steps + 1, agents): row t of an episode every agent's cell after t steps
-    (GONE once in its goal, :func:`keep_cells`)."""
-    yields: np.ndarray
-    """(episodes,): the agent-steps on which the coordination replaced an agent's preferred action
-    (:func:`yielded`)."""
-
-
-class Arrays(NamedTuple):
-    """:func:`episodes`'s per-run arrays: :func:`per_run`'s, the group step's and what it keeps."""
-
-    in_range: np.ndarray
-    buffers: ep.Buffers
-    agents: Agents
-    group: Group
-    kept: Kept
-
-
 @njit(cache=True, nogil=True)
 def run_two(world, learning, automata, schedule, q, u, u_initial, need_counts, log, state):
     """One run of Alg. 4 for two agents, the chapter's case (:func:`episodes_two`), from GLAs
@@ -627,15 +605,14 @@ def run_two(world, learning, automata, schedule, q, u, u_initial, need_counts, l
 def run(world, learning, automata, schedule, q, u, u_initial, need_counts, log, state):
     """One run of Alg. 4 for any number of agents (:func:`episodes`), from GLAs initialised randomly."""
     init_glas(u, u_initial, automata.gla_init_range, state)
-    in_range, buffers, agents = per_run(world)
     episodes(world, learning, automata, schedule, q, u, need_counts, log, state,
-             Arrays(in_range, buffers, agents, group_arrays(world), nothing_kept()))
+             (*per_run(world), group_arrays(world), nothing_kept()))
 
 
 @njit(cache=True, inline="always")
 def nothing_kept():
-    """:func:`episodes`'s :class:`Kept` when nothing is to be kept: a trace and yields of no episodes."""
-    return Kept(np.empty((0, 0, 0), np.int32), np.empty(0, np.int64))
+    """:func:`episodes`'s ``kept`` arrays when nothing is to be kept: a trace and yields of no episodes."""
+    return np.empty((0, 0, 0), np.int32), np.empty(0, np.int64)
 
 
 @njit(cache=True, inline="always")
@@ -807,10 +784,14 @@ def episodes_two(world, learning, automata, schedule, q, u, need_counts, log, st
 @njit(**ep.LOOP)
 def episodes(world, learning, automata, schedule, q, u, need_counts, log, state, arrays):
     """:func:`episodes_two` for any number of agents: :func:`group_step` while three or more act.
-    ``arrays``: :class:`Arrays`, or a plain tuple of its fields in their order. A :class:`Kept` of
-    as many episodes as the schedule (not of none: :func:`nothing_kept`) keeps, besides, each
-    episode's joint states and the agent-steps on which an agent yielded: what the crowd's replay
-    reads (glamas.experiments.crowd.replay)."""
+    ``arrays``: :func:`per_run`'s, then the :class:`Group` (:func:`group_arrays`) and ``kept =
+    (trace, yields)``. Kept arrays of as many episodes as the schedule (not of none:
+    :func:`nothing_kept`) keep, besides, each episode's joint states in ``trace`` (episodes,
+    max_steps + 1, agents), row t every agent's cell after t steps (GONE once in its goal,
+    :func:`keep_cells`), and count in ``yields`` the agent-steps on which the coordination replaced
+    an agent's preferred action (:func:`yielded`): what the crowd's replay reads
+    (glamas.experiments.crowd.replay). A plain tuple, as the replay builds it: given as a
+    NamedTuple by :func:`run`, the loop would be compiled a second time for the replay."""
     in_range, buffers, agents, group, (trace, yields) = arrays
     own = in_range, buffers, agents
     cells, done, actions, acc = buffers.cells, buffers.done, buffers.actions, buffers.acc
