@@ -246,8 +246,8 @@ def test_2observe_pair_step_plays_the_group_step_for_two_agents(reading):
             if step == "pair":
                 collisions = two_observe.pair_step(world, learning, automata, *learned[:3], (0, 1), learned[3], own)
             else:
-                collisions = two_observe.group_step(world, learning, automata, *learned, own,
-                                                    two_observe.group_arrays(world))
+                collisions = two_observe.group_step(world, learning, automata, *learned,
+                                                    (*own, two_observe.group_arrays(world), two_observe.nothing_kept()))
             steps.append((collisions, learned, buffers, (agents.choices, agents.preferred, agents.probs)))
         (collisions, *pair), (group_collisions, *group) = steps
         assert collisions == group_collisions, (a, b)
