@@ -100,7 +100,7 @@ def test_test_1_waits_for_a_full_window():
     windows = first_windows()
     answers = [cq.test_1(windows, alone(), 0, S, A, ER + COLLISION, DETECTION) for _ in range(WINDOW)]
     assert answers == [False] * (WINDOW - 1) + [True]  # a collision on every visit, flagged once full
-    assert windows[1][0, S, A] == WINDOW and windows[1][1, S, A] == 0  # agent 0's window only
+    assert windows.added[0, S, A] == WINDOW and windows.added[1, S, A] == 0  # agent 0's window only
 
 
 def test_test_1_rejects_a_stream_with_enough_collisions_and_not_one_as_alone():
@@ -117,7 +117,7 @@ def test_test_1_rejects_a_stream_with_enough_collisions_and_not_one_as_alone():
 def learned():
     q = np.zeros((2, N_CELLS, rules.N_ACTIONS))
     q[0, S] = [1.0, 2.0, 3.0, 4.0]
-    return q, np.zeros((2, N_CELLS, N_CELLS, rules.N_ACTIONS)), np.zeros((2, N_CELLS, N_CELLS), np.bool_)
+    return cq.Learned(q, np.zeros((2, N_CELLS, N_CELLS, rules.N_ACTIONS)), np.zeros((2, N_CELLS, N_CELLS), np.bool_))
 
 
 def second_windows():
@@ -134,7 +134,7 @@ def test_test_2_waits_for_a_full_window_then_augments_and_copies_the_local_value
     assert q_aug[0, S, 4].tolist() == [1.0, 2.0, 3.0, 4.0]
     q_aug[0, S, 4, A] = 9.0  # learned since
     cq.test_2(learned, windows, alone(), 0, S, A, ER + COLLISION, 4, DETECTION)
-    assert q_aug[0, S, 4, A] == 9.0 and windows[1][0, S, A, 4] == WINDOW + 1  # stored, not tested again
+    assert q_aug[0, S, 4, A] == 9.0 and windows.added[0, S, A, 4] == WINDOW + 1  # stored, not tested again
 
 
 def test_test_2_keeps_a_window_per_other_cell_and_does_not_augment_as_alone(learned):
@@ -147,7 +147,7 @@ def test_test_2_keeps_a_window_per_other_cell_and_does_not_augment_as_alone(lear
     for r in [ER + COLLISION] * (WINDOW - 1):  # would reject, but one short of a full window
         cq.test_2(learned, windows, alone(), 0, S, A, r, 3, DETECTION)
     assert not marked.any()
-    assert windows[1][0, S, A].tolist() == [0, 0, 0, WINDOW - 1, WINDOW, WINDOW]
+    assert windows.added[0, S, A].tolist() == [0, 0, 0, WINDOW - 1, WINDOW, WINDOW]
     cq.test_2(learned, windows, alone(), 0, S, A, ER + COLLISION, 3, DETECTION)
     assert marked[0, S].tolist() == [False, False, False, True, False, False]
 
@@ -158,15 +158,15 @@ def detect_stream(rewards, cells, done, settings, nearest=(NOBODY,) * 3):
     """Agent 0 in cell S takes action A and gets ``rewards`` one by one, the others where ``cells``
     says: its marks and its test 2 windows' counts of rewards per other's cell."""
     q = np.zeros((3, N_CELLS, rules.N_ACTIONS))
-    learned = (q, np.zeros((3, N_CELLS, N_CELLS, rules.N_ACTIONS)), np.zeros((3, N_CELLS, N_CELLS), np.bool_))
+    learned = cq.Learned(q, np.zeros((3, N_CELLS, N_CELLS, rules.N_ACTIONS)), np.zeros((3, N_CELLS, N_CELLS), np.bool_))
     bundle = cq.detection(cq.LEARNER.setup(own=settings), tunnel_to_goal())[0]
     shape = (3, N_CELLS, rules.N_ACTIONS)
-    windows = (cq.reward_windows(shape, WINDOW), cq.reward_windows(shape + (N_CELLS,), WINDOW))
+    first, second = cq.reward_windows(shape, WINDOW), cq.reward_windows(shape + (N_CELLS,), WINDOW)
     base = np.concatenate([alone(), alone()[:1]])
     seen = (np.array(cells), np.array(done), np.array(nearest))
     for r in rewards:
-        cq.detect(learned, windows, base, 0, A, r, seen, bundle)
-    return learned[2][0, S], windows[1][1][0, S, A]
+        cq.detect(learned, first, second, base, 0, A, r, seen, bundle)
+    return learned.marked[0, S], second.added[0, S, A]
 
 
 def test_test_2_windows_fill_only_once_test_1_rejects_and_for_every_other_agent_present():

@@ -238,22 +238,24 @@ def test_2observe_pair_step_plays_the_group_step_for_two_agents(reading):
         u = draws.uniform(-3.0, 3.0, (2, 2, two_observe.N_GLA_INPUTS))
         steps = []
         for step in ("pair", "group"):
-            arrays = (*two_observe.per_run(world), two_observe.group_arrays(world))
-            _, buffers, agents, _ = arrays
-            buffers[0][:], buffers[1][:], buffers[-1][:] = (a, b), False, 0.0  # cells, done, episode counters
-            agents[2][:] = 0.0  # GLA probabilities: written only where the GLAs act
+            own = two_observe.per_run(world)
+            _, buffers, agents = own
+            buffers.cells[:], buffers.done[:], buffers.acc[:] = (a, b), False, 0.0
+            agents.probs[:] = 0.0  # written only where the GLAs act
             learned = (q.copy(), u.copy(), np.zeros((g.n_rows + g.n_cols - 1, 2)), state.copy())
             if step == "pair":
-                collisions = two_observe.pair_step(world, learning, automata, *learned[:3], (0, 1), learned[3], arrays)
+                collisions = two_observe.pair_step(world, learning, automata, *learned[:3], (0, 1), learned[3], own)
             else:
-                collisions = two_observe.group_step(world, learning, automata, *learned, arrays)
-            steps.append((collisions, learned, buffers, agents[:3]))
+                collisions = two_observe.group_step(world, learning, automata, *learned,
+                                                    (*own, two_observe.group_arrays(world), two_observe.nothing_kept()))
+            steps.append((collisions, learned, buffers, (agents.choices, agents.preferred, agents.probs)))
         (collisions, *pair), (group_collisions, *group) = steps
         assert collisions == group_collisions, (a, b)
         for x, y in zip(_flat(pair), _flat(group)):
             assert np.array_equal(x, y), (a, b)
-        outcomes.update({"coordinated": pair[1][-1][ep.column(2, ep.COORDINATIONS)] > 0, "collided": collisions > 0,
-                         "yielded": not np.array_equal(pair[1][2], pair[2][1])})
+        _, played, (_, preferred, _) = pair
+        outcomes.update({"coordinated": played.acc[ep.column(2, ep.COORDINATIONS)] > 0, "collided": collisions > 0,
+                         "yielded": not np.array_equal(played.actions, preferred)})
     assert outcomes["coordinated"] and outcomes["collided"] and outcomes["yielded"]  # every branch covered
 
 

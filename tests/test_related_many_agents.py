@@ -158,9 +158,10 @@ def learn(g, index, q, q_pairs, cells, new_cells, rewards, actions, reached=(Fal
     n = len(cells)
     graphs = (graph_of(g, index, cells, coordination=coordination),
               graph_of(g, index, new_cells, acting=[not r for r in reached], coordination=coordination))
-    buffers = (np.array(cells), np.zeros(n, np.bool_), np.array(actions), np.array(new_cells), np.array(rewards),
-               np.zeros(n, np.bool_), np.zeros(n, np.bool_), np.array(reached), np.zeros(ep.n_columns(n)))
-    values = (np.zeros(n), np.zeros(n), np.zeros(3), np.zeros(3))
+    buffers = ep.Buffers(np.array(cells), np.zeros(n, np.bool_), np.array(actions), np.array(new_cells),
+                         np.array(rewards), np.zeros(n, np.bool_), np.zeros(n, np.bool_), np.array(reached),
+                         np.zeros(ep.n_columns(n)))
+    values = sparse_maq.Values(np.zeros(n), np.zeros(n), np.zeros(3), np.zeros(3))
     bundle = sparse_maq.Coordination(index, 2, coordination == "graph", False, 20, 2)
     sparse_maq.agent_values(q, q_pairs, buffers, graphs, values, cg.new_scratch(n, 2), bundle, run_states(0, 1)[0])
     sparse_maq.learn(q, q_pairs, buffers, graphs, values, QLearning(ALPHA, GAMMA, 0.9))

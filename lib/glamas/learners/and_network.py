@@ -90,7 +90,8 @@ def iterate(iterations, automaton, task, network, probes, params, prob_left, sta
     learners' episode loops are (glamas.learners.episode.LOOP); ``units``: each agent's unit
     inputs, probabilities and chosen actions."""
     temperature, L, mode = automaton.temperature, automaton.L, automaton.bounding
-    curvature, offset, reward_inside, reward_outside, reward_other = task
+    curvature, offset = task.curvature, task.offset
+    reward_inside, reward_outside, reward_other = task.reward_inside, task.reward_outside, task.reward_other
     inputs, probs, chosen = units
     n_points = prob_left.shape[0]
     point = 0

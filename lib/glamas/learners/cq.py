@@ -65,7 +65,8 @@ Plain-Python reference: ``cq`` in ``lib/glamas/plain/gridworld.py``.
 
 import functools
 import math
-from dataclasses import dataclass
+from collections import namedtuple
+from dataclasses import dataclass, fields
 from typing import NamedTuple
 
 import numpy as np
@@ -139,33 +140,24 @@ class Settings:
             raise UserError(f"cq_update_local must be True or False, got {self.cq_update_local!r}")
 
 
-class Detection(NamedTuple):
-    """CQ-learning's settings as the kernel reads them, named as :class:`Settings`; codes where the
-    settings hold names."""
-
-    cq_window: int
-    t_critical: np.ndarray
-    """Two-sided critical values of Student's t per degrees of freedom (:func:`t_critical_values`)."""
-    cq_solo_episodes: int
-    """0: no phase alone, hence no ER and no test (:func:`freeze`)."""
-    cq_solo_exploit_prob: float
-    """The phase alone's probability of the greedy action (the experiment's where the setting is None)."""
-    cq_test: int
-    """A code of TESTS."""
-    cq_detection: int
-    """A code of DETECTIONS."""
-    cq_update_local: bool
-    cq_observe: int
-    """A code of OBSERVED."""
+Detection = namedtuple("Detection", [field.name for field in fields(Settings)])
+"""CQ-learning's settings as the kernel reads them: each of :class:`Settings` under its name, in
+the form :func:`detection` gives it."""
 
 
 def detection(setup, gridmap: GridMap) -> tuple:
-    """The kernel's own input: the Detection bundle of its settings (``setup.own``)."""
+    """The kernel's own input: the :data:`Detection` bundle of its settings (``setup.own``): the
+    significance as the two-sided critical values of Student's t at that level per degrees of
+    freedom (:func:`t_critical_values`), codes where the settings hold names (TESTS, DETECTIONS,
+    OBSERVED), the phase alone's probability of the greedy action (the experiment's where the
+    setting is None). ``cq_solo_episodes`` 0 means no phase alone, hence no ER and no test
+    (:func:`freeze`)."""
     s = setup.own
-    solo_exploit = float(setup.q.exploit_prob if s.cq_solo_exploit_prob is None else s.cq_solo_exploit_prob)
-    return (Detection(s.cq_window, t_critical_values(2 * s.cq_window - 2, s.cq_significance), s.cq_solo_episodes,
-                      solo_exploit, TESTS[s.cq_test], DETECTIONS[s.cq_detection], bool(s.cq_update_local),
-                      OBSERVED[s.cq_observe]),)
+    solo_exploit = setup.q.exploit_prob if s.cq_solo_exploit_prob is None else s.cq_solo_exploit_prob
+    return (Detection(cq_window=s.cq_window, cq_significance=t_critical_values(2 * s.cq_window - 2, s.cq_significance),
+                      cq_solo_episodes=s.cq_solo_episodes, cq_solo_exploit_prob=float(solo_exploit),
+                      cq_test=TESTS[s.cq_test], cq_detection=DETECTIONS[s.cq_detection],
+                      cq_update_local=bool(s.cq_update_local), cq_observe=OBSERVED[s.cq_observe]),)
 
 
 def freeze(inputs: tuple) -> tuple:
@@ -356,10 +348,56 @@ def add_reward(samples, added, summary, r):
     return added + 1
 
 
+class Windows(NamedTuple):
+    """Reward windows, one per index of a shape (:func:`reward_windows`), each a ring of rewards."""
+
+    samples: np.ndarray
+    """(shape, size): the window's last rewards (:func:`add_reward`)."""
+    added: np.ndarray
+    """int (shape): rewards ever added."""
+    summary: np.ndarray
+    """(shape, 3): count, sum and sum of squares of the rewards kept."""
+
+
 @njit(cache=True, inline="always")
 def reward_windows(shape, size):
-    """Empty reward windows of ``size`` rewards, one per index of ``shape``: (samples, added, summary)."""
-    return (np.zeros(shape + (size,)), np.zeros(shape, np.int64), np.zeros(shape + (3,)))
+    """Empty :class:`Windows` of ``size`` rewards, one per index of ``shape``."""
+    return Windows(np.zeros(shape + (size,)), np.zeros(shape, np.int64), np.zeros(shape + (3,)))
+
+
+class Learned(NamedTuple):
+    """What the phase together learns (:func:`run`'s outputs)."""
+
+    q: np.ndarray
+    """Q_k per agent, own cell and action."""
+    q_aug: np.ndarray
+    """Q_aug per agent, own cell, other's cell and action."""
+    marked: np.ndarray
+    """Whether agent k's own cell is augmented with the other's cell."""
+
+
+class Observing(NamedTuple):
+    """Per agent, who it observes in a step (:func:`observe`)."""
+
+    observed: np.ndarray
+    """The other agent whose row of Q_aug it acts on (NOBODY: none)."""
+    nearest: np.ndarray
+    """Its nearest other agent (variant ``nearest``)."""
+    distances: np.ndarray
+    """rules.distance_table: Manhattan distances between cells."""
+
+
+class Together(NamedTuple):
+    """The per-run arrays of the phase together (:func:`episodes`)."""
+
+    buffers: ep.Buffers
+    first: Windows
+    """Test 1's windows, per agent and state-action."""
+    second: Windows
+    """Test 2's, per agent, state-action and other's cell (none with one stage)."""
+    alone: np.ndarray
+    """The summaries of the phase alone: ER_k(s_k, a_k) = their means."""
+    observing: Observing
 
 
 # --- the learner ------------------------------------------------------------------------------
@@ -368,13 +406,14 @@ def reward_windows(shape, size):
 def learn_alone(world, learning, exploit, n_episodes, max_steps, q, windows, state, buffers):
     """The phase alone: each agent in turn learns ``n_episodes`` episodes alone (the others count
     as already in the goal, so they neither act nor collide), taking the greedy action with
-    probability ``exploit``, and fills its reward ``windows`` (samples, added, summary), whose
-    means are ER."""
+    probability ``exploit``, and fills its reward ``windows`` (:class:`Windows`), whose means are
+    ER."""
     alpha, gamma = learning.q_learning_rate, learning.discount
     starts = world.starts
     n_agents = starts.shape[0]
-    samples, added, summary = windows
-    cells, done, actions, new_cells, rewards, bumped, collided, reached, acc = buffers
+    samples, added, summary = windows.samples, windows.added, windows.summary
+    cells, done, actions, acc = buffers.cells, buffers.done, buffers.actions, buffers.acc
+    new_cells, rewards, reached = buffers.new_cells, buffers.rewards, buffers.reached
     for k in range(n_agents):
         for _ in range(n_episodes):
             ep.start_episode(starts, cells, done, acc)
@@ -384,7 +423,7 @@ def learn_alone(world, learning, exploit, n_episodes, max_steps, q, windows, sta
             while t < max_steps and not done[k]:
                 s, a = cells[k], epsilon_greedy(q[k, cells[k]], exploit, state)
                 actions[k] = a
-                rules.step_alone(world, cells, actions, new_cells, rewards, bumped, collided, reached, k)
+                ep.step_alone(world, buffers, k)
                 q_update(q[k], s, a, rewards[k], new_cells[k], reached[k], alpha, gamma)
                 added[k, s, a] = add_reward(samples[k, s, a], added[k, s, a], summary[k, s, a], rewards[k])
                 t += 1
@@ -431,8 +470,8 @@ def augmented_update(q_aug, q, s, other, a, r, s_next, terminal, alpha, gamma):
 @njit(cache=True, inline="always")
 def augment(learned, k, s, other):
     """Step 4's outcome: agent k's state ``s`` is augmented with the other's cell, its values
-    starting from the local ones (nothing changes if it already is). ``learned``: (q, q_aug, marked)."""
-    q, q_aug, marked = learned
+    starting from the local ones (nothing changes if it already is)."""
+    q, q_aug, marked = learned.q, learned.q_aug, learned.marked
     if marked[k, s, other]:
         return
     marked[k, s, other] = True
@@ -444,11 +483,11 @@ def augment(learned, k, s, other):
 def test_1(windows, alone, k, s, a, r, detection):
     """Step 3: store r in W_k(s, a); whether the window is full and the test rejects it against the
     state-action's rewards ``alone``."""
-    samples, added, summary = windows
+    samples, added, summary = windows.samples, windows.added, windows.summary
     added[k, s, a] = add_reward(samples[k, s, a], added[k, s, a], summary[k, s, a], r)
     if added[k, s, a] < detection.cq_window:
         return False
-    return rejects(alone[k, s, a], summary[k, s, a], detection.t_critical, detection.cq_test)
+    return rejects(alone[k, s, a], summary[k, s, a], detection.cq_significance, detection.cq_test)
 
 
 @njit(cache=True, inline="always")
@@ -456,23 +495,22 @@ def test_2(learned, windows, alone, k, s, a, r, other, detection):
     """Step 4 for one other agent present on cell ``other``: store r in W_k(s, a, other); if
     ``other`` does not augment s yet and its window is full and the test rejects it against ER,
     augment s with it."""
-    samples, added, summary = windows
+    samples, added, summary = windows.samples, windows.added, windows.summary
     added[k, s, a, other] = add_reward(samples[k, s, a, other], added[k, s, a, other], summary[k, s, a, other], r)
-    if learned[2][k, s, other] or added[k, s, a, other] < detection.cq_window:
+    if learned.marked[k, s, other] or added[k, s, a, other] < detection.cq_window:
         return
-    if rejects(alone[k, s, a], summary[k, s, a, other], detection.t_critical, detection.cq_test):
+    if rejects(alone[k, s, a], summary[k, s, a, other], detection.cq_significance, detection.cq_test):
         augment(learned, k, s, other)
 
 
 @njit(cache=True, inline="always")
-def detect(learned, windows, alone, k, a, r, seen, detection):
+def detect(learned, first, second, alone, k, a, r, seen, detection):
     """Steps 3-4 for agent k after its action ``a`` and reward ``r``, ``seen`` = (cells, done,
     nearest) as they were when it acted: test 1, then test 2 per other agent present (two stages),
     or the augmentation of the joint state of this step when r is below ER (one stage).
-    ``windows``: test 1's and test 2's."""
+    ``first``, ``second``: test 1's and test 2's windows."""
     cells, done, nearest = seen
     s = cells[k]
-    first, second = windows
     if not test_1(first, alone, k, s, a, r, detection):
         return
     below = r < alone[k, s, a, SUM] / alone[k, s, a, COUNT]  # r < ER (test 1 rejected: ER exists)
@@ -497,29 +535,30 @@ def run(world, learning, detection, schedule, q, q_aug, marked, log, state):
     buffers = ep.buffers(n_agents)
     learn_alone(world, learning, detection.cq_solo_exploit_prob, detection.cq_solo_episodes, schedule.max_steps, q,
                 first, state, buffers)
-    alone = first[2].copy()  # the summaries alone: ER_k(s_k, a_k) = their means
-    first[1][:] = 0
-    first[2][:] = 0.0
+    alone = first.summary.copy()  # the summaries alone: ER_k(s_k, a_k) = their means
+    first.added[:] = 0
+    first.summary[:] = 0.0
     others = n_cells if detection.cq_detection == TWO_STAGE else 0  # test 2's windows, per other's cell
     second = reward_windows(per_action + (others,), detection.cq_window)
-    observing = (np.zeros(n_agents, np.int64), np.zeros(n_agents, np.int64), rules.distance_table(n_cells, world.n_cols))
-    episodes(world, learning, detection, schedule, (q, q_aug, marked), log, state,
-             (buffers, (first, second), alone, observing))
+    observing = Observing(np.zeros(n_agents, np.int64), np.zeros(n_agents, np.int64),
+                          rules.distance_table(n_cells, world.n_cols))
+    episodes(world, learning, detection, schedule, Learned(q, q_aug, marked), log, state,
+             Together(buffers, first, second, alone, observing))
 
 
 @njit(**ep.LOOP)
 def episodes(world, learning, detection, schedule, learned, log, state, arrays):
-    """The phase together of :func:`run`: ``learned`` = (q, q_aug, marked); ``arrays`` = the step
-    buffers, the reward windows of tests 1 and 2, the summaries ``alone`` and, per agent, the
-    other agent it acts on (``observed``, NOBODY: none) and its nearest other agent, with the
-    distance table."""
+    """The phase together of :func:`run`: learns in ``learned`` (:class:`Learned`); ``arrays``:
+    :class:`Together`."""
     alpha, gamma, exploit = learning.q_learning_rate, learning.discount, learning.exploit_prob
     starts, edges, max_steps = world.starts, schedule.edges, schedule.max_steps
     n_agents = starts.shape[0]
-    q, q_aug, marked = learned
+    q, q_aug, marked = learned.q, learned.q_aug, learned.marked
     coordinations_column = ep.column(n_agents, ep.COORDINATIONS)
-    buffers, windows, alone, (observed, nearest, distances) = arrays
-    cells, done, actions, new_cells, rewards, bumped, collided, reached, acc = buffers
+    buffers, alone = arrays.buffers, arrays.alone
+    observed, nearest, distances = arrays.observing.observed, arrays.observing.nearest, arrays.observing.distances
+    cells, done, actions, acc = buffers.cells, buffers.done, buffers.actions, buffers.acc
+    new_cells, rewards, reached = buffers.new_cells, buffers.rewards, buffers.reached
     for episode in range(schedule.episodes):
         ep.start_episode(starts, cells, done, acc)
         t = 0
@@ -535,7 +574,7 @@ def episodes(world, learning, detection, schedule, learned, log, state, arrays):
                 coordinated = coordinated or observed[k] != NOBODY
             if coordinated:
                 acc[coordinations_column] += 1
-            collisions = rules.step(world, cells, done, actions, new_cells, rewards, bumped, collided, reached)
+            collisions = ep.step(world, buffers)
             for k in range(n_agents):  # steps 2-4
                 if done[k]:
                     continue
@@ -544,7 +583,7 @@ def episodes(world, learning, detection, schedule, learned, log, state, arrays):
                     augmented_update(q_aug[k], q[k], s, cells[observed[k]], a, r, new_cells[k], reached[k], alpha, gamma)
                 elif detection.cq_update_local:
                     q_update(q[k], s, a, r, new_cells[k], reached[k], alpha, gamma)
-                detect(learned, windows, alone, k, a, r, (cells, done, nearest), detection)
+                detect(learned, arrays.first, arrays.second, alone, k, a, r, (cells, done, nearest), detection)
             t += 1
             ep.end_step(t, cells, done, new_cells, rewards, reached, collisions, acc)
         ep.end_episode(log, episode, edges, acc, t, done)

@@ -8,7 +8,7 @@ run stays small. The blocks are given by their ``edges`` (block k holds the epis
 :func:`log_edges` for blocks that start one episode wide and widen geometrically, so that the
 first episodes, where learning happens, are resolved as well as the last ones.
 
-Each learner's run kernel is two functions: ``run`` allocates the run's buffers and calls its
+Each learner's run kernel is two functions: ``run`` allocates the run's :class:`Buffers` and calls its
 episode loop (``episodes``), compiled with the :data:`LOOP` options. The helpers here, like the
 pieces of the step loops, are inlined into the loop by numba (``inline="always"``), except the
 small ones called at many places (``rng.next_u64``, ``qlearning.q_update`` and
@@ -38,6 +38,7 @@ import numpy as np
 from numba import njit
 
 from glamas import portable
+from glamas.gridworld import rules
 
 MEASURES = ("length", "collisions", "coordinations", "capped")
 """The per-episode measurements after the agents' columns: steps until every agent was in the goal,
@@ -113,13 +114,63 @@ def metric(log: np.ndarray, name: str) -> np.ndarray:
     return log[..., 2 * n_agents + MEASURES.index(name)]
 
 
+class Buffers(NamedTuple):
+    """One step's arrays, one entry per agent unless said (:func:`buffers`), as the rules
+    (glamas.gridworld.rules.step) fill them."""
+
+    cells: np.ndarray
+    """Each agent's cell."""
+    done: np.ndarray
+    """Whether it is in its goal (it no longer acts)."""
+    actions: np.ndarray
+    """Its action this step."""
+    new_cells: np.ndarray
+    """Its cell after the move."""
+    rewards: np.ndarray
+    """Its reward of the move."""
+    bumped: np.ndarray
+    """Whether it bumped into a wall or the border."""
+    collided: np.ndarray
+    """Whether it collided with another agent."""
+    reached: np.ndarray
+    """Whether it entered its goal."""
+    acc: np.ndarray
+    """(:func:`n_columns`,): the episode's log row, accumulated."""
+
+
 @njit(cache=True, inline="always")
 def buffers(n_agents):
-    """Per-run step buffers: cells, done, actions, new_cells, rewards, bumped, collided, reached,
-    and the episode accumulator."""
-    return (np.empty(n_agents, np.int64), np.empty(n_agents, np.bool_), np.zeros(n_agents, np.int64),
-            np.empty(n_agents, np.int64), np.empty(n_agents, np.float64), np.empty(n_agents, np.bool_),
-            np.empty(n_agents, np.bool_), np.empty(n_agents, np.bool_), np.empty(n_columns(n_agents), np.float64))
+    """Per-run :class:`Buffers` of ``n_agents`` agents."""
+    return Buffers(np.empty(n_agents, np.int64), np.empty(n_agents, np.bool_), np.zeros(n_agents, np.int64),
+                   np.empty(n_agents, np.int64), np.empty(n_agents, np.float64), np.empty(n_agents, np.bool_),
+                   np.empty(n_agents, np.bool_), np.empty(n_agents, np.bool_),
+                   np.empty(n_columns(n_agents), np.float64))
+
+
+@njit(cache=True, inline="always")
+def step(world, b):
+    """The agents' joint move (rules.step) on the buffers ``b``; the number of collisions."""
+    return rules.step(world, b.cells, b.done, b.actions, b.new_cells, b.rewards, b.bumped, b.collided, b.reached)
+
+
+@njit(cache=True, inline="always")
+def step_pair(world, b, pair):
+    """rules.step_pair on the buffers ``b``: only the agents ``pair`` act."""
+    return rules.step_pair(world, b.cells, b.done, b.actions, b.new_cells, b.rewards, b.bumped, b.collided, b.reached,
+                           pair)
+
+
+@njit(cache=True, inline="always")
+def step_indexed(world, index, b):
+    """rules.step_indexed on the buffers ``b``, through the cell index ``index``."""
+    return rules.step_indexed(world, index, b.cells, b.done, b.actions, b.new_cells, b.rewards, b.bumped, b.collided,
+                              b.reached)
+
+
+@njit(cache=True, inline="always")
+def step_alone(world, b, i):
+    """rules.step_alone on the buffers ``b``: agent i acts alone."""
+    rules.step_alone(world, b.cells, b.actions, b.new_cells, b.rewards, b.bumped, b.collided, b.reached, i)
 
 
 @njit(cache=True, inline="always")

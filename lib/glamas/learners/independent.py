@@ -32,9 +32,10 @@ def lone_step(world, learning, q, i, state, buffers):
     """One step of agent i alone in the world (every other agent is in the goal): Alg. 3 on its
     own cell and table ``q[i]``; nobody is left to collide with (rules.step_alone). Also how
     2observe and sparse MAQ learn then: nobody is left to observe or coordinate with."""
-    cells, done, actions, new_cells, rewards, bumped, collided, reached, acc = buffers
+    cells, actions = buffers.cells, buffers.actions
+    new_cells, rewards, reached = buffers.new_cells, buffers.rewards, buffers.reached
     actions[i] = epsilon_greedy(q[i, cells[i]], learning.exploit_prob, state)
-    rules.step_alone(world, cells, actions, new_cells, rewards, bumped, collided, reached, i)
+    ep.step_alone(world, buffers, i)
     q_update(q[i], cells[i], actions[i], rewards[i], new_cells[i], reached[i], learning.q_learning_rate,
              learning.discount)
     return 0
@@ -45,12 +46,13 @@ def pair_step(world, learning, q, pair, state, buffers):
     """One step of the agents ``pair = (i, j)``, i < j, when every other agent is in the goal:
     Alg. 3 for each, on the rules' two-agent path (rules.step_pair); the same draws and updates
     as the general step. Returns the number of collisions."""
-    cells, done, actions, new_cells, rewards, bumped, collided, reached, acc = buffers
+    cells, actions = buffers.cells, buffers.actions
+    new_cells, rewards, reached = buffers.new_cells, buffers.rewards, buffers.reached
     alpha, gamma, exploit = learning.q_learning_rate, learning.discount, learning.exploit_prob
     i, j = pair  # written out for i and j: a loop over the pair costs the loop its speed
     actions[i] = epsilon_greedy(q[i, cells[i]], exploit, state)
     actions[j] = epsilon_greedy(q[j, cells[j]], exploit, state)
-    collisions = rules.step_pair(world, cells, done, actions, new_cells, rewards, bumped, collided, reached, pair)
+    collisions = ep.step_pair(world, buffers, pair)
     q_update(q[i], cells[i], actions[i], rewards[i], new_cells[i], reached[i], alpha, gamma)
     q_update(q[j], cells[j], actions[j], rewards[j], new_cells[j], reached[j], alpha, gamma)
     return collisions
@@ -69,7 +71,8 @@ def episodes(world, learning, schedule, q, log, state, buffers, index):
     alpha, gamma, exploit = learning.q_learning_rate, learning.discount, learning.exploit_prob
     starts, edges, max_steps = world.starts, schedule.edges, schedule.max_steps
     n_agents = starts.shape[0]
-    cells, done, actions, new_cells, rewards, bumped, collided, reached, acc = buffers
+    cells, done, acc = buffers.cells, buffers.done, buffers.acc
+    actions, new_cells, rewards, reached = buffers.actions, buffers.new_cells, buffers.rewards, buffers.reached
     for episode in range(schedule.episodes):
         ep.start_episode(starts, cells, done, acc)
         t = 0
@@ -83,8 +86,7 @@ def episodes(world, learning, schedule, q, log, state, buffers, index):
                 for i in range(n_agents):
                     if not done[i]:
                         actions[i] = epsilon_greedy(q[i, cells[i]], exploit, state)
-                collisions = rules.step_indexed(world, index, cells, done, actions, new_cells, rewards, bumped, collided,
-                                                reached)
+                collisions = ep.step_indexed(world, index, buffers)
                 for i in range(n_agents):
                     if not done[i]:
                         q_update(q[i], cells[i], actions[i], rewards[i], new_cells[i], reached[i], alpha, gamma)

@@ -34,7 +34,8 @@ def episodes(world, learning, schedule, q, log, state, buffers):
     alpha, gamma, exploit = learning.q_learning_rate, learning.discount, learning.exploit_prob
     starts, edges, max_steps = world.starts, schedule.edges, schedule.max_steps
     n_agents, n_cells = starts.shape[0], world.next_cell.shape[0]
-    cells, done, actions, new_cells, rewards, bumped, collided, reached, acc = buffers
+    cells, done, acc = buffers.cells, buffers.done, buffers.acc
+    actions, new_cells, rewards, reached = buffers.actions, buffers.new_cells, buffers.rewards, buffers.reached
     for episode in range(schedule.episodes):
         ep.start_episode(starts, cells, done, acc)
         t = 0
@@ -44,10 +45,9 @@ def episodes(world, learning, schedule, q, log, state, buffers):
                 if not done[i]:
                     actions[i] = epsilon_greedy(q[i, s], exploit, state)
             if n_agents == 2:  # the chapter's case, on the rules' fast path
-                collisions = rules.step_pair(world, cells, done, actions, new_cells, rewards, bumped, collided, reached,
-                                             (0, 1))
+                collisions = ep.step_pair(world, buffers, (0, 1))
             else:
-                collisions = rules.step(world, cells, done, actions, new_cells, rewards, bumped, collided, reached)
+                collisions = ep.step(world, buffers)
             s_next = joint_index(new_cells, n_cells)
             for i in range(n_agents):
                 if not done[i]:

@@ -36,7 +36,8 @@ def iterate(task, iterations, automaton, checkpoint_at, params, reward, checkpoi
     (encoding, region3), ``contexts`` and ``probs`` hold each agent's context and action
     probabilities."""
     encoding, region3 = task
-    learning_rate, temperature, K, L, mode = automaton
+    learning_rate, temperature, K = automaton.learning_rate, automaton.temperature, automaton.K
+    L, mode = automaton.L, automaton.bounding
     context_a, context_b, probs_a, probs_b = contexts[0], contexts[1], probs[0], probs[1]
     u_a, u_b = params[0], params[1]
     n_points = reward.shape[0]

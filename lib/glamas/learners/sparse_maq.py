@@ -243,14 +243,28 @@ def best_edge_values(q_pairs, graph, scratch, coordination, edge_values, state):
                 edge_values[e] = cg.edge_value(q_pairs, graph, e, scratch.assign)
 
 
+class Values(NamedTuple):
+    """The values of a step's update, read before any rule changes (:func:`agent_values`)."""
+
+    now: np.ndarray
+    """(agents,): Q_i(s, a)."""
+    after: np.ndarray
+    """(agents,): Q_i(s', a*)."""
+    edges_now: np.ndarray
+    """(pairs,): each edge rule of s at a."""
+    edges_after: np.ndarray
+    """(pairs,): each edge rule of s' at a*."""
+
+
 @njit(cache=True, inline="always")
 def agent_values(q, q_pairs, buffers, graphs, values, scratch, coordination, state):
     """Every acting agent's Q_i(s, a) and Q_i(s', a*) into ``values`` (now, next, and the edges'
     rules behind them), all read before any rule changes: an agent entering its goal has no next
     value, an agent in no edge its own rule's (best) value."""
-    cells, done, actions, new_cells, rewards, bumped, collided, reached, acc = buffers
+    cells, done, actions = buffers.cells, buffers.done, buffers.actions
+    new_cells, reached = buffers.new_cells, buffers.reached
     graph, graph_next = graphs
-    now, after, edges_now, edges_after = values
+    now, after, edges_now, edges_after = values.now, values.after, values.edges_now, values.edges_after
     for e in range(graph.count[0]):
         edges_now[e] = cg.edge_value(q_pairs, graph, e, actions)
     best_edge_values(q_pairs, graph_next, scratch, coordination, edges_after, state)
@@ -271,7 +285,7 @@ def shared_error(graph, agents, rewards, values, gamma):
     """sum over the rule's ``agents`` of [R_i + gamma Q_i(s', a*) - Q_i(s, a)] / m_i, summed as
     Kok and Vlassis's c -> u case: rewards and discounted next values agent after agent, minus
     the current values."""
-    now, after, edges_now, edges_after = values
+    now, after = values.now, values.after
     target, current = 0.0, 0.0
     for i in agents:
         share = max(graph.degree[i], 1)
@@ -293,9 +307,10 @@ def stays_a_pair(graph, graph_next, e, reached):
 @njit(cache=True, inline="always")
 def learn(q, q_pairs, buffers, graphs, values, learning):
     """The agent-based update of every rule of s (module docstring), from the ``values`` read before."""
-    cells, done, actions, new_cells, rewards, bumped, collided, reached, acc = buffers
+    cells, done, actions = buffers.cells, buffers.done, buffers.actions
+    rewards, reached = buffers.rewards, buffers.reached
     graph, graph_next = graphs
-    now, after, edges_now, edges_after = values
+    after, edges_after = values.after, values.edges_after
     alpha, gamma = learning.q_learning_rate, learning.discount
     n = cells.shape[0]
     for i in range(n):  # individual rules
@@ -319,28 +334,42 @@ def learn(q, q_pairs, buffers, graphs, values, learning):
 
 # --- the run -----------------------------------------------------------------------------------
 
+class Work(NamedTuple):
+    """The per-run arrays of :func:`episodes` besides the step buffers."""
+
+    acting: np.ndarray
+    """(agents,): who acts in the graph being built."""
+    distances: np.ndarray
+    """rules.distance_table."""
+    graphs: tuple
+    """The coordination graphs of s and of s' (coordination_graph.new_graph)."""
+    values: Values
+    scratch: cg.Scratch
+    """The maximisers' working arrays (coordination_graph.new_scratch)."""
+
+
 @njit(cache=True, nogil=True)
 def run(world, learning, coordination, schedule, q, q_pairs, log, state):
     """One run of ``schedule.episodes`` episodes; learns in ``q`` and ``q_pairs``, writes the
     binned ``log`` (coordinations: the coordination graph's edges summed over the steps)."""
     n_agents, n_cells = world.starts.shape[0], world.next_cell.shape[0]
     pairs = max(n_agents * (n_agents - 1) // 2, 1)
-    work = (np.empty(n_agents, np.bool_), rules.distance_table(n_cells, world.n_cols),
-            (cg.new_graph(n_agents), cg.new_graph(n_agents)),
-            (np.zeros(n_agents), np.zeros(n_agents), np.zeros(pairs), np.zeros(pairs)),
-            cg.new_scratch(n_agents, min(max(n_agents - 1, 0), coordination.max_scope)))
+    work = Work(np.empty(n_agents, np.bool_), rules.distance_table(n_cells, world.n_cols),
+                (cg.new_graph(n_agents), cg.new_graph(n_agents)),
+                Values(np.zeros(n_agents), np.zeros(n_agents), np.zeros(pairs), np.zeros(pairs)),
+                cg.new_scratch(n_agents, min(max(n_agents - 1, 0), coordination.max_scope)))
     episodes(world, learning, coordination, schedule, q, q_pairs, log, state, ep.buffers(n_agents), work)
 
 
 @njit(**ep.LOOP)
 def episodes(world, learning, coordination, schedule, q, q_pairs, log, state, buffers, work):
-    """The episode loop of :func:`run`; ``work``: who acts, the distance table, the graphs of s and
-    s', the agents' and edges' values (agent_values) and the maximisers' working arrays."""
+    """The episode loop of :func:`run`; ``work``: :class:`Work`."""
     starts, edges, max_steps = world.starts, schedule.edges, schedule.max_steps
     n_agents = starts.shape[0]
     coordinations_column = ep.column(n_agents, ep.COORDINATIONS)
-    cells, done, actions, new_cells, rewards, bumped, collided, reached, acc = buffers
-    acting, distances, graphs, values, scratch = work
+    cells, done, actions, acc = buffers.cells, buffers.done, buffers.actions, buffers.acc
+    new_cells, rewards, reached = buffers.new_cells, buffers.rewards, buffers.reached
+    acting, distances, graphs, values, scratch = work.acting, work.distances, work.graphs, work.values, work.scratch
     graph, graph_next = graphs
     for episode in range(schedule.episodes):
         ep.start_episode(starts, cells, done, acc)
@@ -357,10 +386,9 @@ def episodes(world, learning, coordination, schedule, q, q_pairs, log, state, bu
             acc[coordinations_column] += connect(coordination, distances, cells, acting, graph)
             choose_actions(q, q_pairs, cells, graph, learning.exploit_prob, actions, state, scratch, coordination)
             if second >= 0:  # two agents act: the rules' two-agent path
-                collisions = rules.step_pair(world, cells, done, actions, new_cells, rewards, bumped, collided, reached,
-                                             (first, second))
+                collisions = ep.step_pair(world, buffers, (first, second))
             else:
-                collisions = rules.step(world, cells, done, actions, new_cells, rewards, bumped, collided, reached)
+                collisions = ep.step(world, buffers)
             for i in range(n_agents):
                 acting[i] = not (done[i] or reached[i])
             connect(coordination, distances, new_cells, acting, graph_next)

@@ -66,7 +66,8 @@ in less time (10 s against 16 s), and more on :func:`run` (its spec's ``two_agen
 two agents observe at the same distance with the same need, so such a step counts twice.
 """
 
-from dataclasses import dataclass, replace
+from collections import namedtuple
+from dataclasses import dataclass, fields, replace
 from typing import NamedTuple
 
 import numpy as np
@@ -196,27 +197,9 @@ def gla_params(settings: GLASettings, gridmap: GridMap) -> gla.GLAParams:
     return _gla_params(settings, L)
 
 
-class Automata(NamedTuple):
-    """2observe's first level as the kernel reads it, named as :class:`GLASettings`; codes where
-    the settings hold names, the box L and the delta scale as they are on the map."""
-
-    gla_learning_rate: float
-    gla_temperature: float
-    gla_K: float
-    gla_L: float
-    gla_bounding: int
-    """A code of glamas.gla.BOUNDING_MODES."""
-    gla_init_range: float
-    """< 0: the run starts from the GLA parameters it is given (:func:`freeze`)."""
-    gla_feedback: np.ndarray
-    """(2, 2): feedback[choice, need]."""
-    coordination_penalty_per_cell: float
-    gla_need: int
-    """A code of NEEDS."""
-    gla_delta_scale: float
-    """The factor of delta in the context (:func:`delta_scale`)."""
-    rule_distance: int
-    """-1: the GLAs learn (Alg. 4); d >= 0: the fixed rule "coordinate when delta < d"."""
+Automata = namedtuple("Automata", [field.name for field in fields(GLASettings)])
+"""2observe's first level as the kernel reads it: each of :class:`GLASettings` under its name, in
+the form :func:`automata` gives it."""
 
 
 def delta_scale(mode: str, gridmap: GridMap) -> float:
@@ -226,13 +209,20 @@ def delta_scale(mode: str, gridmap: GridMap) -> float:
 
 
 def automata(setup, gridmap: GridMap) -> tuple:
-    """The kernel's own input: the Automata bundle of 2observe's settings (``setup.own``) on ``gridmap``."""
-    settings = setup.own
-    p = gla_params(settings, gridmap)
-    rule = -1 if settings.rule_distance is None else settings.rule_distance
-    return (Automata(p.learning_rate, p.temperature, p.K, p.L, p.bounding_code, float(settings.gla_init_range),
-                     np.array(settings.gla_feedback), float(settings.coordination_penalty_per_cell),
-                     NEEDS[settings.gla_need], delta_scale(settings.gla_delta_scale, gridmap), rule),)
+    """The kernel's own input: the :data:`Automata` bundle of 2observe's settings (``setup.own``) on
+    ``gridmap``: the box L as it is on the map (:func:`box`), codes where the settings hold names
+    (``gla_bounding`` of glamas.gla.BOUNDING_MODES, ``gla_need`` of NEEDS), the feedback a (2, 2)
+    array, the delta scale its factor (:func:`delta_scale`), and ``rule_distance`` -1 where the
+    GLAs learn. A ``gla_init_range`` below 0 starts a run from the GLA parameters it is given
+    (:func:`freeze`)."""
+    s = setup.own
+    p = gla_params(s, gridmap)
+    return (Automata(gla_learning_rate=p.learning_rate, gla_temperature=p.temperature, gla_K=p.K, gla_L=p.L,
+                     gla_bounding=p.bounding_code, gla_init_range=float(s.gla_init_range),
+                     gla_delta_scale=delta_scale(s.gla_delta_scale, gridmap), gla_need=NEEDS[s.gla_need],
+                     gla_feedback=np.array(s.gla_feedback),
+                     coordination_penalty_per_cell=float(s.coordination_penalty_per_cell),
+                     rule_distance=-1 if s.rule_distance is None else s.rule_distance),)
 
 
 def freeze(inputs: tuple) -> tuple:
@@ -525,13 +515,28 @@ def clear_preferred(group, next_cell, cells, done, preferred):
     rules.clear_index(group.index, cells, done, next_cell, preferred)
 
 
+class Agents(NamedTuple):
+    """Each agent's first-level arrays (:func:`per_run`)."""
+
+    choices: np.ndarray
+    """Its GLA's choice, ACT_ALONE or COORDINATE."""
+    preferred: np.ndarray
+    """The action its Q-learner prefers (an action even for agents already done: rules.would_collide
+    reads it)."""
+    probs: np.ndarray
+    """(agents, 2): its GLA's probabilities."""
+    inputs: np.ndarray
+    """(agents, N_GLA_INPUTS): its GLA's context [delta, 1]."""
+
+
 @njit(cache=True, inline="always")
 def per_run(world):
-    """The per-run arrays of :func:`episodes_two`: the in-range table, the step buffers, and each
-    agent's level-one choice, preferred action (an action even for agents already done:
-    rules.would_collide reads it), GLA probabilities and GLA input."""
+    """The per-run arrays of :func:`episodes_two` and :func:`pair_step`: (the in-range table
+    rules.in_range_table, the step's ep.Buffers, the :class:`Agents`), unpacked by name where read.
+    A plain tuple, not a NamedTuple: numba concatenates plain tuples only, and the crowd's replay
+    builds :func:`episodes`'s arrays as ``(*per_run(world), ...)``."""
     n = world.starts.shape[0]
-    agents = (np.empty(n, np.int64), np.zeros(n, np.int64), np.empty((n, 2)), np.ones((n, N_GLA_INPUTS)))
+    agents = Agents(np.empty(n, np.int64), np.zeros(n, np.int64), np.empty((n, 2)), np.ones((n, N_GLA_INPUTS)))
     return rules.in_range_table(world.next_cell, rules.shared_goals(world.goals)), ep.buffers(n), agents
 
 
@@ -627,10 +632,10 @@ def yielded(done, preferred, actions):
 
 
 @njit(cache=True, inline="always")
-def pair_step(world, learning, automata, q, u, need_counts, pair, state, arrays):
+def pair_step(world, learning, automata, q, u, need_counts, pair, state, own):
     """One step of Alg. 4 for the agents ``pair = (i, j)``, i < j, when every other agent is in
     the goal (the chapter's two agents); learns in ``q`` and ``u``, counts the step in
-    ``need_counts`` and returns the number of collisions. ``arrays``: :func:`per_run`'s first.
+    ``need_counts`` and returns the number of collisions. ``own``: :func:`per_run`'s.
 
     The GLAs see ``[delta * gla_delta_scale, 1]``. ``rule_distance`` >= 0 replaces the GLAs by the
     fixed rule "coordinate when delta < rule_distance" (a diagnostic).
@@ -640,9 +645,10 @@ def pair_step(world, learning, automata, q, u, need_counts, pair, state, arrays)
     temperature, L, bounding = automata.gla_temperature, automata.gla_L, automata.gla_bounding
     need, rule_distance, feedback = automata.gla_need, automata.rule_distance, automata.gla_feedback
     learn_first_level = rule_distance < 0
-    in_range, buffers, agents = arrays[:3]
-    cells, done, actions, new_cells, rewards, bumped, collided, reached, acc = buffers
-    choices, preferred, probs, inputs = agents
+    in_range, buffers, agents = own
+    cells, done, actions, acc = buffers.cells, buffers.done, buffers.actions, buffers.acc
+    new_cells, rewards, reached = buffers.new_cells, buffers.rewards, buffers.reached
+    choices, preferred, probs, inputs = agents.choices, agents.preferred, agents.probs, agents.inputs
     i, j = pair  # written out for i and j: a loop over the pair costs the loop its speed
     delta = rules.manhattan(world.n_cols, cells[i], cells[j])
     x = inputs[i]  # both agents' GLAs see the same input
@@ -661,7 +667,7 @@ def pair_step(world, learning, automata, q, u, need_counts, pair, state, arrays)
     needed = need_before_step(need, in_range, cells, i, j, coming)
     if both:
         acc[ep.column(n_agents, ep.COORDINATIONS)] += 1
-    collisions = rules.step_pair(world, cells, done, actions, new_cells, rewards, bumped, collided, reached, pair)
+    collisions = ep.step_pair(world, buffers, pair)
     if need == NEED_OUTCOME:
         needed = collisions > 0
     need_counts[delta, 1 if needed else 0] += 2  # both agents observe: same delta, same need
@@ -679,15 +685,17 @@ def pair_step(world, learning, automata, q, u, need_counts, pair, state, arrays)
 @njit(cache=True, inline="always")
 def group_step(world, learning, automata, q, u, need_counts, state, arrays):
     """One step of Alg. 4 for any number of acting agents, with the group coordination of the
-    module docstring; as :func:`pair_step` otherwise. ``arrays``: :func:`episodes`'s. Each
-    agent's lookups go through the group's index of the cells (module docstring): a step costs in
-    proportion to its acting agents."""
-    buffers, agents, group = arrays[1:4]  # not arrays[0], the in-range table: the group's index answers
+    module docstring; as :func:`pair_step` otherwise. ``arrays``: :func:`episodes`'s, as it is given
+    them (taken apart there and passed as its pieces, the step at 128 agents took some 15 % longer).
+    Each agent's lookups go through the group's index of the cells (:class:`Group`, module
+    docstring): a step costs in proportion to its acting agents."""
+    _, buffers, agents, group, _ = arrays  # not the in-range table: the group's index answers
     next_cell, goals, n_agents = world.next_cell, world.goals, world.starts.shape[0]
     alpha, gamma = learning.q_learning_rate, learning.discount
     learn_first_level = automata.rule_distance < 0
-    cells, done, actions, new_cells, rewards, bumped, collided, reached, acc = buffers
-    choices, preferred, probs, x = agents
+    cells, done, actions, acc = buffers.cells, buffers.done, buffers.actions, buffers.acc
+    new_cells, rewards, collided, reached = buffers.new_cells, buffers.rewards, buffers.collided, buffers.reached
+    choices, preferred, probs, x = agents.choices, agents.preferred, agents.probs, agents.inputs
     nearest, deltas, coming, needed, acting = group.nearest, group.deltas, group.coming, group.needed, group.acting
     grid, padded = group.rings.grid, group.rings.padded
     n_acting = 0
@@ -726,8 +734,7 @@ def group_step(world, learning, automata, q, u, need_counts, state, arrays):
         if nearest[i] != NOBODY:
             paired += (choices[i] == COORDINATE) & (choices[nearest[i]] == COORDINATE)
     acc[ep.column(n_agents, ep.COORDINATIONS)] += paired / 2
-    collisions = rules.step_indexed(world, group.step_index, cells, done, actions, new_cells, rewards, bumped, collided,
-                                    reached)
+    collisions = ep.step_indexed(world, group.step_index, buffers)
     for i in range(n_agents):
         if nearest[i] != NOBODY:
             if automata.gla_need == NEED_SAMPLED:
@@ -754,38 +761,41 @@ def group_step(world, learning, automata, q, u, need_counts, state, arrays):
 
 
 @njit(**ep.LOOP)
-def episodes_two(world, learning, automata, schedule, q, u, need_counts, log, state, arrays):
+def episodes_two(world, learning, automata, schedule, q, u, need_counts, log, state, own):
     """The episodes of Alg. 4 for two agents; learns in ``q`` and ``u``, writes ``log`` and counts
     the observing agent-steps per (delta, need) in ``need_counts``. While both act they take
     :func:`pair_step`; once one is in the goal, the other acts on its Q-learner, with nobody to
     observe and its GLA not updated."""
-    cells, done, actions, new_cells, rewards, bumped, collided, reached, acc = arrays[1]
+    _, buffers, _ = own
+    cells, done, acc = buffers.cells, buffers.done, buffers.acc
     for episode in range(schedule.episodes):
         ep.start_episode(world.starts, cells, done, acc)
         t = 0
         while t < schedule.max_steps and not ep.all_done(done):
             first, second = ep.few_acting(done)
             if second >= 0:
-                collisions = pair_step(world, learning, automata, q, u, need_counts, (first, second), state, arrays)
+                collisions = pair_step(world, learning, automata, q, u, need_counts, (first, second), state, own)
             else:
-                collisions = lone_step(world, learning, q, first, state, arrays[1])
+                collisions = lone_step(world, learning, q, first, state, buffers)
             t += 1
-            ep.end_step(t, cells, done, new_cells, rewards, reached, collisions, acc)
+            ep.end_step(t, cells, done, buffers.new_cells, buffers.rewards, buffers.reached, collisions, acc)
         ep.end_episode(log, episode, schedule.edges, acc, t, done)
 
 
 @njit(**ep.LOOP)
 def episodes(world, learning, automata, schedule, q, u, need_counts, log, state, arrays):
     """:func:`episodes_two` for any number of agents: :func:`group_step` while three or more act.
-    ``arrays``: :func:`per_run`'s, ``group`` (:class:`Group`) and ``kept = (trace, yields)``.
-    Kept arrays of as many episodes as the schedule (not of none: :func:`nothing_kept`) keep,
-    besides, each episode's joint states in ``trace`` (episodes, max_steps + 1, agents), row t
-    every agent's cell after t steps (GONE once in its goal, :func:`keep_cells`), and count in
-    ``yields`` the agent-steps on which the coordination replaced an agent's preferred action
-    (:func:`yielded`): what the crowd's replay reads (glamas.experiments.crowd.replay)."""
-    cells, done, actions, new_cells, rewards, bumped, collided, reached, acc = arrays[1]
-    preferred = arrays[2][1]
-    trace, yields = arrays[4]
+    ``arrays``: :func:`per_run`'s, then the :class:`Group` (:func:`group_arrays`) and ``kept =
+    (trace, yields)``. Kept arrays of as many episodes as the schedule (not of none:
+    :func:`nothing_kept`) keep, besides, each episode's joint states in ``trace`` (episodes,
+    max_steps + 1, agents), row t every agent's cell after t steps (GONE once in its goal,
+    :func:`keep_cells`), and count in ``yields`` the agent-steps on which the coordination replaced
+    an agent's preferred action (:func:`yielded`): what the crowd's replay reads
+    (glamas.experiments.crowd.replay). A plain tuple, as the replay builds it: given as a
+    NamedTuple by :func:`run`, the loop would be compiled a second time for the replay."""
+    in_range, buffers, agents, _, (trace, yields) = arrays
+    own = in_range, buffers, agents
+    cells, done, actions, acc = buffers.cells, buffers.done, buffers.actions, buffers.acc
     keeping = trace.shape[0] > 0
     for episode in range(schedule.episodes):
         ep.start_episode(world.starts, cells, done, acc)
@@ -795,15 +805,15 @@ def episodes(world, learning, automata, schedule, q, u, need_counts, log, state,
         while t < schedule.max_steps and not ep.all_done(done):
             first, second = ep.few_acting(done)
             if second >= 0:
-                collisions = pair_step(world, learning, automata, q, u, need_counts, (first, second), state, arrays)
+                collisions = pair_step(world, learning, automata, q, u, need_counts, (first, second), state, own)
             elif first >= 0:
-                collisions = lone_step(world, learning, q, first, state, arrays[1])
+                collisions = lone_step(world, learning, q, first, state, buffers)
             else:
                 collisions = group_step(world, learning, automata, q, u, need_counts, state, arrays)
             if keeping and (second >= 0 or first < 0):  # a lone agent has nobody to yield to
-                yields[episode] += yielded(done, preferred, actions)
+                yields[episode] += yielded(done, agents.preferred, actions)
             t += 1
-            ep.end_step(t, cells, done, new_cells, rewards, reached, collisions, acc)
+            ep.end_step(t, cells, done, buffers.new_cells, buffers.rewards, buffers.reached, collisions, acc)
             if keeping:
                 keep_cells(trace[episode, t], cells, done)
         ep.end_episode(log, episode, schedule.edges, acc, t, done)
