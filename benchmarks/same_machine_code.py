@@ -8,10 +8,8 @@ assembly holds its whole episode loop and everything compiled into it.
 kernel differs.
 """
 
-import hashlib
 import json
 import os
-import re
 import subprocess
 import sys
 import tempfile

@@ -3,7 +3,6 @@ the fourth round's cases that reach neither a result file nor the learner module
 test_verify.py, test_toy_learner.py, test_staleness_by_behaviour.py and test_seeds.py)."""
 
 import dataclasses
-import json
 import subprocess
 import sys
 

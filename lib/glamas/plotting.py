@@ -234,7 +234,7 @@ def layout_faults(fig) -> list[str]:
             faults.append(f"the legend of {ax.get_title()!r} reaches outside the canvas")
         if ax.get_visible() and ax.axison:
             faults += _squeezed(ax) + _unlabelled_values(ax, ticks) + _out_of_bounds(ax)
-    faults += [f"the figure's legend reaches outside the canvas" for legend in fig.legends
+    faults += ["the figure's legend reaches outside the canvas" for legend in fig.legends
                if not _inside(legend.get_window_extent(renderer), canvas)]
     faults += _claim_levels_missing(fig)
     return faults

@@ -19,7 +19,7 @@ optimal episode, by a forward search over the joint states the starts lead to
 shortest path says about it without any search.
 """
 
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 
 import numpy as np
 from numba import njit
