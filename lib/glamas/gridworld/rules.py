@@ -36,7 +36,10 @@ goals (true from the start cells on, since the rules preserve it).
 an agent's move and what it pays (:func:`moved`), when two agents collide (:func:`collides`,
 :func:`exempt`), where a collided agent goes (:func:`bounced`), what a collision pays
 (:func:`collision_reward`) and an agent's reward for the step with the goal's (:func:`settle`);
-every value paid is ``World.payoffs``'s. :func:`step` applies them to every pair of agents;
+every value paid is ``World.payoffs``'s. Four of them are compiled once each and left for LLVM to
+inline, not inlined by numba wherever a step path calls them (glamas.learners.episode says why);
+:func:`exempt` and :func:`collides` are inlined by numba, as LLVM left them calls.
+:func:`step` applies them to every pair of agents;
 :func:`step_indexed` (N agents), :func:`step_pair` (two acting agents) and :func:`step_alone`
 (one) apply the same functions to the pairs that can collide, which is all that tells them
 apart, and tests play each against :func:`step`. For the chapter's two agents :func:`step_pair`
@@ -138,7 +141,7 @@ def world(gridmap, bounce: str = "previous", rewards: Rewards = CHAPTER) -> Worl
                  rewards.kernel_bundle())
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def moved(world, cell, is_done, action):
     """An agent's move before collisions and the goal: (the cell it moves to, whether it bumped,
     what the move pays: the bump's or the move's reward). A done agent stays and is paid nothing."""
@@ -162,20 +165,20 @@ def collides(goals, i, j, cell_i, cell_j, new_i, new_j):
     return (new_i == new_j and not exempt(goals, i, j, new_i)) or (new_i == cell_j and new_j == cell_i)
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def bounced(world, i, cell):
     """Where agent i goes when it collides moving from ``cell`` (``world.bounce``)."""
     start = world.starts[i]  # read either way: no branch around the load
     return cell if world.bounce == BOUNCE_PREVIOUS else start
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def collision_reward(payoffs, hit):
     """What one collision adds to each of its two agents' rewards (nothing when not ``hit``)."""
     return payoffs.collision if hit else 0.0
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def settle(payoffs, reward, hit, arrived):
     """An acting agent's reward for the step, from its move's reward with the collisions added
     (``reward``): the collision's reward alone if it collided and the formulation says a collision

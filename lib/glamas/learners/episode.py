@@ -11,8 +11,9 @@ first episodes, where learning happens, are resolved as well as the last ones.
 Each learner's run kernel is two functions: ``run`` allocates the run's :class:`Buffers` and calls its
 episode loop (``episodes``), compiled with the :data:`LOOP` options. The helpers here, like the
 pieces of the step loops, are inlined into the loop by numba (``inline="always"``), except the
-small ones called at many places (``rng.next_u64``, ``qlearning.q_update`` and
-``qlearning.greedy``): numba's inlining copies a piece, and every piece inlined into it, at each
+small ones called at many places (``rng.next_u64``, ``qlearning.q_update``,
+``qlearning.greedy``, and ``rules.moved``, ``bounced``, ``collision_reward`` and ``settle``, which
+every step path composes): numba's inlining copies a piece, and every piece inlined into it, at each
 place it is called and compiles every copy, so these are compiled once and left for LLVM to inline
 (which it does: the loops' machine code has no call to them). That halved the compile time of the
 two-agent loops (independent learners from 10 to 6 s, 2observe from 18 to 10 s) and did not change
